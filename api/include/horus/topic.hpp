@@ -1,0 +1,319 @@
+// horus::Topic<T>: typed publish/subscribe on a named topic.
+//
+//   horus::Topic<horus::msg::CmdVel> pub("cmd_vel");   // throws horus::Exception on error
+//   auto sub = horus::Topic<horus::msg::CmdVel>::open("cmd_vel");  // or std::expected
+//   pub.send(horus::msg::CmdVel::make(1.0f, 0.5f));
+//   if (auto m = sub->recv()) { ... }
+//
+// Two handles with the same name are connected, with no broker and no
+// configuration. Every subscriber gets every message once, in each publisher's
+// order; a full ring overwrites the oldest message and the subscriber that lost
+// it counts the drop (dropped_count()).
+//
+// Roles. A handle subscribes when it is opened, so it receives every message
+// sent after that. A handle whose first call is a send (before any receive call)
+// becomes a pure publisher and stops counting as a subscriber; if it receives
+// later, it subscribes from that moment on.
+//
+// Threads. One handle belongs to one thread at a time (like iceoryx publishers
+// or a std::vector): open one handle per thread; handles are cheap and all
+// handles of a name share one ring.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <expected>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <thread>
+#include <type_traits>
+
+#include "horus/error.hpp"
+#include "horus/metrics.hpp"
+#include "horus/reflect.hpp"
+#include "horus/shm/heap_region.hpp"
+#include "horus/shm/ring.hpp"
+
+namespace horus {
+
+/// Where a topic's messages travel.
+enum class Backend { InProcess };
+std::string_view to_string(Backend b) noexcept;
+
+/// Longest topic name accepted.
+inline constexpr std::size_t kMaxTopicNameLength = 128;
+
+/// Checks a topic name: 1 to 128 characters from letters, digits, '_', '.', '-';
+/// dot-separated segments ("sensors.imu", "robot_1.cmd_vel"); no empty segment,
+/// no leading '-'. The error names the offending character and the rule.
+Result<void> validate_topic_name(std::string_view name);
+
+/// A message type Topic<T> can carry (today: reflected and trivially copyable).
+template <class T>
+concept Message = Reflected<T> && std::is_trivially_copyable_v<T>;
+
+namespace detail {
+
+struct TypeInfo {
+  std::string_view name;
+  std::uint64_t hash;
+  std::uint32_t size;
+};
+
+/// The shared state of one topic in this process: its ring and the memory it lives in.
+struct TopicCore {
+  std::string name;
+  std::string type_name;
+  std::uint64_t type_hash = 0;
+  std::uint32_t payload_size = 0;
+  shm::HeapRegion region;
+  shm::Ring ring;
+};
+
+/// Finds or creates the topic `name` for a message type; checks name, type and configuration.
+Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeInfo& type,
+                                             std::optional<std::uint32_t> capacity,
+                                             std::optional<std::size_t> slot_size);
+/// A process-unique, non-zero identity for a handle's lane and subscriber entry.
+std::uint64_t next_token() noexcept;
+/// Logs (once per handle) that a send found no free lane / a receive no free subscriber entry.
+void report_no_lane(const TopicCore& core);
+void report_no_subscriber_slot(const TopicCore& core);
+
+inline void cpu_relax() noexcept {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#elif defined(__aarch64__)
+  asm volatile("yield");
+#endif
+}
+
+}  // namespace detail
+
+template <class T>
+class Topic {
+  static_assert(Reflected<T>,
+                "horus::Topic<T>: T must be a message declared with HORUS_MESSAGE or HORUS_REFLECT");
+  static_assert(std::is_trivially_copyable_v<T>,
+                "horus::Topic<T>: T must be trivially copyable (fixed-size messages travel by copy)");
+
+ public:
+  using message_type = T;
+
+  /// Opens (or creates) the topic with the default capacity; throws horus::Exception.
+  explicit Topic(std::string_view name) : Topic(value_or_throw(open(name))) {}
+
+  /// Opens (or creates) the topic with the default capacity (16 to 1024 slots by message size).
+  static Result<Topic> open(std::string_view name) { return make(name, std::nullopt, std::nullopt); }
+
+  /// Opens (or creates) the topic with `capacity` slots per publisher (a power of two).
+  /// `slot_size`, when given, must be at least sizeof(T). Opening an existing topic with a
+  /// different capacity is an error (Errc::ConfigMismatch).
+  static Result<Topic> with_capacity(std::string_view name, std::uint32_t capacity,
+                                     std::optional<std::size_t> slot_size = std::nullopt) {
+    return make(name, capacity, slot_size);
+  }
+
+  Topic(Topic&&) noexcept = default;
+  Topic& operator=(Topic&& other) noexcept {
+    // Release our lane and subscription while our ring is still mapped, then take other's.
+    Topic old(std::move(*this));
+    core_ = std::move(other.core_);
+    writer_ = std::move(other.writer_);
+    reader_ = std::move(other.reader_);
+    sent_ = other.sent_;
+    received_count_ = other.received_count_;
+    send_failures_ = other.send_failures_;
+    recv_failures_ = other.recv_failures_;
+    received_ = other.received_;
+    no_lane_reported_ = other.no_lane_reported_;
+    no_sub_reported_ = other.no_sub_reported_;
+    return *this;
+  }
+  Topic(const Topic&) = delete;
+  Topic& operator=(const Topic&) = delete;
+  ~Topic() = default;
+
+  // -- sending ---------------------------------------------------------------
+
+  /// Publishes. Never blocks, never fails: a full ring overwrites its oldest message.
+  /// (Only when all kMaxPublishers lanes are taken is the message refused: it is then
+  /// counted in metrics().send_failures() and logged.)
+  void send(const T& msg) {
+    if (!writer_.has_lane()) [[unlikely]] {
+      if (!become_publisher()) {
+        ++send_failures_;
+        return;
+      }
+    }
+    writer_.write(msg);
+    ++sent_;
+  }
+
+  /// Publishes only if no subscriber would lose an unread message; else gives the message back.
+  std::expected<void, T> try_send(const T& msg) {
+    if (try_write(msg)) return {};
+    ++send_failures_;
+    return std::unexpected<T>(msg);
+  }
+
+  /// Publishes, waiting up to `timeout` for space (spin, then yield, then 100 us sleeps).
+  Result<void> send_blocking(const T& msg, std::chrono::nanoseconds timeout) {
+    using clock = std::chrono::steady_clock;
+    if (try_write(msg)) return {};
+    const auto deadline = clock::now() + timeout;
+    for (int i = 0; i < 256; ++i) {
+      detail::cpu_relax();
+      if (try_write(msg)) return {};
+    }
+    for (int i = 0; i < 8; ++i) {
+      std::this_thread::yield();
+      if (try_write(msg)) return {};
+    }
+    for (auto now = clock::now(); now < deadline; now = clock::now()) {
+      std::this_thread::sleep_for(std::min<clock::duration>(std::chrono::microseconds(100), deadline - now));
+      if (try_write(msg)) return {};
+    }
+    ++send_failures_;
+    return fail(Errc::Timeout, "topic '" + core_->name + "': ring stayed full for " +
+                                   std::to_string(std::chrono::duration<double, std::milli>(timeout).count()) +
+                                   " ms (a subscriber has " + std::to_string(core_->ring.capacity()) +
+                                   " unread messages); message not sent");
+  }
+
+  // -- receiving -------------------------------------------------------------
+
+  /// Takes the next unread message (FIFO per publisher), or nothing.
+  std::optional<T> recv() {
+    received_ = true;
+    if (!reader_.subscribed()) [[unlikely]] {
+      if (!resubscribe()) {
+        ++recv_failures_;
+        return std::nullopt;
+      }
+    }
+    Slot s;
+    if (reader_.read(s.value)) {
+      ++received_count_;
+      return s.value;
+    }
+    ++recv_failures_;
+    return std::nullopt;
+  }
+
+  /// Same as recv(), for symmetry with try_send().
+  std::optional<T> try_recv() { return recv(); }
+
+  /// The newest message on the topic, without waiting; repeated calls return the same message
+  /// until a newer one arrives. Everything up to it counts as read (not as dropped), so a
+  /// following recv() returns only newer messages.
+  std::optional<T> read_latest() {
+    received_ = true;
+    Slot s;
+    if (!reader_.read_latest(s.value)) return std::nullopt;
+    return s.value;
+  }
+
+  // -- state -----------------------------------------------------------------
+
+  std::string_view name() const noexcept { return core_->name; }
+  /// True if recv() would return a message.
+  bool has_message() {
+    received_ = true;
+    return reader_.subscribed() && reader_.has_message();
+  }
+  /// Unread messages waiting for this handle.
+  std::uint64_t pending_count() {
+    received_ = true;
+    return reader_.subscribed() ? reader_.pending() : 0;
+  }
+  /// Messages lost to overwrites: this handle's own losses when it subscribes; for a pure
+  /// publisher, the losses of all subscribers of the topic.
+  std::uint64_t dropped_count() const noexcept {
+    if (reader_.subscribed()) return reader_.lost();
+    const auto& ring = core_->ring;
+    return ring.header().dropped_total.load(std::memory_order_relaxed) + ring.undetected_losses();
+  }
+  /// Publishers currently holding a lane of this topic.
+  std::uint32_t pub_count() const noexcept { return core_->ring.publisher_count(); }
+  /// Handles currently subscribed to this topic.
+  std::uint32_t sub_count() const noexcept { return core_->ring.subscriber_count(); }
+  TopicMetrics metrics() const noexcept {
+    return TopicMetrics(sent_, received_count_, send_failures_, recv_failures_, dropped_count(),
+                        core_->ring.total_sent());
+  }
+  /// Slots per publisher lane.
+  std::uint32_t capacity() const noexcept { return core_->ring.capacity(); }
+  Backend backend() const noexcept { return Backend::InProcess; }
+  /// The qualified message type name ("horus::msg::CmdVel").
+  static constexpr std::string_view type_name() noexcept { return horus::type_name<T>(); }
+
+ private:
+  // Uninitialised storage the ring copies into (avoids zeroing T before overwriting it).
+  union Slot {
+    Slot() noexcept {}
+    T value;
+  };
+
+  explicit Topic(std::shared_ptr<detail::TopicCore> core)
+      : core_(std::move(core)),
+        writer_(core_->ring, detail::next_token()),
+        reader_(core_->ring, detail::next_token()) {}
+
+  static Result<Topic> make(std::string_view name, std::optional<std::uint32_t> capacity,
+                            std::optional<std::size_t> slot_size) {
+    const detail::TypeInfo type{horus::type_name<T>(), horus::type_hash<T>, static_cast<std::uint32_t>(sizeof(T))};
+    auto core = detail::open_core(name, type, capacity, slot_size);
+    if (!core) return std::unexpected(std::move(core.error()));
+    Topic topic(std::move(*core));
+    if (!topic.reader_.subscribe()) {
+      return fail(Errc::LimitReached, "topic '" + std::string(name) + "' already has " +
+                                          std::to_string(shm::kMaxSubscribers) +
+                                          " handles; close some before opening more");
+    }
+    return topic;
+  }
+
+  static Topic value_or_throw(Result<Topic> r) {
+    if (!r) throw Exception(std::move(r.error()));
+    return std::move(*r);
+  }
+
+  bool try_write(const T& msg) {
+    if (!writer_.has_lane() && !become_publisher()) return false;
+    if (!writer_.has_space()) return false;
+    writer_.write(msg);
+    ++sent_;
+    return true;
+  }
+
+  [[gnu::noinline]] bool become_publisher() {
+    if (!received_) reader_.unsubscribe();
+    if (writer_.ensure_lane()) return true;
+    if (!no_lane_reported_) detail::report_no_lane(*core_);
+    no_lane_reported_ = true;
+    return false;
+  }
+
+  [[gnu::noinline]] bool resubscribe() {
+    if (reader_.subscribe()) return true;
+    if (!no_sub_reported_) detail::report_no_subscriber_slot(*core_);
+    no_sub_reported_ = true;
+    return false;
+  }
+
+  std::shared_ptr<detail::TopicCore> core_;  // first: outlives writer_ and reader_
+  shm::RingWriter<T> writer_;
+  shm::RingReader<T> reader_;
+  std::uint64_t sent_ = 0;
+  std::uint64_t received_count_ = 0;
+  std::uint64_t send_failures_ = 0;
+  std::uint64_t recv_failures_ = 0;
+  bool received_ = false;
+  bool no_lane_reported_ = false;
+  bool no_sub_reported_ = false;
+};
+
+}  // namespace horus

@@ -1,0 +1,41 @@
+#include "log.hpp"
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <array>
+#include <cstdlib>
+#include <string_view>
+
+namespace horus::detail {
+
+namespace {
+std::shared_ptr<spdlog::logger> make_logger() {
+  auto logger = spdlog::get("horus");
+  if (!logger) logger = spdlog::stderr_color_mt("horus");
+  logger->set_level(spdlog::level::info);
+  const char* env = std::getenv("HORUS_LOG_LEVEL");
+  if (env != nullptr && *env != '\0') {
+    constexpr std::array<std::string_view, 7> names{"trace", "debug", "info", "warn", "error", "critical", "off"};
+    bool ok = false;
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      if (names[i] == env) {
+        logger->set_level(static_cast<spdlog::level::level_enum>(i));
+        ok = true;
+      }
+    }
+    if (!ok)
+      logger->error("HORUS_LOG_LEVEL='{}' is not a log level; expected one of trace, debug, info, warn, error, "
+                    "critical, off (using info)",
+                    env);
+  }
+  return logger;
+}
+}  // namespace
+
+spdlog::logger& log() {
+  static const std::shared_ptr<spdlog::logger> logger = make_logger();
+  return *logger;
+}
+
+}  // namespace horus::detail

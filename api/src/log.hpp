@@ -1,0 +1,8 @@
+// The library's logger ("horus"), level from HORUS_LOG_LEVEL. Private to horus.
+#pragma once
+
+#include <spdlog/logger.h>
+
+namespace horus::detail {
+spdlog::logger& log();
+}

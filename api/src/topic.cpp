@@ -1,0 +1,159 @@
+#include <fmt/format.h>
+
+#include <atomic>
+#include <map>
+#include <mutex>
+
+#include "horus/topic.hpp"
+#include "log.hpp"
+
+namespace horus {
+
+std::string_view to_string(Errc code) noexcept {
+  switch (code) {
+    case Errc::InvalidName: return "invalid_name";
+    case Errc::TypeMismatch: return "type_mismatch";
+    case Errc::InvalidArgument: return "invalid_argument";
+    case Errc::ConfigMismatch: return "config_mismatch";
+    case Errc::LimitReached: return "limit_reached";
+    case Errc::Timeout: return "timeout";
+    case Errc::MessageTooLarge: return "message_too_large";
+    case Errc::Config: return "config";
+    case Errc::Io: return "io";
+  }
+  return "unknown";
+}
+
+std::string_view to_string(Backend b) noexcept {
+  switch (b) {
+    case Backend::InProcess: return "inproc";
+  }
+  return "unknown";
+}
+
+namespace {
+bool is_name_char(char c) {
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '.' ||
+         c == '-';
+}
+
+std::string printable(char c) {
+  if (c >= 0x20 && c < 0x7f) return fmt::format("'{}'", c);
+  return fmt::format("byte 0x{:02x}", static_cast<unsigned char>(c));
+}
+}  // namespace
+
+Result<void> validate_topic_name(std::string_view name) {
+  constexpr std::string_view rule =
+      "expected 1 to 128 characters from letters, digits, '_', '.', '-', in dot-separated segments "
+      "(e.g. 'sensors.imu', 'robot_1.cmd_vel')";
+  if (name.empty()) return fail(Errc::InvalidName, fmt::format("invalid topic name '': the name is empty; {}", rule));
+  if (name.size() > kMaxTopicNameLength)
+    return fail(Errc::InvalidName, fmt::format("invalid topic name '{}...': {} characters is too long; {}",
+                                               name.substr(0, 32), name.size(), rule));
+  for (std::size_t i = 0; i < name.size(); ++i) {
+    const char c = name[i];
+    if (!is_name_char(c)) {
+      const std::string hint = c == '/' ? " ('/' is not allowed: use '.' as the separator)" : "";
+      return fail(Errc::InvalidName, fmt::format("invalid topic name '{}': {} at position {} is not allowed{}; {}",
+                                                 name, printable(c), i, hint, rule));
+    }
+  }
+  if (name.front() == '.' || name.back() == '.')
+    return fail(Errc::InvalidName,
+                fmt::format("invalid topic name '{}': it starts or ends with '.'; {}", name, rule));
+  if (name.find("..") != std::string_view::npos)
+    return fail(Errc::InvalidName, fmt::format("invalid topic name '{}': it has an empty segment ('..'); {}", name, rule));
+  if (name.front() == '-')
+    return fail(Errc::InvalidName, fmt::format("invalid topic name '{}': it starts with '-'; {}", name, rule));
+  return {};
+}
+
+namespace detail {
+
+namespace {
+struct Registry {
+  std::mutex mutex;
+  std::map<std::string, std::weak_ptr<TopicCore>, std::less<>> topics;
+};
+
+Registry& registry() {
+  static Registry r;
+  return r;
+}
+
+std::string describe(std::string_view type_name, std::uint64_t hash, std::uint32_t size) {
+  return fmt::format("{} (layout hash {:016x}, {} bytes)", type_name, hash, size);
+}
+}  // namespace
+
+Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeInfo& type,
+                                             std::optional<std::uint32_t> capacity,
+                                             std::optional<std::size_t> slot_size) {
+  if (auto ok = validate_topic_name(name); !ok) return std::unexpected(std::move(ok.error()));
+  if (capacity) {
+    if (auto err = shm::Ring::check_config({*capacity, type.size, type.hash}))
+      return fail(Errc::InvalidArgument, fmt::format("topic '{}': {}", name, *err));
+  }
+  if (slot_size && *slot_size < type.size)
+    return fail(Errc::InvalidArgument,
+                fmt::format("topic '{}': slot_size {} is smaller than a {} message ({} bytes); expected at least {}",
+                            name, *slot_size, type.name, type.size, type.size));
+
+  auto& reg = registry();
+  std::lock_guard lock(reg.mutex);
+  if (auto it = reg.topics.find(name); it != reg.topics.end()) {
+    if (auto core = it->second.lock()) {
+      if (core->type_hash != type.hash || core->type_name != type.name || core->payload_size != type.size)
+        return fail(Errc::TypeMismatch,
+                    fmt::format("topic '{}' carries {}; cannot open it as {}", name,
+                                describe(core->type_name, core->type_hash, core->payload_size),
+                                describe(type.name, type.hash, type.size)));
+      if (capacity && *capacity != core->ring.capacity())
+        return fail(Errc::ConfigMismatch,
+                    fmt::format("topic '{}' exists with capacity {}; cannot open it with capacity {} (open it "
+                                "with the same capacity, or with Topic::open to accept the existing one)",
+                                name, core->ring.capacity(), *capacity));
+      return core;
+    }
+    reg.topics.erase(it);
+  }
+
+  const shm::RingConfig cfg{capacity.value_or(shm::default_capacity(type.size)), type.size, type.hash};
+  auto core = std::make_shared<TopicCore>();
+  core->name = std::string(name);
+  core->type_name = std::string(type.name);
+  core->type_hash = type.hash;
+  core->payload_size = type.size;
+  try {
+    core->region = shm::HeapRegion(shm::Ring::required_size(cfg));
+  } catch (const std::bad_alloc&) {
+    return fail(Errc::Io, fmt::format("topic '{}': cannot map {} bytes for its ring", name,
+                                      shm::Ring::required_size(cfg)));
+  }
+  core->ring = shm::Ring::format(core->region.data(), cfg);
+  // Drop entries of topics that were closed, so the map does not grow without bound.
+  std::erase_if(reg.topics, [](const auto& kv) { return kv.second.expired(); });
+  reg.topics.emplace(core->name, core);
+  return core;
+}
+
+std::uint64_t next_token() noexcept {
+  static std::atomic<std::uint64_t> counter{0};
+  return counter.fetch_add(1, std::memory_order_relaxed) + 1;
+}
+
+void report_no_lane(const TopicCore& core) {
+  log().error("topic '{}': all {} publisher lanes are in use; this handle's messages are refused and counted "
+              "in metrics().send_failures() (close other publishing handles)",
+              core.name, shm::kMaxPublishers);
+}
+
+void report_no_subscriber_slot(const TopicCore& core) {
+  log().error("topic '{}': all {} subscriber entries are in use; this handle receives nothing (close other "
+              "handles)",
+              core.name, shm::kMaxSubscribers);
+}
+
+}  // namespace detail
+}  // namespace horus

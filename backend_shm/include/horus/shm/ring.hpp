@@ -1,0 +1,474 @@
+// The broadcast ring behind every local topic.
+//
+// One ring serves many publishers and many subscribers. Each publisher owns a
+// *lane* (a single-writer ring of `capacity` slots), so a send is a handful of
+// plain stores: no lock, no read-modify-write, no syscall. Each subscriber keeps
+// one cursor per lane and reads every lane in turn, so it sees every message of
+// every publisher exactly once and in each publisher's order. A full lane
+// overwrites its oldest slot; a subscriber that finds its next slot overwritten
+// counts the messages it lost and moves to the oldest one still there.
+//
+// The memory is one flat region with a fixed layout and offsets only (no
+// pointers), so the same code runs on heap memory (process-local topics) and on
+// a POSIX shared-memory segment:
+//
+//   offset 0                    RingHeader            (constants, lane/sub high-water marks, drop total)
+//   lanes_offset                LaneHeader[kMaxPublishers]    (owner token, head)
+//   subs_offset                 SubscriberEntry[kMaxSubscribers] (state, owner, cursor per lane)
+//   slots_offset                lane 0: slot[capacity] | lane 1: slot[capacity] | ...
+//
+//   slot = [ seq : u64 ][ payload : payload_size rounded up to 8 ]   stride: power of two <= 64 B,
+//                                                                   else a multiple of 64 B, so a
+//                                                                   small slot never straddles lines
+//
+// Per-slot sequence (a seqlock): for lane sequence number s, the writer stores
+// seq = 2s+1 (writing), the payload, then seq = 2s+2 (committed). A reader that
+// wants message s loads seq, copies the payload, and loads seq again: it accepts
+// the copy only if both loads saw 2s+2. Anything smaller means "not written
+// yet", anything larger means "overwritten: message s is lost". A writer that
+// dies mid-write leaves an odd seq, which readers treat as "not written yet", so
+// a torn message is never returned. Payload words are copied with
+// acquire/release atomic accesses: on x86 those are plain moves, and the code
+// stays within the C++ memory model (and ThreadSanitizer can check it).
+#pragma once
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <optional>
+#include <string>
+#include <type_traits>
+
+namespace horus::shm {
+
+inline constexpr std::size_t kCacheLine = 64;
+/// Publishers (sending handles) a topic can have at once.
+inline constexpr std::uint32_t kMaxPublishers = 32;
+/// Subscribers (receiving handles) a topic can have at once.
+inline constexpr std::uint32_t kMaxSubscribers = 64;
+/// Largest number of slots per lane.
+inline constexpr std::uint32_t kMaxCapacity = 1u << 20;
+inline constexpr std::uint64_t kRingMagic = 0x3147'4E52'5355'524FULL;  // "ORUSRNG1"
+inline constexpr std::uint32_t kLayoutVersion = 1;
+
+struct alignas(kCacheLine) RingHeader {
+  // Written once by format(), read-only afterwards.
+  std::uint64_t magic;
+  std::uint32_t layout_version;
+  std::uint32_t capacity;       // slots per lane, a power of two
+  std::uint32_t payload_size;   // bytes of one message
+  std::uint32_t slot_stride;    // bytes between slots
+  std::uint64_t type_hash;      // layout hash of the message type
+  std::uint64_t lanes_offset;
+  std::uint64_t subs_offset;
+  std::uint64_t slots_offset;
+  std::uint64_t total_size;
+  // Read by every receive; changes only when a new lane or subscriber slot is first used.
+  alignas(kCacheLine) std::atomic<std::uint32_t> lane_hwm;  // lanes [0, lane_hwm) may hold data
+  std::atomic<std::uint32_t> sub_hwm;                       // entries [0, sub_hwm) may be active
+  // Written by publishers: the lane that sent last (for read_latest).
+  alignas(kCacheLine) std::atomic<std::uint32_t> latest_lane;
+  // Written by subscribers when they detect a loss (slow path only).
+  alignas(kCacheLine) std::atomic<std::uint64_t> dropped_total;
+};
+
+struct alignas(kCacheLine) LaneHeader {
+  std::atomic<std::uint64_t> owner;                     // 0: free, else the publisher's token
+  alignas(kCacheLine) std::atomic<std::uint64_t> head;  // next sequence number to write
+};
+
+struct alignas(kCacheLine) SubscriberEntry {
+  static constexpr std::uint32_t kFree = 0, kClaiming = 1, kActive = 2;
+  std::atomic<std::uint32_t> state;
+  std::atomic<std::uint64_t> owner;
+  // Next sequence the subscriber will read, per lane (published after each read).
+  alignas(kCacheLine) std::atomic<std::uint64_t> cursor[kMaxPublishers];
+};
+
+static_assert(std::atomic<std::uint64_t>::is_always_lock_free, "the ring needs lock-free 64-bit atomics");
+static_assert(std::atomic<std::uint32_t>::is_always_lock_free, "the ring needs lock-free 32-bit atomics");
+static_assert(std::is_standard_layout_v<RingHeader> && std::is_standard_layout_v<LaneHeader> &&
+                  std::is_standard_layout_v<SubscriberEntry>,
+              "ring structures live in shared memory and must have a fixed layout");
+
+/// What reading one slot found.
+enum class ReadStatus { Ok, Empty, Lost };
+
+/// Bytes between consecutive slots for a payload of the given size.
+constexpr std::uint32_t slot_stride_for(std::uint32_t payload_size) noexcept {
+  const std::uint32_t raw = 8 + ((payload_size + 7u) & ~7u);
+  if (raw <= kCacheLine) return std::bit_ceil(raw);
+  return static_cast<std::uint32_t>((raw + kCacheLine - 1) / kCacheLine * kCacheLine);
+}
+
+/// Default slots per lane: 16 to 1024, more for small messages (about 64 KiB per lane).
+constexpr std::uint32_t default_capacity(std::uint32_t payload_size) noexcept {
+  const std::uint32_t by_size = std::bit_floor(std::max<std::uint32_t>(1u, (64u * 1024u) / slot_stride_for(payload_size)));
+  return std::clamp<std::uint32_t>(by_size, 16u, 1024u);
+}
+
+// ---------------------------------------------------------------------------
+// Slot access. The payload area is 8-byte aligned; T is never accessed in place.
+
+namespace detail {
+inline std::uint64_t load_word(const std::byte* p) noexcept {
+  return std::atomic_ref<std::uint64_t>(*const_cast<std::uint64_t*>(reinterpret_cast<const std::uint64_t*>(p)))
+      .load(std::memory_order_acquire);
+}
+inline void store_word(std::byte* p, std::uint64_t w) noexcept {
+  std::atomic_ref<std::uint64_t>(*reinterpret_cast<std::uint64_t*>(p)).store(w, std::memory_order_release);
+}
+inline std::atomic_ref<std::uint64_t> seq_of(std::byte* slot) noexcept {
+  return std::atomic_ref<std::uint64_t>(*reinterpret_cast<std::uint64_t*>(slot));
+}
+inline std::uint64_t load_seq(const std::byte* slot, std::memory_order mo) noexcept {
+  return std::atomic_ref<std::uint64_t>(*const_cast<std::uint64_t*>(reinterpret_cast<const std::uint64_t*>(slot)))
+      .load(mo);
+}
+}  // namespace detail
+
+/// Writes message number `seq` of a lane into its slot (single writer per lane).
+template <class T>
+inline void write_slot(std::byte* slot, std::uint64_t seq, const T& msg) noexcept {
+  static_assert(std::is_trivially_copyable_v<T>, "ring slots carry trivially copyable messages");
+  constexpr std::size_t kFull = sizeof(T) / 8;
+  constexpr std::size_t kTail = sizeof(T) % 8;
+  auto sq = detail::seq_of(slot);
+  sq.store(2 * seq + 1, std::memory_order_relaxed);
+  std::byte* dst = slot + 8;
+  const auto* src = reinterpret_cast<const std::byte*>(&msg);
+  for (std::size_t i = 0; i < kFull; ++i) {
+    std::uint64_t w;
+    std::memcpy(&w, src + i * 8, 8);
+    detail::store_word(dst + i * 8, w);
+  }
+  if constexpr (kTail != 0) {
+    std::uint64_t w = 0;
+    std::memcpy(&w, src + kFull * 8, kTail);
+    detail::store_word(dst + kFull * 8, w);
+  }
+  sq.store(2 * seq + 2, std::memory_order_release);
+}
+
+/// Reads message number `seq` of a lane from its slot into `out` (never torn).
+template <class T>
+inline ReadStatus read_slot(const std::byte* slot, std::uint64_t seq, T& out) noexcept {
+  static_assert(std::is_trivially_copyable_v<T>, "ring slots carry trivially copyable messages");
+  constexpr std::size_t kWords = (sizeof(T) + 7) / 8;
+  const std::uint64_t want = 2 * seq + 2;
+  const std::uint64_t v1 = detail::load_seq(slot, std::memory_order_acquire);
+  if (v1 != want) return v1 < want ? ReadStatus::Empty : ReadStatus::Lost;
+  alignas(T) std::byte buf[kWords * 8];
+  const std::byte* src = slot + 8;
+  for (std::size_t i = 0; i < kWords; ++i) {
+    const std::uint64_t w = detail::load_word(src + i * 8);
+    std::memcpy(buf + i * 8, &w, 8);
+  }
+  if (detail::load_seq(slot, std::memory_order_relaxed) != want) return ReadStatus::Lost;
+  std::memcpy(static_cast<void*>(&out), buf, sizeof(T));
+  return ReadStatus::Ok;
+}
+
+/// True if the slot holds message `seq` or a later one (something to read at `seq`).
+inline bool slot_has(const std::byte* slot, std::uint64_t seq) noexcept {
+  return detail::load_seq(slot, std::memory_order_acquire) >= 2 * seq + 2;
+}
+
+// ---------------------------------------------------------------------------
+
+struct RingConfig {
+  std::uint32_t capacity = 0;      // slots per lane (power of two)
+  std::uint32_t payload_size = 0;  // bytes per message
+  std::uint64_t type_hash = 0;
+};
+
+/// A non-owning view of a formatted ring region. Copyable; all state lives in the region.
+class Ring {
+ public:
+  Ring() = default;
+
+  /// Bytes a region needs for this configuration.
+  static std::size_t required_size(const RingConfig& cfg) noexcept;
+  /// Checks a configuration; returns an error text or nothing.
+  static std::optional<std::string> check_config(const RingConfig& cfg);
+  /// Initialises a zero-filled region of at least required_size(cfg) bytes.
+  static Ring format(void* region, const RingConfig& cfg) noexcept;
+  /// Attaches to a region formatted by format(); returns an error text on a bad header.
+  static std::optional<std::string> validate(const void* region, std::size_t size);
+  static Ring attach(void* region) noexcept;
+
+  RingHeader& header() const noexcept { return *hdr_; }
+  LaneHeader& lane(std::uint32_t i) const noexcept { return lanes_[i]; }
+  SubscriberEntry& subscriber(std::uint32_t i) const noexcept { return subs_[i]; }
+  std::byte* lane_slots(std::uint32_t lane) const noexcept {
+    return slots_ + static_cast<std::size_t>(lane) * capacity_ * stride_;
+  }
+  std::uint32_t capacity() const noexcept { return capacity_; }
+  std::uint32_t stride() const noexcept { return stride_; }
+  explicit operator bool() const noexcept { return hdr_ != nullptr; }
+
+  /// Claims a free lane for a publisher; returns its index, or nothing when all are taken.
+  std::optional<std::uint32_t> claim_lane(std::uint64_t token) const noexcept;
+  void release_lane(std::uint32_t lane, std::uint64_t token) const noexcept;
+  /// Claims a subscriber entry whose cursors start at the lanes' current heads.
+  std::optional<std::uint32_t> add_subscriber(std::uint64_t token) const noexcept;
+  void remove_subscriber(std::uint32_t entry, std::uint64_t token) const noexcept;
+
+  std::uint32_t publisher_count() const noexcept;
+  std::uint32_t subscriber_count() const noexcept;
+  /// The lowest head at which writing into `lane` would overwrite a message an active
+  /// subscriber has not read: the slowest cursor + capacity, at most head + capacity.
+  std::uint64_t space_limit(std::uint32_t lane, std::uint64_t head) const noexcept;
+  /// Messages that active subscribers lagged beyond capacity and have not yet noticed.
+  std::uint64_t undetected_losses() const noexcept;
+  /// Messages sent on the topic since it was created (all lanes).
+  std::uint64_t total_sent() const noexcept;
+
+ private:
+  explicit Ring(std::byte* base) noexcept;
+  RingHeader* hdr_ = nullptr;
+  LaneHeader* lanes_ = nullptr;
+  SubscriberEntry* subs_ = nullptr;
+  std::byte* slots_ = nullptr;
+  std::uint32_t capacity_ = 0;
+  std::uint32_t stride_ = 0;
+};
+
+// ---------------------------------------------------------------------------
+
+/// The sending side of one handle: owns a lane once it has sent. Not thread-safe.
+template <class T>
+class RingWriter {
+ public:
+  RingWriter() = default;
+  RingWriter(Ring ring, std::uint64_t token) noexcept : ring_(ring), token_(token) {}
+  RingWriter(RingWriter&& o) noexcept { *this = std::move(o); }
+  RingWriter& operator=(RingWriter&& o) noexcept {
+    if (this != &o) {
+      release();
+      ring_ = o.ring_;
+      token_ = o.token_;
+      lane_ = o.lane_;
+      head_ = o.head_;
+      slots_ = o.slots_;
+      mask_ = o.mask_;
+      stride_ = o.stride_;
+      space_limit_ = o.space_limit_;
+      o.lane_ = kNoLane;
+      o.slots_ = nullptr;
+    }
+    return *this;
+  }
+  ~RingWriter() { release(); }
+
+  bool has_lane() const noexcept { return lane_ != kNoLane; }
+  /// Claims a lane; false when every lane of the topic is in use.
+  bool ensure_lane() noexcept {
+    if (lane_ != kNoLane) return true;
+    auto lane = ring_.claim_lane(token_);
+    if (!lane) return false;
+    lane_ = *lane;
+    head_ = ring_.lane(lane_).head.load(std::memory_order_acquire);
+    slots_ = ring_.lane_slots(lane_);
+    mask_ = ring_.capacity() - 1;
+    stride_ = ring_.stride();
+    space_limit_ = 0;
+    return true;
+  }
+
+  /// Publishes; overwrites the oldest slot of the lane when it is full. Requires ensure_lane().
+  void write(const T& msg) noexcept {
+    const std::uint64_t s = head_;
+    write_slot(slots_ + static_cast<std::size_t>(s & mask_) * stride_, s, msg);
+    head_ = s + 1;
+    ring_.lane(lane_).head.store(s + 1, std::memory_order_release);
+    auto& latest = ring_.header().latest_lane;
+    if (latest.load(std::memory_order_relaxed) != lane_) latest.store(lane_, std::memory_order_relaxed);
+  }
+
+  /// True if write() would not overwrite a message some subscriber has not read. The limit
+  /// is cached (like rigtorp's SPSCQueue caches the read index): subscribers' cursors are
+  /// read again only when the cached limit is reached.
+  bool has_space() noexcept {
+    if (head_ < space_limit_) return true;
+    space_limit_ = ring_.space_limit(lane_, head_);
+    return head_ < space_limit_;
+  }
+
+  void release() noexcept {
+    if (lane_ != kNoLane) ring_.release_lane(lane_, token_);
+    lane_ = kNoLane;
+  }
+
+ private:
+  static constexpr std::uint32_t kNoLane = ~0u;
+  Ring ring_;
+  std::uint64_t token_ = 0;
+  std::uint32_t lane_ = kNoLane;
+  std::uint64_t head_ = 0;
+  std::byte* slots_ = nullptr;
+  std::uint64_t mask_ = 0;
+  std::uint32_t stride_ = 0;
+  std::uint64_t space_limit_ = 0;  // head values below this are known to have space
+};
+
+/// The receiving side of one handle: a cursor per lane. Not thread-safe.
+template <class T>
+class RingReader {
+ public:
+  RingReader() = default;
+  RingReader(Ring ring, std::uint64_t token) noexcept : ring_(ring), token_(token), mask_(ring.capacity() - 1) {}
+  RingReader(RingReader&& o) noexcept { *this = std::move(o); }
+  RingReader& operator=(RingReader&& o) noexcept {
+    if (this != &o) {
+      unsubscribe();
+      ring_ = o.ring_;
+      token_ = o.token_;
+      mask_ = o.mask_;
+      entry_ = o.entry_;
+      next_lane_ = o.next_lane_;
+      lost_ = o.lost_;
+      std::copy(std::begin(o.cursor_), std::end(o.cursor_), std::begin(cursor_));
+      o.entry_ = kNone;
+    }
+    return *this;
+  }
+  ~RingReader() { unsubscribe(); }
+
+  bool subscribed() const noexcept { return entry_ != kNone; }
+  /// Starts receiving: every message sent from now on is delivered. False when the topic is full.
+  bool subscribe() noexcept {
+    if (entry_ != kNone) return true;
+    auto e = ring_.add_subscriber(token_);
+    if (!e) return false;
+    entry_ = *e;
+    auto& entry = ring_.subscriber(entry_);
+    for (std::uint32_t l = 0; l < kMaxPublishers; ++l) cursor_[l] = entry.cursor[l].load(std::memory_order_relaxed);
+    return true;
+  }
+  void unsubscribe() noexcept {
+    if (entry_ != kNone) ring_.remove_subscriber(entry_, token_);
+    entry_ = kNone;
+  }
+
+  /// Takes the next unread message (round-robin over publishers, FIFO within each).
+  bool read(T& out) noexcept {
+    const std::uint32_t lanes = ring_.header().lane_hwm.load(std::memory_order_acquire);
+    std::uint32_t lane = next_lane_;
+    for (std::uint32_t k = 0; k < lanes; ++k, ++lane) {
+      if (lane >= lanes) lane = 0;
+      if (read_lane(lane, out)) {
+        next_lane_ = lane + 1;
+        return true;
+      }
+    }
+    return false;
+  }
+
+  /// True if read() would return a message.
+  bool has_message() const noexcept {
+    const std::uint32_t lanes = ring_.header().lane_hwm.load(std::memory_order_acquire);
+    for (std::uint32_t l = 0; l < lanes; ++l)
+      if (slot_has(slot_of(l, cursor_[l]), cursor_[l])) return true;
+    return false;
+  }
+
+  /// Unread messages still in the ring.
+  std::uint64_t pending() const noexcept {
+    const std::uint32_t lanes = ring_.header().lane_hwm.load(std::memory_order_acquire);
+    std::uint64_t n = 0;
+    for (std::uint32_t l = 0; l < lanes; ++l) {
+      const std::uint64_t head = ring_.lane(l).head.load(std::memory_order_acquire);
+      if (head > cursor_[l]) n += std::min<std::uint64_t>(head - cursor_[l], ring_.capacity());
+    }
+    return n;
+  }
+
+  /// Messages this subscriber lost to overwrites, including ones not yet noticed by read().
+  std::uint64_t lost() const noexcept {
+    const std::uint32_t lanes = ring_.header().lane_hwm.load(std::memory_order_acquire);
+    std::uint64_t n = lost_;
+    for (std::uint32_t l = 0; l < lanes; ++l) {
+      const std::uint64_t head = ring_.lane(l).head.load(std::memory_order_acquire);
+      if (head > cursor_[l] + ring_.capacity()) n += head - cursor_[l] - ring_.capacity();
+    }
+    return n;
+  }
+
+  /// Copies the newest message of the topic. When subscribed, everything published before it
+  /// counts as read (it is skipped, not lost), so read() then returns only newer messages.
+  bool read_latest(T& out) noexcept {
+    for (int attempt = 0; attempt < 16; ++attempt) {
+      const std::uint32_t lane = ring_.header().latest_lane.load(std::memory_order_acquire);
+      const std::uint64_t head = ring_.lane(lane).head.load(std::memory_order_acquire);
+      if (head == 0) return false;
+      if (read_slot(slot_of(lane, head - 1), head - 1, out) != ReadStatus::Ok) continue;
+      if (entry_ != kNone) skip_to_latest(lane, head);
+      return true;
+    }
+    return false;
+  }
+
+ private:
+  static constexpr std::uint32_t kNone = ~0u;
+
+  const std::byte* slot_of(std::uint32_t lane, std::uint64_t seq) const noexcept {
+    return ring_.lane_slots(lane) + static_cast<std::size_t>(seq & mask_) * ring_.stride();
+  }
+
+  bool read_lane(std::uint32_t lane, T& out) noexcept {
+    for (;;) {
+      const std::uint64_t c = cursor_[lane];
+      switch (read_slot(slot_of(lane, c), c, out)) {
+        case ReadStatus::Ok:
+          cursor_[lane] = c + 1;
+          ring_.subscriber(entry_).cursor[lane].store(c + 1, std::memory_order_relaxed);
+          return true;
+        case ReadStatus::Empty:
+          return false;
+        case ReadStatus::Lost:
+          skip_lost(lane);
+          break;
+      }
+    }
+  }
+
+  void skip_to_latest(std::uint32_t latest, std::uint64_t latest_head) noexcept {
+    const std::uint32_t lanes = ring_.header().lane_hwm.load(std::memory_order_acquire);
+    for (std::uint32_t l = 0; l < lanes; ++l) {
+      const std::uint64_t to = l == latest ? latest_head : ring_.lane(l).head.load(std::memory_order_acquire);
+      if (cursor_[l] < to) {
+        cursor_[l] = to;
+        ring_.subscriber(entry_).cursor[l].store(to, std::memory_order_relaxed);
+      }
+    }
+  }
+
+  // Slow path: message cursor_[lane] was overwritten; move to the oldest one still there.
+  [[gnu::noinline]] void skip_lost(std::uint32_t lane) noexcept {
+    const std::uint64_t c = cursor_[lane];
+    const std::uint64_t head = ring_.lane(lane).head.load(std::memory_order_acquire);
+    const std::uint64_t cap = ring_.capacity();
+    // The oldest message that can still be there is head - cap (unless a write of `head` is
+    // under way; then reading it fails again and we come back here one step further).
+    const std::uint64_t oldest = head > cap ? head - cap : 0;
+    const std::uint64_t next = std::max(c + 1, oldest);
+    lost_ += next - c;
+    ring_.header().dropped_total.fetch_add(next - c, std::memory_order_relaxed);
+    cursor_[lane] = next;
+    ring_.subscriber(entry_).cursor[lane].store(next, std::memory_order_relaxed);
+  }
+
+  Ring ring_;
+  std::uint64_t token_ = 0;
+  std::uint64_t mask_ = 0;
+  std::uint32_t entry_ = kNone;
+  std::uint32_t next_lane_ = 0;
+  std::uint64_t lost_ = 0;
+  std::uint64_t cursor_[kMaxPublishers]{};
+};
+
+}  // namespace horus::shm

@@ -1,0 +1,67 @@
+// Shared pieces of the benchmarks: CPU pinning, a TSC clock and percentiles.
+#pragma once
+
+#include <pthread.h>
+#include <sched.h>
+#include <x86intrin.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <thread>
+#include <vector>
+
+namespace horus::bench {
+
+/// Pins the calling thread to one CPU (ignored when that CPU is not available).
+inline bool pin_to_cpu(int cpu) {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  CPU_SET(cpu, &set);
+  return pthread_setaffinity_np(pthread_self(), sizeof(set), &set) == 0;
+}
+
+inline int cpu_count() { return static_cast<int>(std::max(1u, std::thread::hardware_concurrency())); }
+
+/// Time-stamp counter ticks converted to nanoseconds (calibrated against steady_clock).
+class TscClock {
+ public:
+  TscClock() {
+    using clock = std::chrono::steady_clock;
+    const auto t0 = clock::now();
+    const std::uint64_t c0 = __rdtsc();
+    while (clock::now() - t0 < std::chrono::milliseconds(100)) {
+    }
+    const auto t1 = clock::now();
+    const std::uint64_t c1 = __rdtsc();
+    ns_per_tick_ = std::chrono::duration<double, std::nano>(t1 - t0).count() / static_cast<double>(c1 - c0);
+  }
+  static std::uint64_t now() noexcept { return __rdtsc(); }
+  double to_ns(std::uint64_t ticks) const noexcept { return static_cast<double>(ticks) * ns_per_tick_; }
+  double to_ns(double ticks) const noexcept { return ticks * ns_per_tick_; }
+
+ private:
+  double ns_per_tick_ = 1.0;
+};
+
+struct Percentiles {
+  double p50 = 0, p99 = 0, p999 = 0, min = 0, mean = 0;
+};
+
+/// Percentiles of samples in ns (the vector is sorted in place).
+inline Percentiles percentiles(std::vector<double>& ns) {
+  Percentiles p;
+  if (ns.empty()) return p;
+  std::sort(ns.begin(), ns.end());
+  auto at = [&](double q) { return ns[std::min(ns.size() - 1, static_cast<std::size_t>(q * static_cast<double>(ns.size())))]; };
+  p.p50 = at(0.50);
+  p.p99 = at(0.99);
+  p.p999 = at(0.999);
+  p.min = ns.front();
+  double sum = 0;
+  for (double v : ns) sum += v;
+  p.mean = sum / static_cast<double>(ns.size());
+  return p;
+}
+
+}  // namespace horus::bench

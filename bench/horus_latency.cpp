@@ -1,0 +1,349 @@
+// horus-latency-local: the local-path latency table of horus, with its floor and baseline.
+//
+// Measured in one run, on the same two pinned CPUs:
+//   * same thread: Topic<CmdVel> send + recv, against boost::lockfree::spsc_queue push + pop;
+//   * cross thread one-way latency (ping-pong, RTT/2, p50/p99/p99.9): the floor (one cache line
+//     bounced between the two threads), horus Topic, boost spsc_queue;
+//   * cross thread throughput (lossless: the publisher waits for space), horus and boost.
+// It prints a table, the ratios and the targets; --json / --csv write the rows.
+#include <CLI/CLI.hpp>
+#include <boost/lockfree/spsc_queue.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "bench_common.hpp"
+#include "horus/horus.hpp"
+
+using horus::msg::CmdVel;
+namespace hb = horus::bench;
+
+namespace {
+
+template <class T>
+inline void keep(T const& v) {
+  asm volatile("" : : "r,m"(v) : "memory");
+}
+
+struct Row {
+  std::string section;
+  std::string name;
+  double p50 = 0, p99 = 0, p999 = 0;  // ns (latency rows)
+  double value = 0;                   // ns/op or messages/s
+  std::string unit;
+  double ratio = 0;
+  std::string ratio_to;
+};
+
+struct Config {
+  int cpu_a = 0, cpu_b = 1;
+  std::uint64_t same_thread_ops = 20'000'000;
+  std::uint64_t rounds = 200'000;
+  std::uint64_t throughput_msgs = 20'000'000;
+  int repeats = 5;
+};
+
+// -- same thread ---------------------------------------------------------------------
+
+double same_thread_horus(const Config& cfg) {
+  horus::Topic<CmdVel> pub("bench.same_thread");
+  horus::Topic<CmdVel> sub("bench.same_thread");
+  CmdVel msg = CmdVel::make(1.0f, 0.5f);
+  double best = 1e9;
+  for (int r = 0; r < cfg.repeats; ++r) {
+    const auto t0 = hb::TscClock::now();
+    for (std::uint64_t i = 0; i < cfg.same_thread_ops; ++i) {
+      msg.stamp_nanos = i;
+      pub.send(msg);
+      auto m = sub.recv();
+      keep(m);
+    }
+    const auto t1 = hb::TscClock::now();
+    best = std::min(best, static_cast<double>(t1 - t0) / static_cast<double>(cfg.same_thread_ops));
+  }
+  return best;  // ticks per op
+}
+
+double same_thread_boost(const Config& cfg) {
+  auto q = std::make_unique<boost::lockfree::spsc_queue<CmdVel, boost::lockfree::capacity<1024>>>();
+  CmdVel msg = CmdVel::make(1.0f, 0.5f);
+  double best = 1e9;
+  for (int r = 0; r < cfg.repeats; ++r) {
+    const auto t0 = hb::TscClock::now();
+    for (std::uint64_t i = 0; i < cfg.same_thread_ops; ++i) {
+      msg.stamp_nanos = i;
+      q->push(msg);
+      CmdVel out;
+      const bool ok = q->pop(out);
+      keep(ok);
+      keep(out);
+    }
+    const auto t1 = hb::TscClock::now();
+    best = std::min(best, static_cast<double>(t1 - t0) / static_cast<double>(cfg.same_thread_ops));
+  }
+  return best;
+}
+
+// -- cross-thread ping-pong ---------------------------------------------------------------
+
+// Runs `echo` on cpu_b and `ping(i)` on cpu_a for each round; returns one-way samples in ns.
+template <class Ping, class Echo>
+std::vector<double> ping_pong(const Config& cfg, const hb::TscClock& tsc, Ping ping, Echo echo) {
+  const std::uint64_t warmup = cfg.rounds / 10;
+  std::thread responder([&] {
+    hb::pin_to_cpu(cfg.cpu_b);
+    echo(warmup + cfg.rounds);
+  });
+  hb::pin_to_cpu(cfg.cpu_a);
+  std::vector<double> samples;
+  samples.reserve(cfg.rounds);
+  for (std::uint64_t i = 0; i < warmup + cfg.rounds; ++i) {
+    const auto t0 = hb::TscClock::now();
+    ping(i);
+    const auto t1 = hb::TscClock::now();
+    if (i >= warmup) samples.push_back(tsc.to_ns(t1 - t0) / 2.0);
+  }
+  responder.join();
+  return samples;
+}
+
+std::vector<double> floor_ping_pong(const Config& cfg, const hb::TscClock& tsc) {
+  struct alignas(64) Line {
+    std::atomic<std::uint64_t> v{0};
+  };
+  auto line = std::make_unique<Line>();
+  return ping_pong(
+      cfg, tsc,
+      [&](std::uint64_t i) {
+        line->v.store(2 * i + 1, std::memory_order_release);
+        while (line->v.load(std::memory_order_acquire) != 2 * i + 2) {
+        }
+      },
+      [&](std::uint64_t n) {
+        for (std::uint64_t i = 0; i < n; ++i) {
+          while (line->v.load(std::memory_order_acquire) != 2 * i + 1) {
+          }
+          line->v.store(2 * i + 2, std::memory_order_release);
+        }
+      });
+}
+
+std::vector<double> horus_ping_pong(const Config& cfg, const hb::TscClock& tsc) {
+  horus::Topic<CmdVel> ping_pub("bench.ping"), pong_sub("bench.pong");
+  std::optional<horus::Topic<CmdVel>> ping_sub_opt, pong_pub_opt;
+  ping_sub_opt.emplace("bench.ping");
+  pong_pub_opt.emplace("bench.pong");
+  CmdVel msg = CmdVel::make(1.0f, 0.5f);
+  return ping_pong(
+      cfg, tsc,
+      [&](std::uint64_t i) {
+        msg.stamp_nanos = i;
+        ping_pub.send(msg);
+        std::optional<CmdVel> r;
+        while (!(r = pong_sub.recv())) {
+        }
+        keep(r);
+      },
+      [&](std::uint64_t n) {
+        auto& in = *ping_sub_opt;
+        auto& out = *pong_pub_opt;
+        for (std::uint64_t i = 0; i < n; ++i) {
+          std::optional<CmdVel> m;
+          while (!(m = in.recv())) {
+          }
+          out.send(*m);
+        }
+      });
+}
+
+std::vector<double> boost_ping_pong(const Config& cfg, const hb::TscClock& tsc) {
+  using Q = boost::lockfree::spsc_queue<CmdVel, boost::lockfree::capacity<1024>>;
+  auto ping_q = std::make_unique<Q>();
+  auto pong_q = std::make_unique<Q>();
+  CmdVel msg = CmdVel::make(1.0f, 0.5f);
+  return ping_pong(
+      cfg, tsc,
+      [&](std::uint64_t i) {
+        msg.stamp_nanos = i;
+        ping_q->push(msg);
+        CmdVel r;
+        while (!pong_q->pop(r)) {
+        }
+        keep(r);
+      },
+      [&](std::uint64_t n) {
+        for (std::uint64_t i = 0; i < n; ++i) {
+          CmdVel m;
+          while (!ping_q->pop(m)) {
+          }
+          pong_q->push(m);
+        }
+      });
+}
+
+// -- throughput -----------------------------------------------------------------------------
+
+template <class Produce, class Consume>
+double throughput(const Config& cfg, Produce produce, Consume consume) {
+  std::atomic<bool> go{false};
+  std::thread consumer([&] {
+    hb::pin_to_cpu(cfg.cpu_b);
+    while (!go.load(std::memory_order_acquire)) {
+    }
+    consume(cfg.throughput_msgs);
+  });
+  hb::pin_to_cpu(cfg.cpu_a);
+  const auto t0 = std::chrono::steady_clock::now();
+  go.store(true, std::memory_order_release);
+  produce(cfg.throughput_msgs);
+  consumer.join();
+  const auto t1 = std::chrono::steady_clock::now();
+  return static_cast<double>(cfg.throughput_msgs) / std::chrono::duration<double>(t1 - t0).count();
+}
+
+double horus_throughput(const Config& cfg) {
+  auto pub = horus::Topic<CmdVel>::with_capacity("bench.throughput", 1024);
+  auto sub = horus::Topic<CmdVel>::with_capacity("bench.throughput", 1024);
+  return throughput(
+      cfg,
+      [&](std::uint64_t n) {
+        CmdVel msg = CmdVel::make(1.0f, 0.5f);
+        for (std::uint64_t i = 0; i < n; ++i) {
+          msg.stamp_nanos = i;
+          while (!pub->try_send(msg)) {
+          }
+        }
+      },
+      [&](std::uint64_t n) {
+        for (std::uint64_t i = 0; i < n;) {
+          if (auto m = sub->recv()) {
+            if (m->stamp_nanos != i) std::abort();  // lossless and ordered, or the figure is wrong
+            ++i;
+          }
+        }
+      });
+}
+
+double boost_throughput(const Config& cfg) {
+  auto q = std::make_unique<boost::lockfree::spsc_queue<CmdVel, boost::lockfree::capacity<1024>>>();
+  return throughput(
+      cfg,
+      [&](std::uint64_t n) {
+        CmdVel msg = CmdVel::make(1.0f, 0.5f);
+        for (std::uint64_t i = 0; i < n; ++i) {
+          msg.stamp_nanos = i;
+          while (!q->push(msg)) {
+          }
+        }
+      },
+      [&](std::uint64_t n) {
+        for (std::uint64_t i = 0; i < n;) {
+          CmdVel m;
+          if (q->pop(m)) {
+            if (m.stamp_nanos != i) std::abort();
+            ++i;
+          }
+        }
+      });
+}
+
+// -- output ----------------------------------------------------------------------------------
+
+Row latency_row(const std::string& name, std::vector<double> samples, double floor_p50) {
+  const auto p = hb::percentiles(samples);
+  Row r{"cross_thread_one_way", name, p.p50, p.p99, p.p999, p.p50, "ns", 0, "floor p50"};
+  r.ratio = floor_p50 > 0 ? p.p50 / floor_p50 : 0;
+  return r;
+}
+
+void write_json(const std::string& path, const std::vector<Row>& rows) {
+  nlohmann::json j = nlohmann::json::array();
+  for (const auto& r : rows)
+    j.push_back({{"section", r.section}, {"name", r.name}, {"p50_ns", r.p50}, {"p99_ns", r.p99},
+                 {"p999_ns", r.p999}, {"value", r.value}, {"unit", r.unit}, {"ratio", r.ratio},
+                 {"ratio_to", r.ratio_to}});
+  std::ofstream(path) << j.dump(2) << "\n";
+}
+
+void write_csv(const std::string& path, const std::vector<Row>& rows) {
+  std::ofstream out(path);
+  out << "section,name,p50_ns,p99_ns,p999_ns,value,unit,ratio,ratio_to\n";
+  for (const auto& r : rows)
+    out << fmt::format("{},{},{:.1f},{:.1f},{:.1f},{:.3f},{},{:.3f},{}\n", r.section, r.name, r.p50, r.p99, r.p999,
+                       r.value, r.unit, r.ratio, r.ratio_to);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Config cfg;
+  std::string json_path, csv_path;
+  bool quick = false;
+  CLI::App app{"horus local-path latency: same-thread, cross-thread and throughput, with floor and baseline"};
+  app.add_option("--cpus", cfg.cpu_a, "first CPU (the second is the next one)")->check(CLI::NonNegativeNumber);
+  app.add_option("--rounds", cfg.rounds, "ping-pong round trips per measurement")->check(CLI::PositiveNumber);
+  app.add_option("--repeats", cfg.repeats, "same-thread repetitions (best is kept)")->check(CLI::PositiveNumber);
+  app.add_option("--json", json_path, "also write the rows as JSON to this file");
+  app.add_option("--csv", csv_path, "also write the rows as CSV to this file");
+  app.add_flag("--quick", quick, "a short run (smoke test): fewer operations, noisier figures");
+  CLI11_PARSE(app, argc, argv);
+  if (quick) {
+    cfg.same_thread_ops = 1'000'000;
+    cfg.rounds = 20'000;
+    cfg.throughput_msgs = 1'000'000;
+    cfg.repeats = 2;
+  }
+  cfg.cpu_b = (cfg.cpu_a + 1) % hb::cpu_count();
+  if (hb::cpu_count() < 2) fmt::print("warning: one CPU only: cross-thread figures measure time slicing\n");
+
+  const hb::TscClock tsc;
+  std::vector<Row> rows;
+
+  hb::pin_to_cpu(cfg.cpu_a);
+  const double st_horus = tsc.to_ns(same_thread_horus(cfg));
+  const double st_boost = tsc.to_ns(same_thread_boost(cfg));
+  rows.push_back({"same_thread", "horus Topic send+recv", 0, 0, 0, st_horus, "ns/op", st_horus / st_boost, "boost"});
+  rows.push_back({"same_thread", "boost spsc_queue push+pop", 0, 0, 0, st_boost, "ns/op", 1.0, "boost"});
+
+  auto floor_samples = floor_ping_pong(cfg, tsc);
+  auto floor_row = latency_row("floor: cache-line ping-pong", floor_samples, 0);
+  floor_row.ratio = 1.0;
+  const double floor_p50 = floor_row.p50;
+  rows.push_back(floor_row);
+  rows.push_back(latency_row("horus Topic<CmdVel>", horus_ping_pong(cfg, tsc), floor_p50));
+  rows.push_back(latency_row("boost spsc_queue<CmdVel>", boost_ping_pong(cfg, tsc), floor_p50));
+
+  const double tp_horus = horus_throughput(cfg);
+  const double tp_boost = boost_throughput(cfg);
+  rows.push_back({"throughput", "horus Topic try_send/recv", 0, 0, 0, tp_horus, "msg/s", tp_horus / tp_boost, "boost"});
+  rows.push_back({"throughput", "boost spsc_queue push/pop", 0, 0, 0, tp_boost, "msg/s", 1.0, "boost"});
+
+  fmt::print("horus local path, CmdVel ({} B), CPUs {} and {}, {} round trips{}\n\n", sizeof(CmdVel), cfg.cpu_a,
+             cfg.cpu_b, cfg.rounds, quick ? " (quick run)" : "");
+  fmt::print("{:<34} {:>10} {:>10}\n", "same thread", "ns/op", "vs boost");
+  for (const auto& r : rows)
+    if (r.section == "same_thread") fmt::print("{:<34} {:>10.2f} {:>9.2f}x\n", r.name, r.value, r.ratio);
+  fmt::print("\n{:<34} {:>8} {:>8} {:>8} {:>10}\n", "cross-thread one-way (RTT/2)", "p50 ns", "p99 ns", "p99.9 ns",
+             "p50/floor");
+  for (const auto& r : rows)
+    if (r.section == "cross_thread_one_way")
+      fmt::print("{:<34} {:>8.1f} {:>8.1f} {:>8.1f} {:>9.2f}x\n", r.name, r.p50, r.p99, r.p999, r.ratio);
+  fmt::print("\n{:<34} {:>12} {:>10}\n", "throughput (lossless, cross-thread)", "M msg/s", "vs boost");
+  for (const auto& r : rows)
+    if (r.section == "throughput") fmt::print("{:<34} {:>12.1f} {:>9.2f}x\n", r.name, r.value / 1e6, r.ratio);
+
+  const double horus_p50_ratio = rows[3].ratio;
+  auto verdict = [](bool ok) { return ok ? "met" : "MISSED"; };
+  fmt::print("\ntargets: same-thread <= 5 ns: {:.2f} ns {} | <= 2x boost: {:.2f}x {} | cross-thread p50 <= 1.3x "
+             "floor: {:.2f}x {}\n",
+             st_horus, verdict(st_horus <= 5.0), st_horus / st_boost, verdict(st_horus / st_boost <= 2.0),
+             horus_p50_ratio, verdict(horus_p50_ratio <= 1.3));
+  if (!json_path.empty()) write_json(json_path, rows);
+  if (!csv_path.empty()) write_csv(csv_path, rows);
+  return 0;
+}

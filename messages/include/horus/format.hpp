@@ -1,0 +1,117 @@
+// fmt formatting of every reflected message, and log_summary().
+//
+//   fmt::format("{}", pose)  ->  Pose2D { x: 1, y: 2, theta: 0.5, timestamp_ns: 0 }
+//
+// Char arrays print as quoted text, other arrays and sequences as [a, b, c],
+// enums through an ADL to_string(E) when one exists (else their number), and
+// nested messages recursively. horus::log_summary(msg) calls msg.log_summary()
+// when the type has one (large messages do: "LaserScan(360 ranges, ...)"), else
+// the full format.
+#pragma once
+
+#include <fmt/format.h>
+
+#include <string>
+#include <string_view>
+#include <type_traits>
+
+#include "horus/fixed_string.hpp"
+#include "horus/reflect.hpp"
+
+namespace horus::reflect::detail {
+
+template <class E>
+concept HasEnumToString = std::is_enum_v<E> && requires(E e) {
+  { to_string(e) } -> std::convertible_to<std::string_view>;
+};
+
+inline std::string_view short_type_name(std::string_view qualified) {
+  const auto pos = qualified.rfind("::");
+  return pos == std::string_view::npos ? qualified : qualified.substr(pos + 2);
+}
+
+template <class Out, class V>
+Out format_value(Out out, const V& v) {
+  if constexpr (std::is_same_v<V, bool>) {
+    return fmt::format_to(out, "{}", v);
+  } else if constexpr (std::is_same_v<V, char>) {
+    return fmt::format_to(out, "{}", static_cast<int>(v));
+  } else if constexpr (std::is_integral_v<V> && sizeof(V) == 1) {
+    return fmt::format_to(out, "{}", static_cast<int>(v));
+  } else if constexpr (std::is_arithmetic_v<V>) {
+    return fmt::format_to(out, "{}", v);
+  } else if constexpr (HasEnumToString<V>) {
+    return fmt::format_to(out, "{}", std::string_view(to_string(v)));
+  } else if constexpr (std::is_enum_v<V>) {
+    return format_value(out, static_cast<std::underlying_type_t<V>>(v));
+  } else if constexpr (std::is_same_v<V, std::string>) {
+    return fmt::format_to(out, "\"{}\"", v);
+  } else if constexpr (is_char_array<V>::value) {
+    return fmt::format_to(out, "\"{}\"", fixed_str_view(v));
+  } else if constexpr (is_std_array<V>::value || is_std_vector<V>::value) {
+    *out++ = '[';
+    bool first = true;
+    for (const auto& e : v) {
+      if (!first) out = fmt::format_to(out, ", ");
+      first = false;
+      out = format_value(out, e);
+    }
+    *out++ = ']';
+    return out;
+  } else {
+    static_assert(Reflected<V>, "format_value: not a reflected type");
+    out = fmt::format_to(out, "{} {{ ", short_type_name(type_name<V>()));
+    bool first = true;
+    for_each_field(v, [&](std::string_view name, const auto& field) {
+      if (!first) out = fmt::format_to(out, ", ");
+      first = false;
+      out = fmt::format_to(out, "{}: ", name);
+      out = format_value(out, field);
+    });
+    return fmt::format_to(out, " }}");
+  }
+}
+
+template <class T>
+concept HasLogSummary = requires(const T& t) {
+  { t.log_summary() } -> std::convertible_to<std::string>;
+};
+
+}  // namespace horus::reflect::detail
+
+template <horus::Reflected T>
+struct fmt::formatter<T> {
+  constexpr auto parse(format_parse_context& ctx) {
+    auto it = ctx.begin();
+    if (it != ctx.end() && *it != '}') throw format_error("horus messages take no format spec: use \"{}\"");
+    return it;
+  }
+  template <class FormatContext>
+  auto format(const T& msg, FormatContext& ctx) const {
+    return horus::reflect::detail::format_value(ctx.out(), msg);
+  }
+};
+
+namespace horus {
+
+/// The full text of a message, e.g. "Pose2D { x: 1, y: 2, theta: 0.5, timestamp_ns: 0 }".
+template <Reflected T>
+std::string to_string(const T& msg) {
+  std::string out;
+  reflect::detail::format_value(std::back_inserter(out), msg);
+  return out;
+}
+
+/// A short, human-readable line for logs: T::log_summary() if T has one, else to_string().
+template <class T>
+std::string log_summary(const T& msg) {
+  if constexpr (reflect::detail::HasLogSummary<T>) {
+    return std::string(msg.log_summary());
+  } else if constexpr (Reflected<T>) {
+    return to_string(msg);
+  } else {
+    return fmt::format("{}", msg);
+  }
+}
+
+}  // namespace horus

@@ -1,0 +1,264 @@
+// Sensor messages: Imu, LaserScan, Odometry, JointState.
+//
+// Fixed-size (trivially copyable) like every standard message: text fields are
+// NUL-terminated std::array<char, 32>, written through set_fixed_str() so a
+// name that does not fit is refused rather than cut. Units as in geometry.hpp.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include <fmt/format.h>
+
+#include "horus/fixed_string.hpp"
+#include "horus/format.hpp"
+#include "horus/msg/geometry.hpp"
+#include "horus/reflect.hpp"
+
+namespace horus::msg {
+
+namespace detail {
+template <std::size_t N>
+bool all_finite(const std::array<double, N>& a) noexcept {
+  return std::all_of(a.begin(), a.end(), [](double v) { return std::isfinite(v); });
+}
+}  // namespace detail
+
+// ---------------------------------------------------------------------------
+/// Inertial measurement. As in ROS, orientation_covariance[0] == -1 means the
+/// sensor gives no orientation (has_orientation() is then false).
+struct Imu {
+  std::array<double, 4> orientation{};                     ///< quaternion [x, y, z, w]
+  std::array<double, 9> orientation_covariance{};          ///< 3x3, row-major
+  std::array<double, 3> angular_velocity{};                ///< rad/s
+  std::array<double, 9> angular_velocity_covariance{};     ///< 3x3, row-major
+  std::array<double, 3> linear_acceleration{};             ///< m/s^2
+  std::array<double, 9> linear_acceleration_covariance{};  ///< 3x3, row-major
+  std::uint64_t timestamp_ns{};
+
+  /// The spec's Imu::new(): identity orientation, everything else zero.
+  static constexpr Imu make() noexcept {
+    Imu imu{};
+    imu.orientation = {0.0, 0.0, 0.0, 1.0};
+    return imu;
+  }
+
+  /// Sets orientation from roll, pitch, yaw in radians (ZYX, see geometry.hpp).
+  void set_orientation_from_euler(double roll, double pitch, double yaw) noexcept {
+    const Quaternion q = Quaternion::from_euler(roll, pitch, yaw);
+    orientation = {q.x, q.y, q.z, q.w};
+  }
+
+  /// False when the sensor reports no orientation (orientation_covariance[0] == -1).
+  constexpr bool has_orientation() const noexcept { return orientation_covariance[0] != -1.0; }
+
+  /// Every number (data and covariances) finite.
+  bool is_valid() const noexcept {
+    return detail::all_finite(orientation) && detail::all_finite(orientation_covariance) &&
+           detail::all_finite(angular_velocity) && detail::all_finite(angular_velocity_covariance) &&
+           detail::all_finite(linear_acceleration) && detail::all_finite(linear_acceleration_covariance);
+  }
+
+  friend constexpr bool operator==(const Imu&, const Imu&) = default;
+};
+HORUS_REFLECT(Imu, orientation, orientation_covariance, angular_velocity, angular_velocity_covariance,
+              linear_acceleration, linear_acceleration_covariance, timestamp_ns)
+
+// ---------------------------------------------------------------------------
+/// A planar lidar scan of up to 360 beams. ranges[i] is the distance in metres
+/// along angle_at(i); 0 (or NaN, inf, or a value outside [range_min, range_max])
+/// means no return.
+struct LaserScan {
+  static constexpr std::size_t kMaxRanges = 360;
+
+  std::array<float, kMaxRanges> ranges{};  ///< m, 0 = invalid
+  float angle_min{};                       ///< rad, angle of ranges[0]
+  float angle_max{};                       ///< rad
+  float range_min{};                       ///< m
+  float range_max{};                       ///< m
+  float angle_increment{};                 ///< rad between beams
+  float time_increment{};                  ///< s between beams
+  float scan_time{};                       ///< s for a whole scan
+  std::uint64_t timestamp_ns{};
+
+  /// The spec's LaserScan::new(): a full turn [-pi, pi] at 1 degree steps,
+  /// valid ranges 0.1 m to 30 m, all ranges 0 (no return).
+  static constexpr LaserScan make() noexcept {
+    LaserScan s{};
+    s.angle_min = -std::numbers::pi_v<float>;
+    s.angle_max = std::numbers::pi_v<float>;
+    s.angle_increment = 2.0f * std::numbers::pi_v<float> / static_cast<float>(kMaxRanges);
+    s.range_min = 0.1f;
+    s.range_max = 30.0f;
+    return s;
+  }
+
+  /// The angle of beam i in radians: angle_min + i * angle_increment.
+  constexpr float angle_at(std::size_t i) const noexcept {
+    return angle_min + static_cast<float>(i) * angle_increment;
+  }
+
+  /// True when i is a beam index and ranges[i] is a finite, non-zero distance
+  /// within [range_min, range_max].
+  bool is_range_valid(std::size_t i) const noexcept {
+    if (i >= ranges.size()) return false;
+    const float r = ranges[i];
+    return std::isfinite(r) && r > 0.0f && r >= range_min && r <= range_max;
+  }
+
+  /// Number of valid ranges.
+  std::size_t valid_count() const noexcept {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < ranges.size(); ++i)
+      if (is_range_valid(i)) ++n;
+    return n;
+  }
+
+  /// The smallest valid range in metres, or nullopt when no beam has a return.
+  std::optional<float> min_range() const noexcept {
+    std::optional<float> best;
+    for (std::size_t i = 0; i < ranges.size(); ++i)
+      if (is_range_valid(i) && (!best || ranges[i] < *best)) best = ranges[i];
+    return best;
+  }
+
+  /// "LaserScan(360 ranges, 120 valid, min 0.45 m, fov 6.28 rad)".
+  std::string log_summary() const {
+    const auto closest = min_range();
+    return fmt::format("LaserScan({} ranges, {} valid, min {}, fov {:.2f} rad)", ranges.size(), valid_count(),
+                       closest ? fmt::format("{:.2f} m", *closest) : std::string("none"),
+                       static_cast<double>(angle_max) - static_cast<double>(angle_min));
+  }
+
+  friend constexpr bool operator==(const LaserScan&, const LaserScan&) = default;
+};
+HORUS_REFLECT(LaserScan, ranges, angle_min, angle_max, range_min, range_max, angle_increment, time_increment,
+              scan_time, timestamp_ns)
+
+// ---------------------------------------------------------------------------
+/// Pose and velocity of child_frame_id (e.g. "base_link") in frame_id (e.g. "odom").
+struct Odometry {
+  Pose2D pose{};
+  Twist twist{};
+  std::array<double, 36> pose_covariance{};   ///< 6x6, row-major (x, y, z, roll, pitch, yaw)
+  std::array<double, 36> twist_covariance{};  ///< 6x6, row-major
+  std::array<char, 32> frame_id{};            ///< NUL-terminated, at most 31 characters
+  std::array<char, 32> child_frame_id{};      ///< NUL-terminated, at most 31 characters
+  std::uint64_t timestamp_ns{};
+
+  /// Sets both frame names. Returns false and changes nothing when either
+  /// does not fit (at most 31 characters, no NUL).
+  bool set_frames(std::string_view frame, std::string_view child_frame) noexcept {
+    if (!fixed_str_fits<32>(frame) || !fixed_str_fits<32>(child_frame)) return false;
+    set_fixed_str(frame_id, frame);
+    set_fixed_str(child_frame_id, child_frame);
+    return true;
+  }
+  std::string_view frame_id_str() const noexcept { return fixed_str_view(frame_id); }
+  std::string_view child_frame_id_str() const noexcept { return fixed_str_view(child_frame_id); }
+
+  /// Replaces pose and twist; timestamp_ns is left for the caller to set.
+  void update(const Pose2D& new_pose, const Twist& new_twist) noexcept {
+    pose = new_pose;
+    twist = new_twist;
+  }
+  /// Replaces pose and twist and stamps the message.
+  void update(const Pose2D& new_pose, const Twist& new_twist, std::uint64_t stamp_ns) noexcept {
+    update(new_pose, new_twist);
+    timestamp_ns = stamp_ns;
+  }
+
+  /// "Odometry(odom -> base_link, x 1.00 m, y 2.00 m, theta 0.50 rad, v 0.50 m/s, w 0.20 rad/s)".
+  std::string log_summary() const {
+    return fmt::format("Odometry({} -> {}, x {:.2f} m, y {:.2f} m, theta {:.2f} rad, v {:.2f} m/s, w {:.2f} rad/s)",
+                       frame_id_str(), child_frame_id_str(), pose.x, pose.y, pose.theta, twist.linear[0],
+                       twist.angular[2]);
+  }
+
+  friend constexpr bool operator==(const Odometry&, const Odometry&) = default;
+};
+HORUS_REFLECT(Odometry, pose, twist, pose_covariance, twist_covariance, frame_id, child_frame_id, timestamp_ns)
+
+// ---------------------------------------------------------------------------
+/// Feedback of up to 16 named joints. Entries [0, joint_count) are in use.
+/// Positions are rad (revolute) or m (prismatic), velocities rad/s or m/s,
+/// efforts N*m or N.
+struct JointState {
+  static constexpr std::size_t kMaxJoints = 16;
+
+  std::array<std::array<char, 32>, kMaxJoints> names{};
+  std::uint8_t joint_count{};
+  std::array<double, kMaxJoints> positions{};
+  std::array<double, kMaxJoints> velocities{};
+  std::array<double, kMaxJoints> efforts{};
+  std::uint64_t timestamp_ns{};
+
+  /// joint_count, clamped to kMaxJoints (a received message may hold any byte).
+  constexpr std::size_t count() const noexcept { return std::min<std::size_t>(joint_count, kMaxJoints); }
+
+  /// Appends a joint. Returns false, changing nothing, when the message is full,
+  /// the name is empty, does not fit (31 characters at most) or is already used.
+  bool add_joint(std::string_view name, double position, double velocity = 0.0, double effort = 0.0) noexcept {
+    const std::size_t i = count();
+    if (i >= kMaxJoints || name.empty() || index_of(name)) return false;
+    if (!set_fixed_str(names[i], name)) return false;
+    positions[i] = position;
+    velocities[i] = velocity;
+    efforts[i] = effort;
+    joint_count = static_cast<std::uint8_t>(i + 1);
+    return true;
+  }
+
+  /// The name of joint i, or "" when i >= joint_count.
+  std::string_view name_at(std::size_t i) const noexcept {
+    return i < count() ? fixed_str_view(names[i]) : std::string_view{};
+  }
+
+  /// The index of the joint called name, if any.
+  std::optional<std::size_t> index_of(std::string_view name) const noexcept {
+    for (std::size_t i = 0; i < count(); ++i)
+      if (fixed_str_view(names[i]) == name) return i;
+    return std::nullopt;
+  }
+
+  /// The position of the joint called name, if any.
+  std::optional<double> position_of(std::string_view name) const noexcept {
+    if (const auto i = index_of(name)) return positions[*i];
+    return std::nullopt;
+  }
+
+  /// "JointState(6 joints, positions in rad or m: shoulder=0.5, elbow=-1.2, wrist=0, +3 more)".
+  /// Lists as many joints as fit in about 170 characters, then "+N more": the
+  /// line always stays under 200 characters.
+  std::string log_summary() const {
+    std::string out = fmt::format("JointState({} joints", count());
+    if (count() > 0) out += ", positions in rad or m";
+    std::size_t shown = 0;
+    for (; shown < count(); ++shown) {
+      const std::string entry = fmt::format("{}={:.4g}", name_at(shown), positions[shown]);
+      if (out.size() + entry.size() + 2 > 170) break;
+      out += shown == 0 ? ": " : ", ";
+      out += entry;
+    }
+    if (shown < count()) out += fmt::format(", +{} more", count() - shown);
+    out += ')';
+    return out;
+  }
+
+  friend constexpr bool operator==(const JointState&, const JointState&) = default;
+};
+HORUS_REFLECT(JointState, names, joint_count, positions, velocities, efforts, timestamp_ns)
+
+static_assert(horus::reflect::is_fixed_size<Imu>, "Imu must be trivially copyable and standard layout");
+static_assert(horus::reflect::is_fixed_size<LaserScan>, "LaserScan must be trivially copyable and standard layout");
+static_assert(horus::reflect::is_fixed_size<Odometry>, "Odometry must be trivially copyable and standard layout");
+static_assert(horus::reflect::is_fixed_size<JointState>, "JointState must be trivially copyable and standard layout");
+
+}  // namespace horus::msg

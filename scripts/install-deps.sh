@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Installs the Debian packages horus needs to build and test. Idempotent: installs only
+# what is missing and runs `apt-get update` once, only when something is missing.
+# Works as root on a fresh Debian 12 (uses sudo otherwise).
+set -euo pipefail
+
+packages=(
+  g++ cmake ninja-build git pkg-config
+  googletest libgtest-dev libgmock-dev libbenchmark-dev
+  libfmt-dev libspdlog-dev nlohmann-json3-dev libeigen3-dev libcli11-dev
+  libboost-dev   # boost::lockfree::spsc_queue, the benchmark baseline (header-only)
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages are installed"
+  exit 0
+fi
+
+sudo=""
+if [ "$(id -u)" -ne 0 ]; then
+  command -v sudo >/dev/null || { echo "install-deps: not root and no sudo; install: ${missing[*]}" >&2; exit 1; }
+  sudo="sudo"
+fi
+echo "install-deps: installing ${missing[*]}"
+$sudo apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Sets up everything, builds, and runs every test: the default build (all tests), then the
+# concurrency tests again under ThreadSanitizer. HORUS_TEST_TSAN=0 skips the TSan pass.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-deps.sh
+jobs=$(nproc)
+
+cmake --preset default
+cmake --build --preset default -j "$jobs"
+ctest --preset default -j "$jobs"
+
+if [ "${HORUS_TEST_TSAN:-1}" != "0" ]; then
+  cmake --preset tsan
+  cmake --build --preset tsan -j "$jobs" --target test_topic_concurrency
+  # TSan needs the classic address-space layout; kernels with more mmap randomness break it.
+  run=()
+  if command -v setarch >/dev/null; then run=(setarch "$(uname -m)" -R); fi
+  "${run[@]}" ctest --preset tsan -L concurrency
+fi

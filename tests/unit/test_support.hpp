@@ -1,0 +1,73 @@
+// Shared helpers of the unit tests: a checkable test message and deadlines.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <string>
+
+#include "horus/reflect.hpp"
+
+namespace horus_test {
+
+/// A message whose payload can be checked for tearing: every word derives from (publisher, seq).
+struct Stamp {
+  std::uint32_t publisher{};
+  std::uint32_t spare{};
+  std::uint64_t seq{};
+  std::array<std::uint64_t, 5> body{};
+  std::uint64_t check{};
+
+  static constexpr std::uint64_t mix(std::uint64_t x) noexcept {
+    x ^= x >> 33;
+    x *= 0xff51afd7ed558ccdULL;
+    x ^= x >> 33;
+    return x;
+  }
+  static Stamp make(std::uint32_t publisher, std::uint64_t seq) noexcept {
+    Stamp s;
+    s.publisher = publisher;
+    s.seq = seq;
+    std::uint64_t sum = publisher;
+    for (std::size_t i = 0; i < s.body.size(); ++i) {
+      s.body[i] = mix(seq * 31 + i + (static_cast<std::uint64_t>(publisher) << 40));
+      sum += s.body[i];
+    }
+    s.check = mix(sum ^ seq);
+    return s;
+  }
+  bool intact() const noexcept {
+    std::uint64_t sum = publisher;
+    for (std::size_t i = 0; i < body.size(); ++i) {
+      if (body[i] != mix(seq * 31 + i + (static_cast<std::uint64_t>(publisher) << 40))) return false;
+      sum += body[i];
+    }
+    return check == mix(sum ^ seq);
+  }
+};
+HORUS_REFLECT(Stamp, publisher, spare, seq, body, check)
+
+/// A second type, for type-mismatch tests.
+struct Other {
+  double value{};
+};
+HORUS_REFLECT(Other, value)
+
+/// A per-test unique topic name, so tests never share rings by accident.
+inline std::string unique_name(const std::string& base) {
+  static std::atomic<int> n{0};
+  return "test." + base + "." + std::to_string(n.fetch_add(1));
+}
+
+/// Deadline for loops in tests: they never spin forever.
+class Deadline {
+ public:
+  explicit Deadline(std::chrono::milliseconds d) : end_(std::chrono::steady_clock::now() + d) {}
+  bool expired() const { return std::chrono::steady_clock::now() >= end_; }
+
+ private:
+  std::chrono::steady_clock::time_point end_;
+};
+
+}  // namespace horus_test
