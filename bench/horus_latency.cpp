@@ -30,6 +30,13 @@ inline void keep(T const& v) {
   asm volatile("" : : "r,m"(v) : "memory");
 }
 
+// Consumes a received value the way user code does (reads a field) without letting the
+// compiler drop or hoist the work. Both horus and the baseline consume through this.
+inline void consume(std::uint64_t& sink, std::uint64_t field) {
+  sink += field;
+  asm volatile("" : "+r"(sink));
+}
+
 struct Row {
   std::string section;
   std::string name;
@@ -42,10 +49,11 @@ struct Row {
 
 struct Config {
   int cpu_a = 0, cpu_b = 1;
-  std::uint64_t same_thread_ops = 20'000'000;
+  std::uint64_t same_thread_ops = 10'000'000;
   std::uint64_t rounds = 200'000;
   std::uint64_t throughput_msgs = 20'000'000;
-  int repeats = 5;
+  int repeats = 9;
+  int blocks = 10;  // ping-pong measurements are interleaved in this many blocks
 };
 
 // -- same thread ---------------------------------------------------------------------
@@ -55,17 +63,18 @@ double same_thread_horus(const Config& cfg) {
   horus::Topic<CmdVel> sub("bench.same_thread");
   CmdVel msg = CmdVel::make(1.0f, 0.5f);
   double best = 1e9;
+  std::uint64_t sink = 0;
   for (int r = 0; r < cfg.repeats; ++r) {
     const auto t0 = hb::TscClock::now();
     for (std::uint64_t i = 0; i < cfg.same_thread_ops; ++i) {
       msg.stamp_nanos = i;
       pub.send(msg);
-      auto m = sub.recv();
-      keep(m);
+      if (auto m = sub.recv()) consume(sink, m->stamp_nanos);
     }
     const auto t1 = hb::TscClock::now();
     best = std::min(best, static_cast<double>(t1 - t0) / static_cast<double>(cfg.same_thread_ops));
   }
+  keep(sink);
   return best;  // ticks per op
 }
 
@@ -73,19 +82,19 @@ double same_thread_boost(const Config& cfg) {
   auto q = std::make_unique<boost::lockfree::spsc_queue<CmdVel, boost::lockfree::capacity<1024>>>();
   CmdVel msg = CmdVel::make(1.0f, 0.5f);
   double best = 1e9;
+  std::uint64_t sink = 0;
   for (int r = 0; r < cfg.repeats; ++r) {
     const auto t0 = hb::TscClock::now();
     for (std::uint64_t i = 0; i < cfg.same_thread_ops; ++i) {
       msg.stamp_nanos = i;
       q->push(msg);
       CmdVel out;
-      const bool ok = q->pop(out);
-      keep(ok);
-      keep(out);
+      if (q->pop(out)) consume(sink, out.stamp_nanos);
     }
     const auto t1 = hb::TscClock::now();
     best = std::min(best, static_cast<double>(t1 - t0) / static_cast<double>(cfg.same_thread_ops));
   }
+  keep(sink);
   return best;
 }
 
@@ -256,7 +265,7 @@ double boost_throughput(const Config& cfg) {
 
 Row latency_row(const std::string& name, std::vector<double> samples, double floor_p50) {
   const auto p = hb::percentiles(samples);
-  Row r{"cross_thread_one_way", name, p.p50, p.p99, p.p999, p.p50, "ns", 0, "floor p50"};
+  Row r{"cross_thread_one_way", name, p.p50, p.p99, p.p999, p.p50, "ns", 0, "floor p50 (median of per-block ratios)"};
   r.ratio = floor_p50 > 0 ? p.p50 / floor_p50 : 0;
   return r;
 }
@@ -288,6 +297,7 @@ int main(int argc, char** argv) {
   app.add_option("--cpus", cfg.cpu_a, "first CPU (the second is the next one)")->check(CLI::NonNegativeNumber);
   app.add_option("--rounds", cfg.rounds, "ping-pong round trips per measurement")->check(CLI::PositiveNumber);
   app.add_option("--repeats", cfg.repeats, "same-thread repetitions (best is kept)")->check(CLI::PositiveNumber);
+  app.add_option("--blocks", cfg.blocks, "interleaved blocks of the ping-pong measurements")->check(CLI::PositiveNumber);
   app.add_option("--json", json_path, "also write the rows as JSON to this file");
   app.add_option("--csv", csv_path, "also write the rows as CSV to this file");
   app.add_flag("--quick", quick, "a short run (smoke test): fewer operations, noisier figures");
@@ -297,6 +307,7 @@ int main(int argc, char** argv) {
     cfg.rounds = 20'000;
     cfg.throughput_msgs = 1'000'000;
     cfg.repeats = 2;
+    cfg.blocks = 2;
   }
   cfg.cpu_b = (cfg.cpu_a + 1) % hb::cpu_count();
   if (hb::cpu_count() < 2) fmt::print("warning: one CPU only: cross-thread figures measure time slicing\n");
@@ -305,18 +316,56 @@ int main(int argc, char** argv) {
   std::vector<Row> rows;
 
   hb::pin_to_cpu(cfg.cpu_a);
-  const double st_horus = tsc.to_ns(same_thread_horus(cfg));
-  const double st_boost = tsc.to_ns(same_thread_boost(cfg));
-  rows.push_back({"same_thread", "horus Topic send+recv", 0, 0, 0, st_horus, "ns/op", st_horus / st_boost, "boost"});
+  // Interleaved: each repeat times horus then boost; the figure is the best time of each and
+  // the ratio the median of the per-repeat ratios.
+  double st_horus = 1e9, st_boost = 1e9;
+  std::vector<double> st_ratios;
+  {
+    Config one = cfg;
+    one.repeats = 1;
+    for (int r = 0; r < cfg.repeats; ++r) {
+      const double h = tsc.to_ns(same_thread_horus(one));
+      const double b = tsc.to_ns(same_thread_boost(one));
+      st_horus = std::min(st_horus, h);
+      st_boost = std::min(st_boost, b);
+      st_ratios.push_back(h / b);
+    }
+  }
+  const double st_ratio = [&] {
+    auto v = st_ratios;
+    return hb::percentiles(v).p50;
+  }();
+  rows.push_back({"same_thread", "horus Topic send+recv", 0, 0, 0, st_horus, "ns/op", st_ratio, "boost"});
   rows.push_back({"same_thread", "boost spsc_queue push+pop", 0, 0, 0, st_boost, "ns/op", 1.0, "boost"});
 
-  auto floor_samples = floor_ping_pong(cfg, tsc);
+  // The machine is shared and noisy: measure in interleaved blocks so that a noisy moment
+  // hits the floor, horus and the baseline alike, then pool each one's samples.
+  std::vector<double> floor_samples, horus_samples, boost_samples;
+  Config block = cfg;
+  block.rounds = std::max<std::uint64_t>(1000, cfg.rounds / static_cast<std::uint64_t>(cfg.blocks));
+  auto append = [](std::vector<double>& to, std::vector<double> from) { to.insert(to.end(), from.begin(), from.end()); };
+  // The ratio to the floor is the median over blocks of (p50 in the block / floor p50 in the
+  // same block): the floor itself moves by tens of percent on a shared VM.
+  std::vector<double> horus_ratios, boost_ratios;
+  auto p50 = [](std::vector<double> v) { return hb::percentiles(v).p50; };
+  for (int b = 0; b < cfg.blocks; ++b) {
+    auto f = floor_ping_pong(block, tsc);
+    auto h = horus_ping_pong(block, tsc);
+    auto o = boost_ping_pong(block, tsc);
+    const double floor_b = p50(f);
+    horus_ratios.push_back(p50(h) / floor_b);
+    boost_ratios.push_back(p50(o) / floor_b);
+    append(floor_samples, std::move(f));
+    append(horus_samples, std::move(h));
+    append(boost_samples, std::move(o));
+  }
   auto floor_row = latency_row("floor: cache-line ping-pong", floor_samples, 0);
   floor_row.ratio = 1.0;
-  const double floor_p50 = floor_row.p50;
   rows.push_back(floor_row);
-  rows.push_back(latency_row("horus Topic<CmdVel>", horus_ping_pong(cfg, tsc), floor_p50));
-  rows.push_back(latency_row("boost spsc_queue<CmdVel>", boost_ping_pong(cfg, tsc), floor_p50));
+  rows.push_back(latency_row("horus Topic<CmdVel>", std::move(horus_samples), 0));
+  rows.back().ratio = p50(horus_ratios);
+  rows.push_back(latency_row("boost spsc_queue<CmdVel>", std::move(boost_samples), 0));
+  rows.back().ratio = p50(boost_ratios);
 
   const double tp_horus = horus_throughput(cfg);
   const double tp_boost = boost_throughput(cfg);
@@ -329,7 +378,7 @@ int main(int argc, char** argv) {
   for (const auto& r : rows)
     if (r.section == "same_thread") fmt::print("{:<34} {:>10.2f} {:>9.2f}x\n", r.name, r.value, r.ratio);
   fmt::print("\n{:<34} {:>8} {:>8} {:>8} {:>10}\n", "cross-thread one-way (RTT/2)", "p50 ns", "p99 ns", "p99.9 ns",
-             "p50/floor");
+             "p50/floor*");
   for (const auto& r : rows)
     if (r.section == "cross_thread_one_way")
       fmt::print("{:<34} {:>8.1f} {:>8.1f} {:>8.1f} {:>9.2f}x\n", r.name, r.p50, r.p99, r.p999, r.ratio);
@@ -337,11 +386,12 @@ int main(int argc, char** argv) {
   for (const auto& r : rows)
     if (r.section == "throughput") fmt::print("{:<34} {:>12.1f} {:>9.2f}x\n", r.name, r.value / 1e6, r.ratio);
 
+  fmt::print("* median over {} interleaved blocks of (p50 / floor p50 of the same block)\n", cfg.blocks);
   const double horus_p50_ratio = rows[3].ratio;
   auto verdict = [](bool ok) { return ok ? "met" : "MISSED"; };
   fmt::print("\ntargets: same-thread <= 5 ns: {:.2f} ns {} | <= 2x boost: {:.2f}x {} | cross-thread p50 <= 1.3x "
              "floor: {:.2f}x {}\n",
-             st_horus, verdict(st_horus <= 5.0), st_horus / st_boost, verdict(st_horus / st_boost <= 2.0),
+             st_horus, verdict(st_horus <= 5.0), st_ratio, verdict(st_ratio <= 2.0),
              horus_p50_ratio, verdict(horus_p50_ratio <= 1.3));
   if (!json_path.empty()) write_json(json_path, rows);
   if (!csv_path.empty()) write_csv(csv_path, rows);

@@ -23,7 +23,7 @@ constexpr auto kTestBudget = std::chrono::milliseconds(60000);
 
 // Sanitizer builds run 5-20x slower: they check the same interleavings on fewer messages.
 #if defined(__SANITIZE_THREAD__) || defined(__SANITIZE_ADDRESS__)
-constexpr std::uint64_t kScale = 10;
+constexpr std::uint64_t kScale = 4;
 #else
 constexpr std::uint64_t kScale = 1;
 #endif

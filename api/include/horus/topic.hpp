@@ -123,8 +123,6 @@ class Topic {
     core_ = std::move(other.core_);
     writer_ = std::move(other.writer_);
     reader_ = std::move(other.reader_);
-    sent_ = other.sent_;
-    received_count_ = other.received_count_;
     send_failures_ = other.send_failures_;
     recv_failures_ = other.recv_failures_;
     received_ = other.received_;
@@ -141,7 +139,7 @@ class Topic {
   /// Publishes. Never blocks, never fails: a full ring overwrites its oldest message.
   /// (Only when all kMaxPublishers lanes are taken is the message refused: it is then
   /// counted in metrics().send_failures() and logged.)
-  void send(const T& msg) {
+  [[gnu::always_inline]] void send(const T& msg) {
     if (!writer_.has_lane()) [[unlikely]] {
       if (!become_publisher()) {
         ++send_failures_;
@@ -149,7 +147,6 @@ class Topic {
       }
     }
     writer_.write(msg);
-    ++sent_;
   }
 
   /// Publishes only if no subscriber would lose an unread message; else gives the message back.
@@ -186,8 +183,7 @@ class Topic {
   // -- receiving -------------------------------------------------------------
 
   /// Takes the next unread message (FIFO per publisher), or nothing.
-  std::optional<T> recv() {
-    received_ = true;
+  [[gnu::always_inline]] std::optional<T> recv() {
     if (!reader_.subscribed()) [[unlikely]] {
       if (!resubscribe()) {
         ++recv_failures_;
@@ -195,16 +191,13 @@ class Topic {
       }
     }
     Slot s;
-    if (reader_.read(s.value)) {
-      ++received_count_;
-      return s.value;
-    }
-    ++recv_failures_;
+    if (reader_.read(s.value)) return s.value;
+    ++recv_failures_;  // also marks this handle as a receiver (see receives())
     return std::nullopt;
   }
 
   /// Same as recv(), for symmetry with try_send().
-  std::optional<T> try_recv() { return recv(); }
+  [[gnu::always_inline]] std::optional<T> try_recv() { return recv(); }
 
   /// The newest message on the topic, without waiting; repeated calls return the same message
   /// until a newer one arrives. Everything up to it counts as read (not as dropped), so a
@@ -241,7 +234,7 @@ class Topic {
   /// Handles currently subscribed to this topic.
   std::uint32_t sub_count() const noexcept { return core_->ring.subscriber_count(); }
   TopicMetrics metrics() const noexcept {
-    return TopicMetrics(sent_, received_count_, send_failures_, recv_failures_, dropped_count(),
+    return TopicMetrics(writer_.sent(), reader_.delivered(), send_failures_, recv_failures_, dropped_count(),
                         core_->ring.total_sent());
   }
   /// Slots per publisher lane.
@@ -285,12 +278,14 @@ class Topic {
     if (!writer_.has_lane() && !become_publisher()) return false;
     if (!writer_.has_space()) return false;
     writer_.write(msg);
-    ++sent_;
     return true;
   }
 
+  // True once this handle has used a receiving method (then its first send keeps it subscribed).
+  bool receives() const noexcept { return received_ || recv_failures_ != 0 || reader_.delivered() != 0; }
+
   [[gnu::noinline]] bool become_publisher() {
-    if (!received_) reader_.unsubscribe();
+    if (!receives()) reader_.unsubscribe();
     if (writer_.ensure_lane()) return true;
     if (!no_lane_reported_) detail::report_no_lane(*core_);
     no_lane_reported_ = true;
@@ -307,11 +302,9 @@ class Topic {
   std::shared_ptr<detail::TopicCore> core_;  // first: outlives writer_ and reader_
   shm::RingWriter<T> writer_;
   shm::RingReader<T> reader_;
-  std::uint64_t sent_ = 0;
-  std::uint64_t received_count_ = 0;
   std::uint64_t send_failures_ = 0;
   std::uint64_t recv_failures_ = 0;
-  bool received_ = false;
+  bool received_ = false;  // has_message/pending_count/read_latest were called
   bool no_lane_reported_ = false;
   bool no_sub_reported_ = false;
 };

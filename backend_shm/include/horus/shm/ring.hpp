@@ -132,7 +132,7 @@ inline std::uint64_t load_seq(const std::byte* slot, std::memory_order mo) noexc
 
 /// Writes message number `seq` of a lane into its slot (single writer per lane).
 template <class T>
-inline void write_slot(std::byte* slot, std::uint64_t seq, const T& msg) noexcept {
+[[gnu::always_inline]] inline void write_slot(std::byte* slot, std::uint64_t seq, const T& msg) noexcept {
   static_assert(std::is_trivially_copyable_v<T>, "ring slots carry trivially copyable messages");
   constexpr std::size_t kFull = sizeof(T) / 8;
   constexpr std::size_t kTail = sizeof(T) % 8;
@@ -155,7 +155,7 @@ inline void write_slot(std::byte* slot, std::uint64_t seq, const T& msg) noexcep
 
 /// Reads message number `seq` of a lane from its slot into `out` (never torn).
 template <class T>
-inline ReadStatus read_slot(const std::byte* slot, std::uint64_t seq, T& out) noexcept {
+[[gnu::always_inline]] inline ReadStatus read_slot(const std::byte* slot, std::uint64_t seq, T& out) noexcept {
   static_assert(std::is_trivially_copyable_v<T>, "ring slots carry trivially copyable messages");
   constexpr std::size_t kWords = (sizeof(T) + 7) / 8;
   const std::uint64_t want = 2 * seq + 2;
@@ -243,6 +243,8 @@ class Ring {
 template <class T>
 class RingWriter {
  public:
+  static constexpr std::size_t kStride = slot_stride_for(sizeof(T));
+
   RingWriter() = default;
   RingWriter(Ring ring, std::uint64_t token) noexcept : ring_(ring), token_(token) {}
   RingWriter(RingWriter&& o) noexcept { *this = std::move(o); }
@@ -253,10 +255,13 @@ class RingWriter {
       token_ = o.token_;
       lane_ = o.lane_;
       head_ = o.head_;
-      slots_ = o.slots_;
       mask_ = o.mask_;
-      stride_ = o.stride_;
+      slots_ = o.slots_;
+      lane_head_ = o.lane_head_;
+      latest_ = o.latest_;
       space_limit_ = o.space_limit_;
+      claim_head_ = o.claim_head_;
+      sent_before_ = o.sent_before_;
       o.lane_ = kNoLane;
       o.slots_ = nullptr;
     }
@@ -264,29 +269,31 @@ class RingWriter {
   }
   ~RingWriter() { release(); }
 
-  bool has_lane() const noexcept { return lane_ != kNoLane; }
+  bool has_lane() const noexcept { return slots_ != nullptr; }
   /// Claims a lane; false when every lane of the topic is in use.
   bool ensure_lane() noexcept {
-    if (lane_ != kNoLane) return true;
+    if (has_lane()) return true;
     auto lane = ring_.claim_lane(token_);
     if (!lane) return false;
     lane_ = *lane;
-    head_ = ring_.lane(lane_).head.load(std::memory_order_acquire);
-    slots_ = ring_.lane_slots(lane_);
+    lane_head_ = &ring_.lane(lane_).head;
+    head_ = lane_head_->load(std::memory_order_acquire);
+    claim_head_ = head_;
     mask_ = ring_.capacity() - 1;
-    stride_ = ring_.stride();
+    latest_ = &ring_.header().latest_lane;
     space_limit_ = 0;
+    slots_ = ring_.lane_slots(lane_);
     return true;
   }
 
   /// Publishes; overwrites the oldest slot of the lane when it is full. Requires ensure_lane().
-  void write(const T& msg) noexcept {
+  [[gnu::always_inline]] void write(const T& msg) noexcept {
     const std::uint64_t s = head_;
-    write_slot(slots_ + static_cast<std::size_t>(s & mask_) * stride_, s, msg);
+    write_slot(slots_ + (s & mask_) * kStride, s, msg);
     head_ = s + 1;
-    ring_.lane(lane_).head.store(s + 1, std::memory_order_release);
-    auto& latest = ring_.header().latest_lane;
-    if (latest.load(std::memory_order_relaxed) != lane_) latest.store(lane_, std::memory_order_relaxed);
+    lane_head_->store(s + 1, std::memory_order_release);
+    // Only written when it changes, so one publisher keeps this line shared and cheap.
+    if (latest_->load(std::memory_order_relaxed) != lane_) latest_->store(lane_, std::memory_order_relaxed);
   }
 
   /// True if write() would not overwrite a message some subscriber has not read. The limit
@@ -298,65 +305,108 @@ class RingWriter {
     return head_ < space_limit_;
   }
 
+  /// Messages written through this writer (derived from the lane head: no counter on the hot path).
+  std::uint64_t sent() const noexcept { return sent_before_ + (has_lane() ? head_ - claim_head_ : 0); }
+
   void release() noexcept {
-    if (lane_ != kNoLane) ring_.release_lane(lane_, token_);
+    if (has_lane()) {
+      sent_before_ += head_ - claim_head_;
+      ring_.release_lane(lane_, token_);
+    }
     lane_ = kNoLane;
+    slots_ = nullptr;
   }
 
  private:
   static constexpr std::uint32_t kNoLane = ~0u;
+  // Hot fields first, read on every write.
+  std::byte* slots_ = nullptr;  // this lane's slots; null until a lane is claimed
+  std::uint64_t head_ = 0;
+  std::uint64_t mask_ = 0;
+  std::atomic<std::uint64_t>* lane_head_ = nullptr;
+  std::atomic<std::uint32_t>* latest_ = nullptr;
+  std::uint32_t lane_ = kNoLane;
+  std::uint64_t space_limit_ = 0;  // head values below this are known to have space
+  std::uint64_t claim_head_ = 0;   // head when the lane was claimed
+  std::uint64_t sent_before_ = 0;  // messages sent through lanes released earlier
   Ring ring_;
   std::uint64_t token_ = 0;
-  std::uint32_t lane_ = kNoLane;
-  std::uint64_t head_ = 0;
-  std::byte* slots_ = nullptr;
-  std::uint64_t mask_ = 0;
-  std::uint32_t stride_ = 0;
-  std::uint64_t space_limit_ = 0;  // head values below this are known to have space
 };
 
 /// The receiving side of one handle: a cursor per lane. Not thread-safe.
 template <class T>
 class RingReader {
  public:
+  static constexpr std::size_t kStride = slot_stride_for(sizeof(T));
+
   RingReader() = default;
-  RingReader(Ring ring, std::uint64_t token) noexcept : ring_(ring), token_(token), mask_(ring.capacity() - 1) {}
+  RingReader(Ring ring, std::uint64_t token) noexcept
+      : slots_(ring.lane_slots(0)),
+        mask_(ring.capacity() - 1),
+        lane_bytes_(static_cast<std::size_t>(ring.capacity()) * kStride),
+        lane_hwm_(&ring.header().lane_hwm),
+        ring_(ring),
+        token_(token) {}
   RingReader(RingReader&& o) noexcept { *this = std::move(o); }
   RingReader& operator=(RingReader&& o) noexcept {
     if (this != &o) {
       unsubscribe();
+      slots_ = o.slots_;
+      mask_ = o.mask_;
+      lane_bytes_ = o.lane_bytes_;
+      lane_hwm_ = o.lane_hwm_;
+      shared_cursor_ = o.shared_cursor_;
+      next_lane_ = o.next_lane_;
       ring_ = o.ring_;
       token_ = o.token_;
-      mask_ = o.mask_;
       entry_ = o.entry_;
-      next_lane_ = o.next_lane_;
       lost_ = o.lost_;
+      lost_before_ = o.lost_before_;
+      skipped_ = o.skipped_;
+      delivered_before_ = o.delivered_before_;
       std::copy(std::begin(o.cursor_), std::end(o.cursor_), std::begin(cursor_));
+      std::copy(std::begin(o.start_), std::end(o.start_), std::begin(start_));
       o.entry_ = kNone;
+      o.shared_cursor_ = nullptr;
     }
     return *this;
   }
   ~RingReader() { unsubscribe(); }
 
-  bool subscribed() const noexcept { return entry_ != kNone; }
+  bool subscribed() const noexcept { return shared_cursor_ != nullptr; }
   /// Starts receiving: every message sent from now on is delivered. False when the topic is full.
   bool subscribe() noexcept {
-    if (entry_ != kNone) return true;
+    if (subscribed()) return true;
     auto e = ring_.add_subscriber(token_);
     if (!e) return false;
     entry_ = *e;
-    auto& entry = ring_.subscriber(entry_);
-    for (std::uint32_t l = 0; l < kMaxPublishers; ++l) cursor_[l] = entry.cursor[l].load(std::memory_order_relaxed);
+    shared_cursor_ = ring_.subscriber(entry_).cursor;
+    for (std::uint32_t l = 0; l < kMaxPublishers; ++l)
+      start_[l] = cursor_[l] = shared_cursor_[l].load(std::memory_order_relaxed);
+    lost_before_ += lost_;
+    skipped_ = lost_ = 0;
     return true;
   }
   void unsubscribe() noexcept {
-    if (entry_ != kNone) ring_.remove_subscriber(entry_, token_);
+    if (subscribed()) {
+      delivered_before_ = delivered();
+      ring_.remove_subscriber(entry_, token_);
+    }
     entry_ = kNone;
+    shared_cursor_ = nullptr;
+  }
+
+  /// Messages read() returned (derived from the cursors: no counter on the hot path).
+  std::uint64_t delivered() const noexcept {
+    if (!subscribed()) return delivered_before_;
+    std::uint64_t advanced = 0;
+    for (std::uint32_t l = 0; l < kMaxPublishers; ++l) advanced += cursor_[l] - start_[l];
+    return delivered_before_ + advanced - lost_ - skipped_;
   }
 
   /// Takes the next unread message (round-robin over publishers, FIFO within each).
-  bool read(T& out) noexcept {
-    const std::uint32_t lanes = ring_.header().lane_hwm.load(std::memory_order_acquire);
+  [[gnu::always_inline]] bool read(T& out) noexcept {
+    const std::uint32_t lanes = lane_hwm_->load(std::memory_order_acquire);
     std::uint32_t lane = next_lane_;
     for (std::uint32_t k = 0; k < lanes; ++k, ++lane) {
       if (lane >= lanes) lane = 0;
@@ -370,7 +420,7 @@ class RingReader {
 
   /// True if read() would return a message.
   bool has_message() const noexcept {
-    const std::uint32_t lanes = ring_.header().lane_hwm.load(std::memory_order_acquire);
+    const std::uint32_t lanes = lane_hwm_->load(std::memory_order_acquire);
     for (std::uint32_t l = 0; l < lanes; ++l)
       if (slot_has(slot_of(l, cursor_[l]), cursor_[l])) return true;
     return false;
@@ -378,7 +428,7 @@ class RingReader {
 
   /// Unread messages still in the ring.
   std::uint64_t pending() const noexcept {
-    const std::uint32_t lanes = ring_.header().lane_hwm.load(std::memory_order_acquire);
+    const std::uint32_t lanes = lane_hwm_->load(std::memory_order_acquire);
     std::uint64_t n = 0;
     for (std::uint32_t l = 0; l < lanes; ++l) {
       const std::uint64_t head = ring_.lane(l).head.load(std::memory_order_acquire);
@@ -389,8 +439,9 @@ class RingReader {
 
   /// Messages this subscriber lost to overwrites, including ones not yet noticed by read().
   std::uint64_t lost() const noexcept {
-    const std::uint32_t lanes = ring_.header().lane_hwm.load(std::memory_order_acquire);
-    std::uint64_t n = lost_;
+    const std::uint32_t lanes = lane_hwm_->load(std::memory_order_acquire);
+    std::uint64_t n = lost_before_ + lost_;
+    if (!subscribed()) return n;
     for (std::uint32_t l = 0; l < lanes; ++l) {
       const std::uint64_t head = ring_.lane(l).head.load(std::memory_order_acquire);
       if (head > cursor_[l] + ring_.capacity()) n += head - cursor_[l] - ring_.capacity();
@@ -406,7 +457,7 @@ class RingReader {
       const std::uint64_t head = ring_.lane(lane).head.load(std::memory_order_acquire);
       if (head == 0) return false;
       if (read_slot(slot_of(lane, head - 1), head - 1, out) != ReadStatus::Ok) continue;
-      if (entry_ != kNone) skip_to_latest(lane, head);
+      if (subscribed()) skip_to_latest(lane, head);
       return true;
     }
     return false;
@@ -416,16 +467,16 @@ class RingReader {
   static constexpr std::uint32_t kNone = ~0u;
 
   const std::byte* slot_of(std::uint32_t lane, std::uint64_t seq) const noexcept {
-    return ring_.lane_slots(lane) + static_cast<std::size_t>(seq & mask_) * ring_.stride();
+    return slots_ + lane * lane_bytes_ + (seq & mask_) * kStride;
   }
 
-  bool read_lane(std::uint32_t lane, T& out) noexcept {
+  [[gnu::always_inline]] bool read_lane(std::uint32_t lane, T& out) noexcept {
     for (;;) {
       const std::uint64_t c = cursor_[lane];
       switch (read_slot(slot_of(lane, c), c, out)) {
         case ReadStatus::Ok:
           cursor_[lane] = c + 1;
-          ring_.subscriber(entry_).cursor[lane].store(c + 1, std::memory_order_relaxed);
+          shared_cursor_[lane].store(c + 1, std::memory_order_relaxed);
           return true;
         case ReadStatus::Empty:
           return false;
@@ -436,13 +487,18 @@ class RingReader {
     }
   }
 
-  void skip_to_latest(std::uint32_t latest, std::uint64_t latest_head) noexcept {
-    const std::uint32_t lanes = ring_.header().lane_hwm.load(std::memory_order_acquire);
+  void advance(std::uint32_t lane, std::uint64_t to) noexcept {
+    cursor_[lane] = to;
+    shared_cursor_[lane].store(to, std::memory_order_relaxed);
+  }
+
+  [[gnu::noinline]] void skip_to_latest(std::uint32_t latest, std::uint64_t latest_head) noexcept {
+    const std::uint32_t lanes = lane_hwm_->load(std::memory_order_acquire);
     for (std::uint32_t l = 0; l < lanes; ++l) {
       const std::uint64_t to = l == latest ? latest_head : ring_.lane(l).head.load(std::memory_order_acquire);
       if (cursor_[l] < to) {
-        cursor_[l] = to;
-        ring_.subscriber(entry_).cursor[l].store(to, std::memory_order_relaxed);
+        skipped_ += to - cursor_[l];
+        advance(l, to);
       }
     }
   }
@@ -458,17 +514,25 @@ class RingReader {
     const std::uint64_t next = std::max(c + 1, oldest);
     lost_ += next - c;
     ring_.header().dropped_total.fetch_add(next - c, std::memory_order_relaxed);
-    cursor_[lane] = next;
-    ring_.subscriber(entry_).cursor[lane].store(next, std::memory_order_relaxed);
+    advance(lane, next);
   }
 
+  // Hot fields first, read on every receive.
+  const std::byte* slots_ = nullptr;  // lane 0's first slot
+  std::uint64_t mask_ = 0;
+  std::size_t lane_bytes_ = 0;
+  const std::atomic<std::uint32_t>* lane_hwm_ = nullptr;
+  std::atomic<std::uint64_t>* shared_cursor_ = nullptr;  // our entry's cursors; null when not subscribed
+  std::uint32_t next_lane_ = 0;
+  std::uint64_t cursor_[kMaxPublishers]{};
   Ring ring_;
   std::uint64_t token_ = 0;
-  std::uint64_t mask_ = 0;
   std::uint32_t entry_ = kNone;
-  std::uint32_t next_lane_ = 0;
-  std::uint64_t lost_ = 0;
-  std::uint64_t cursor_[kMaxPublishers]{};
+  std::uint64_t lost_ = 0;              // overwritten before we read them (this subscription)
+  std::uint64_t lost_before_ = 0;       // the same, for earlier subscriptions of this handle
+  std::uint64_t skipped_ = 0;           // passed over by read_latest (this subscription)
+  std::uint64_t delivered_before_ = 0;  // returned by read() in earlier subscriptions
+  std::uint64_t start_[kMaxPublishers]{};
 };
 
 }  // namespace horus::shm
