@@ -123,6 +123,15 @@ std::optional<std::uint32_t> Ring::add_subscriber(std::uint64_t token) const noe
 void Ring::remove_subscriber(std::uint32_t entry, std::uint64_t token) const noexcept {
   auto& e = subs_[entry];
   if (e.owner.load(std::memory_order_relaxed) != token) return;
+  // Losses it never noticed stay counted in the topic's total after it leaves.
+  const std::uint32_t lanes = hdr_->lane_hwm.load(std::memory_order_acquire);
+  std::uint64_t unnoticed = 0;
+  for (std::uint32_t l = 0; l < lanes; ++l) {
+    const std::uint64_t head = lanes_[l].head.load(std::memory_order_acquire);
+    const std::uint64_t cur = e.cursor[l].load(std::memory_order_relaxed);
+    if (head > cur + capacity_) unnoticed += head - cur - capacity_;
+  }
+  if (unnoticed != 0) hdr_->dropped_total.fetch_add(unnoticed, std::memory_order_relaxed);
   e.owner.store(0, std::memory_order_relaxed);
   e.state.store(SubscriberEntry::kFree, std::memory_order_release);
 }
@@ -142,7 +151,7 @@ std::uint32_t Ring::subscriber_count() const noexcept {
   return n;
 }
 
-std::uint64_t Ring::space_limit(std::uint32_t lane, std::uint64_t head) const noexcept {
+std::uint64_t Ring::space_limit(std::uint32_t lane, std::uint64_t head, std::uint64_t self) const noexcept {
   // Without subscribers, act as if one sat at `head`: a cached limit must stay valid for a
   // subscriber that joins later (its cursor starts at the head of that moment, >= head).
   std::uint64_t limit = head + capacity_;
@@ -150,6 +159,7 @@ std::uint64_t Ring::space_limit(std::uint32_t lane, std::uint64_t head) const no
   for (std::uint32_t i = 0; i < hwm; ++i) {
     const auto& e = subs_[i];
     if (e.state.load(std::memory_order_acquire) != SubscriberEntry::kActive) continue;
+    if (self != 0 && e.owner.load(std::memory_order_relaxed) == self) continue;  // never wait for yourself
     limit = std::min(limit, e.cursor[lane].load(std::memory_order_acquire) + capacity_);
   }
   return limit;

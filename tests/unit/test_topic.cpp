@@ -257,7 +257,8 @@ TEST(Topic, WithCapacityRejectsCapacitiesThatAreNotPowersOfTwoOrTooLarge) {
     auto r = Topic<Stamp>::with_capacity(unique_name("cap"), cap);
     ASSERT_FALSE(r) << cap;
     EXPECT_EQ(r.error().code(), Errc::InvalidArgument);
-    EXPECT_NE(r.error().message().find(std::to_string(cap)), std::string::npos);
+    EXPECT_NE(r.error().message().find("capacity " + std::to_string(cap) + " "), std::string::npos)
+        << r.error().message();
   }
 }
 
@@ -409,7 +410,139 @@ TEST(Topic, AMovedHandleKeepsItsSubscriptionAndLane) {
   Topic<Stamp> moved_pub(std::move(pub));
   moved_pub.send(Stamp::make(0, 1));
   Topic<Stamp> moved_sub(name);
-  moved_sub = std::move(sub);
+  EXPECT_EQ(moved_sub.sub_count(), 2u);
+  moved_sub = std::move(sub);  // releases moved_sub's own subscription, takes sub's
+  EXPECT_EQ(moved_sub.sub_count(), 1u);
   EXPECT_EQ(moved_sub.pub_count(), 1u);
   EXPECT_EQ(drain(moved_sub), range(0, 2));
+  // Assigning over a handle that holds a lane releases that lane.
+  Topic<Stamp> other_pub(name);
+  other_pub.send(Stamp::make(1, 0));
+  EXPECT_EQ(moved_sub.pub_count(), 2u);
+  other_pub = std::move(moved_pub);
+  EXPECT_EQ(moved_sub.pub_count(), 1u);
+  other_pub.send(Stamp::make(0, 2));
+  EXPECT_EQ(drain(moved_sub), (std::vector<std::uint64_t>{0, 2}));  // publisher 1's 0, then publisher 0's 2
+}
+
+TEST(Topic, SelfMoveAssignmentLeavesTheHandleWorking) {
+  const auto name = unique_name("selfmove");
+  Topic<Stamp> sub(name), pub(name);
+  pub.send(Stamp::make(0, 0));
+  auto& alias = pub;
+  pub = std::move(alias);
+  pub.send(Stamp::make(0, 1));
+  EXPECT_EQ(sub.pub_count(), 1u);
+  EXPECT_EQ(drain(sub), range(0, 2));
+}
+
+TEST(Topic, AHandleThatAlsoReceivesNeverWaitsForItsOwnSubscription) {
+  const auto name = unique_name("self_wait");
+  auto node = must(Topic<Stamp>::with_capacity(name, 2));
+  EXPECT_FALSE(node.recv());  // a receiver: stays subscribed when it sends
+  for (std::uint64_t i = 0; i < 5; ++i)
+    EXPECT_TRUE(node.send_blocking(Stamp::make(0, i), std::chrono::milliseconds(100))) << i;
+  EXPECT_EQ(node.sub_count(), 1u);
+  EXPECT_EQ(drain(node), range(3, 5));
+  EXPECT_EQ(node.dropped_count(), 3u);
+}
+
+TEST(Topic, AnIdleSubscriberMakesTrySendRefuseUntilItReads) {
+  const auto name = unique_name("idle_sub");
+  auto idle = must(Topic<Stamp>::with_capacity(name, 2));
+  Topic<Stamp> pub(name);
+  EXPECT_TRUE(pub.try_send(Stamp::make(0, 0)));
+  EXPECT_TRUE(pub.try_send(Stamp::make(0, 1)));
+  EXPECT_FALSE(pub.try_send(Stamp::make(0, 2)));
+  EXPECT_TRUE(idle.read_latest());  // marks everything read
+  EXPECT_TRUE(pub.try_send(Stamp::make(0, 2)));
+}
+
+TEST(Topic, SendBlockingWithoutAFreeLaneFailsAtOnceWithLimitReached) {
+  const auto name = unique_name("blocking_nolane");
+  std::vector<Topic<Stamp>> pubs;
+  for (std::uint32_t p = 0; p < horus::shm::kMaxPublishers; ++p) {
+    pubs.emplace_back(name);
+    pubs.back().send(Stamp::make(p, 0));
+  }
+  Topic<Stamp> extra(name);
+  const auto start = std::chrono::steady_clock::now();
+  auto r = extra.send_blocking(Stamp::make(99, 0), std::chrono::seconds(30));
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().code(), Errc::LimitReached);
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(5));
+}
+
+TEST(Topic, HasMessageOnAPurePublisherSubscribesItAgain) {
+  const auto name = unique_name("pub_then_sub");
+  Topic<Stamp> node(name), other(name);
+  node.send(Stamp::make(0, 0));  // pure publisher: not subscribed
+  EXPECT_EQ(node.sub_count(), 1u);
+  EXPECT_FALSE(node.has_message());  // subscribes from now on
+  EXPECT_EQ(node.sub_count(), 2u);
+  other.send(Stamp::make(1, 1));
+  EXPECT_TRUE(node.has_message());
+  auto m = node.recv();
+  ASSERT_TRUE(m);
+  EXPECT_EQ(m->seq, 1u);
+  EXPECT_EQ(node.metrics().messages_received(), 1u);
+  EXPECT_EQ(node.metrics().messages_sent(), 1u);
+}
+
+TEST(Topic, DroppedCountNeverGoesDownWhenReadLatestSkipsOverLostMessages) {
+  const auto name = unique_name("drops_monotonic");
+  auto sub = must(Topic<Stamp>::with_capacity(name, 4));
+  Topic<Stamp> pub(name);
+  for (std::uint64_t i = 0; i < 10; ++i) pub.send(Stamp::make(0, i));
+  EXPECT_EQ(sub.dropped_count(), 6u);
+  EXPECT_EQ(pub.dropped_count(), 6u);
+  auto latest = sub.read_latest();
+  ASSERT_TRUE(latest);
+  EXPECT_EQ(latest->seq, 9u);
+  EXPECT_EQ(sub.dropped_count(), 6u);
+  EXPECT_EQ(pub.dropped_count(), 6u);
+  EXPECT_FALSE(sub.recv());
+  EXPECT_EQ(sub.metrics().messages_received(), 0u);
+}
+
+TEST(Topic, APublisherKeepsCountingTheLossesOfASubscriberThatClosed) {
+  const auto name = unique_name("drops_after_close");
+  auto pub = must(Topic<Stamp>::with_capacity(name, 4));
+  pub.send(Stamp::make(0, 0));  // pure publisher from here on
+  {
+    Topic<Stamp> lagging(name);
+    for (std::uint64_t i = 1; i <= 10; ++i) pub.send(Stamp::make(0, i));
+    EXPECT_EQ(pub.dropped_count(), 6u);
+  }
+  EXPECT_EQ(pub.dropped_count(), 6u);
+}
+
+namespace {
+// 12 bytes: exercises the partial last word of a slot.
+struct Odd {
+  std::uint8_t a{};
+  std::uint16_t b{};
+  float c{};
+  std::uint32_t d{};
+};
+HORUS_REFLECT(Odd, a, b, c, d)
+static_assert(sizeof(Odd) == 12);
+}  // namespace
+
+TEST(Topic, MessagesWhoseSizeIsNotAMultipleOfEightBytesArriveIntact) {
+  const auto name = unique_name("odd_size");
+  auto sub = must(Topic<Odd>::with_capacity(name, 4));
+  Topic<Odd> pub(name);
+  for (std::uint32_t i = 0; i < 10; ++i)
+    pub.send(Odd{static_cast<std::uint8_t>(i), static_cast<std::uint16_t>(1000 + i), 0.5f * static_cast<float>(i),
+                 0xdead0000u + i});
+  for (std::uint32_t i = 6; i < 10; ++i) {
+    auto m = sub.recv();
+    ASSERT_TRUE(m);
+    EXPECT_EQ(m->a, i);
+    EXPECT_EQ(m->b, 1000 + i);
+    EXPECT_EQ(m->c, 0.5f * static_cast<float>(i));
+    EXPECT_EQ(m->d, 0xdead0000u + i);
+  }
+  EXPECT_FALSE(sub.recv());
 }

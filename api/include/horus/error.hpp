@@ -17,7 +17,7 @@ enum class Errc {
   InvalidName,       // a topic name breaks the naming rules
   TypeMismatch,      // the topic already carries another message type
   InvalidArgument,   // a bad capacity, slot size or other parameter
-  ConfigMismatch,    // the topic exists with another capacity or slot size
+  ConfigMismatch,    // the topic exists with another capacity
   LimitReached,      // too many publishers or subscribers on one topic
   Timeout,           // a blocking call ran out of time
   MessageTooLarge,   // a message does not fit its slot

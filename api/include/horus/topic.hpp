@@ -98,6 +98,9 @@ class Topic {
                 "horus::Topic<T>: T must be a message declared with HORUS_MESSAGE or HORUS_REFLECT");
   static_assert(std::is_trivially_copyable_v<T>,
                 "horus::Topic<T>: T must be trivially copyable (fixed-size messages travel by copy)");
+  static_assert(sizeof(T) <= (1u << 20),
+                "horus::Topic<T>: fixed-size messages are at most 1 MiB (they are copied through the stack); "
+                "large data (images, point clouds) travels through pools");
 
  public:
   using message_type = T;
@@ -109,7 +112,8 @@ class Topic {
   static Result<Topic> open(std::string_view name) { return make(name, std::nullopt, std::nullopt); }
 
   /// Opens (or creates) the topic with `capacity` slots per publisher (a power of two).
-  /// `slot_size`, when given, must be at least sizeof(T). Opening an existing topic with a
+  /// `slot_size`, when given, must be at least sizeof(T) (fixed-size messages use exactly
+  /// sizeof(T) per slot; larger slots matter for variable-size messages). Opening an existing topic with a
   /// different capacity is an error (Errc::ConfigMismatch).
   static Result<Topic> with_capacity(std::string_view name, std::uint32_t capacity,
                                      std::optional<std::size_t> slot_size = std::nullopt) {
@@ -117,7 +121,9 @@ class Topic {
   }
 
   Topic(Topic&&) noexcept = default;
+  /// A moved-from handle may only be destroyed or assigned to.
   Topic& operator=(Topic&& other) noexcept {
+    if (this == &other) return *this;
     // Release our lane and subscription while our ring is still mapped, then take other's.
     Topic old(std::move(*this));
     core_ = std::move(other.core_);
@@ -157,8 +163,16 @@ class Topic {
   }
 
   /// Publishes, waiting up to `timeout` for space (spin, then yield, then 100 us sleeps).
+  /// Space means: no other subscriber would lose an unread message (a handle never waits for
+  /// its own subscription). Errc::Timeout when the ring stayed full, Errc::LimitReached at once
+  /// when every publisher lane of the topic is taken.
   Result<void> send_blocking(const T& msg, std::chrono::nanoseconds timeout) {
     using clock = std::chrono::steady_clock;
+    if (!writer_.has_lane() && !become_publisher()) {
+      ++send_failures_;
+      return fail(Errc::LimitReached, "topic '" + core_->name + "': all " + std::to_string(shm::kMaxPublishers) +
+                                          " publisher lanes are in use; message not sent");
+    }
     if (try_write(msg)) return {};
     const auto deadline = clock::now() + timeout;
     for (int i = 0; i < 256; ++i) {
@@ -215,12 +229,12 @@ class Topic {
   /// True if recv() would return a message.
   bool has_message() {
     received_ = true;
-    return reader_.subscribed() && reader_.has_message();
+    return (reader_.subscribed() || resubscribe()) && reader_.has_message();
   }
   /// Unread messages waiting for this handle.
   std::uint64_t pending_count() {
     received_ = true;
-    return reader_.subscribed() ? reader_.pending() : 0;
+    return (reader_.subscribed() || resubscribe()) ? reader_.pending() : 0;
   }
   /// Messages lost to overwrites: this handle's own losses when it subscribes; for a pure
   /// publisher, the losses of all subscribers of the topic.
@@ -264,7 +278,7 @@ class Topic {
     if (!topic.reader_.subscribe()) {
       return fail(Errc::LimitReached, "topic '" + std::string(name) + "' already has " +
                                           std::to_string(shm::kMaxSubscribers) +
-                                          " handles; close some before opening more");
+                                          " subscribing handles; close some before opening more");
     }
     return topic;
   }
@@ -276,7 +290,7 @@ class Topic {
 
   bool try_write(const T& msg) {
     if (!writer_.has_lane() && !become_publisher()) return false;
-    if (!writer_.has_space()) return false;
+    if (!writer_.has_space(reader_.token())) return false;
     writer_.write(msg);
     return true;
   }
@@ -285,8 +299,10 @@ class Topic {
   bool receives() const noexcept { return received_ || recv_failures_ != 0 || reader_.delivered() != 0; }
 
   [[gnu::noinline]] bool become_publisher() {
-    if (!receives()) reader_.unsubscribe();
-    if (writer_.ensure_lane()) return true;
+    if (writer_.ensure_lane()) {
+      if (!receives()) reader_.unsubscribe();  // a pure publisher: stop counting as a subscriber
+      return true;
+    }
     if (!no_lane_reported_) detail::report_no_lane(*core_);
     no_lane_reported_ = true;
     return false;

@@ -220,8 +220,9 @@ class Ring {
   std::uint32_t publisher_count() const noexcept;
   std::uint32_t subscriber_count() const noexcept;
   /// The lowest head at which writing into `lane` would overwrite a message an active
-  /// subscriber has not read: the slowest cursor + capacity, at most head + capacity.
-  std::uint64_t space_limit(std::uint32_t lane, std::uint64_t head) const noexcept;
+  /// subscriber has not read: the slowest cursor + capacity, at most head + capacity. The
+  /// subscriber entry owned by `self` (the writer's own handle) is not waited for.
+  std::uint64_t space_limit(std::uint32_t lane, std::uint64_t head, std::uint64_t self) const noexcept;
   /// Messages that active subscribers lagged beyond capacity and have not yet noticed.
   std::uint64_t undetected_losses() const noexcept;
   /// Messages sent on the topic since it was created (all lanes).
@@ -296,12 +297,12 @@ class RingWriter {
     if (latest_->load(std::memory_order_relaxed) != lane_) latest_->store(lane_, std::memory_order_relaxed);
   }
 
-  /// True if write() would not overwrite a message some subscriber has not read. The limit
+  /// True if write() would not overwrite a message some other subscriber has not read. The limit
   /// is cached (like rigtorp's SPSCQueue caches the read index): subscribers' cursors are
   /// read again only when the cached limit is reached.
-  bool has_space() noexcept {
+  bool has_space(std::uint64_t self_subscriber) noexcept {
     if (head_ < space_limit_) return true;
-    space_limit_ = ring_.space_limit(lane_, head_);
+    space_limit_ = ring_.space_limit(lane_, head_, self_subscriber);
     return head_ < space_limit_;
   }
 
@@ -396,6 +397,9 @@ class RingReader {
     shared_cursor_ = nullptr;
   }
 
+  /// The token of this reader's subscriber entry (0 when not subscribed).
+  std::uint64_t token() const noexcept { return subscribed() ? token_ : 0; }
+
   /// Messages read() returned (derived from the cursors: no counter on the hot path).
   std::uint64_t delivered() const noexcept {
     if (!subscribed()) return delivered_before_;
@@ -450,14 +454,32 @@ class RingReader {
   }
 
   /// Copies the newest message of the topic. When subscribed, everything published before it
-  /// counts as read (it is skipped, not lost), so read() then returns only newer messages.
+  /// counts as read (skipped; losses among them still count as lost), so read() then returns
+  /// only newer messages.
   bool read_latest(T& out) noexcept {
-    for (int attempt = 0; attempt < 16; ++attempt) {
-      const std::uint32_t lane = ring_.header().latest_lane.load(std::memory_order_acquire);
-      const std::uint64_t head = ring_.lane(lane).head.load(std::memory_order_acquire);
-      if (head == 0) return false;
-      if (read_slot(slot_of(lane, head - 1), head - 1, out) != ReadStatus::Ok) continue;
-      if (subscribed()) skip_to_latest(lane, head);
+    std::uint64_t heads[kMaxPublishers];
+    for (int attempt = 0; attempt < 64; ++attempt) {
+      // Snapshot every head first: messages sent after this point are never skipped.
+      const std::uint32_t lanes = lane_hwm_->load(std::memory_order_acquire);
+      for (std::uint32_t l = 0; l < lanes; ++l) heads[l] = ring_.lane(l).head.load(std::memory_order_acquire);
+      std::uint32_t lane = ring_.header().latest_lane.load(std::memory_order_acquire);
+      if (lane >= lanes || heads[lane] == 0) {
+        // The hint is not visible yet: take any lane that has data.
+        lane = lanes;
+        for (std::uint32_t l = 0; l < lanes; ++l)
+          if (heads[l] != 0) lane = l;
+        if (lane == lanes) return false;
+      }
+      // Never go back behind a message this handle already received.
+      const std::uint64_t pos = subscribed() ? std::max(heads[lane], cursor_[lane]) : heads[lane];
+      if (read_slot(slot_of(lane, pos - 1), pos - 1, out) != ReadStatus::Ok) {
+        detail_relax();
+        continue;
+      }
+      if (subscribed()) {
+        heads[lane] = pos;
+        skip_to(heads, lanes);
+      }
       return true;
     }
     return false;
@@ -492,15 +514,26 @@ class RingReader {
     shared_cursor_[lane].store(to, std::memory_order_relaxed);
   }
 
-  [[gnu::noinline]] void skip_to_latest(std::uint32_t latest, std::uint64_t latest_head) noexcept {
-    const std::uint32_t lanes = lane_hwm_->load(std::memory_order_acquire);
+  // Marks everything before heads[] as read: messages still in the ring are skipped, those
+  // already overwritten are lost (so dropped counts never go down).
+  [[gnu::noinline]] void skip_to(const std::uint64_t* heads, std::uint32_t lanes) noexcept {
+    const std::uint64_t cap = ring_.capacity();
     for (std::uint32_t l = 0; l < lanes; ++l) {
-      const std::uint64_t to = l == latest ? latest_head : ring_.lane(l).head.load(std::memory_order_acquire);
-      if (cursor_[l] < to) {
-        skipped_ += to - cursor_[l];
-        advance(l, to);
-      }
+      const std::uint64_t to = heads[l];
+      if (cursor_[l] >= to) continue;
+      const std::uint64_t oldest = to > cap ? to - cap : 0;
+      const std::uint64_t gone = oldest > cursor_[l] ? oldest - cursor_[l] : 0;
+      skipped_ += to - cursor_[l] - gone;
+      lost_ += gone;
+      advance(l, to);
+      if (gone != 0) ring_.header().dropped_total.fetch_add(gone, std::memory_order_relaxed);
     }
+  }
+
+  static void detail_relax() noexcept {
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#endif
   }
 
   // Slow path: message cursor_[lane] was overwritten; move to the oldest one still there.
@@ -513,8 +546,8 @@ class RingReader {
     const std::uint64_t oldest = head > cap ? head - cap : 0;
     const std::uint64_t next = std::max(c + 1, oldest);
     lost_ += next - c;
+    advance(lane, next);  // first, so the topic-wide sum never counts these twice
     ring_.header().dropped_total.fetch_add(next - c, std::memory_order_relaxed);
-    advance(lane, next);
   }
 
   // Hot fields first, read on every receive.
