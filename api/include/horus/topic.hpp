@@ -82,14 +82,6 @@ std::uint64_t next_token() noexcept;
 void report_no_lane(const TopicCore& core);
 void report_no_subscriber_slot(const TopicCore& core);
 
-inline void cpu_relax() noexcept {
-#if defined(__x86_64__) || defined(__i386__)
-  __builtin_ia32_pause();
-#elif defined(__aarch64__)
-  asm volatile("yield");
-#endif
-}
-
 }  // namespace detail
 
 template <class T>
@@ -176,7 +168,7 @@ class Topic {
     if (try_write(msg)) return {};
     const auto deadline = clock::now() + timeout;
     for (int i = 0; i < 256; ++i) {
-      detail::cpu_relax();
+      shm::cpu_relax();
       if (try_write(msg)) return {};
     }
     for (int i = 0; i < 8; ++i) {

@@ -94,6 +94,15 @@ static_assert(std::is_standard_layout_v<RingHeader> && std::is_standard_layout_v
                   std::is_standard_layout_v<SubscriberEntry>,
               "ring structures live in shared memory and must have a fixed layout");
 
+/// A hint to the CPU inside a spin loop.
+inline void cpu_relax() noexcept {
+#if defined(__x86_64__) || defined(__i386__)
+  __builtin_ia32_pause();
+#elif defined(__aarch64__)
+  asm volatile("yield");
+#endif
+}
+
 /// What reading one slot found.
 enum class ReadStatus { Ok, Empty, Lost };
 
@@ -473,7 +482,7 @@ class RingReader {
       // Never go back behind a message this handle already received.
       const std::uint64_t pos = subscribed() ? std::max(heads[lane], cursor_[lane]) : heads[lane];
       if (read_slot(slot_of(lane, pos - 1), pos - 1, out) != ReadStatus::Ok) {
-        detail_relax();
+        cpu_relax();
         continue;
       }
       if (subscribed()) {
@@ -528,12 +537,6 @@ class RingReader {
       advance(l, to);
       if (gone != 0) ring_.header().dropped_total.fetch_add(gone, std::memory_order_relaxed);
     }
-  }
-
-  static void detail_relax() noexcept {
-#if defined(__x86_64__) || defined(__i386__)
-    __builtin_ia32_pause();
-#endif
   }
 
   // Slow path: message cursor_[lane] was overwritten; move to the oldest one still there.
