@@ -116,7 +116,9 @@ void value_from_json(const nlohmann::json& j, V& v, const std::string& path) {
   } else {
     static_assert(Reflected<V>, "from_json: not a reflected type");
     if (!j.is_object()) json_fail(path.empty() ? std::string(type_name<V>()) : path, "expected an object, found " + j.dump());
-    for (const auto& [key, val] : j.items()) {
+    for (const auto& item : j.items()) {
+      const std::string& key = item.key();
+      const nlohmann::json& val = item.value();
       bool known = false;
       for_each_field(v, [&](std::string_view name, auto& field) {
         if (name == key) {
