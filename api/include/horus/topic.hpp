@@ -206,8 +206,10 @@ class Topic {
   [[gnu::always_inline]] std::optional<T> try_recv() { return recv(); }
 
   /// The newest message on the topic, without waiting; repeated calls return the same message
-  /// until a newer one arrives. Everything up to it counts as read (not as dropped), so a
-  /// following recv() returns only newer messages.
+  /// until a newer one arrives. Everything up to it counts as read (messages already
+  /// overwritten still count as dropped), so a following recv() returns only newer messages.
+  /// With capacity 1 and a publisher that never pauses, the only slot is nearly always being
+  /// rewritten and this may return nothing: use a capacity of 2 or more for "latest" topics.
   std::optional<T> read_latest() {
     received_ = true;
     Slot s;
