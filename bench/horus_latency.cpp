@@ -263,11 +263,10 @@ double boost_throughput(const Config& cfg) {
 
 // -- output ----------------------------------------------------------------------------------
 
-Row latency_row(const std::string& name, std::vector<double> samples, double floor_p50) {
+Row latency_row(const std::string& name, std::vector<double> samples, double ratio_to_floor) {
   const auto p = hb::percentiles(samples);
-  Row r{"cross_thread_one_way", name, p.p50, p.p99, p.p999, p.p50, "ns", 0, "floor p50 (median of per-block ratios)"};
-  r.ratio = floor_p50 > 0 ? p.p50 / floor_p50 : 0;
-  return r;
+  return Row{"cross_thread_one_way", name, p.p50, p.p99, p.p999, p.p50, "ns", ratio_to_floor,
+             "floor p50 (median of per-block ratios)"};
 }
 
 void write_json(const std::string& path, const std::vector<Row>& rows) {
@@ -359,13 +358,9 @@ int main(int argc, char** argv) {
     append(horus_samples, std::move(h));
     append(boost_samples, std::move(o));
   }
-  auto floor_row = latency_row("floor: cache-line ping-pong", floor_samples, 0);
-  floor_row.ratio = 1.0;
-  rows.push_back(floor_row);
-  rows.push_back(latency_row("horus Topic<CmdVel>", std::move(horus_samples), 0));
-  rows.back().ratio = p50(horus_ratios);
-  rows.push_back(latency_row("boost spsc_queue<CmdVel>", std::move(boost_samples), 0));
-  rows.back().ratio = p50(boost_ratios);
+  rows.push_back(latency_row("floor: cache-line ping-pong", std::move(floor_samples), 1.0));
+  rows.push_back(latency_row("horus Topic<CmdVel>", std::move(horus_samples), p50(horus_ratios)));
+  rows.push_back(latency_row("boost spsc_queue<CmdVel>", std::move(boost_samples), p50(boost_ratios)));
 
   const double tp_horus = horus_throughput(cfg);
   const double tp_boost = boost_throughput(cfg);

@@ -124,13 +124,7 @@ void Ring::remove_subscriber(std::uint32_t entry, std::uint64_t token) const noe
   auto& e = subs_[entry];
   if (e.owner.load(std::memory_order_relaxed) != token) return;
   // Losses it never noticed stay counted in the topic's total after it leaves.
-  const std::uint32_t lanes = hdr_->lane_hwm.load(std::memory_order_acquire);
-  std::uint64_t unnoticed = 0;
-  for (std::uint32_t l = 0; l < lanes; ++l) {
-    const std::uint64_t head = lanes_[l].head.load(std::memory_order_acquire);
-    const std::uint64_t cur = e.cursor[l].load(std::memory_order_relaxed);
-    if (head > cur + capacity_) unnoticed += head - cur - capacity_;
-  }
+  const std::uint64_t unnoticed = unnoticed_losses(entry);
   if (unnoticed != 0) hdr_->dropped_total.fetch_add(unnoticed, std::memory_order_relaxed);
   e.owner.store(0, std::memory_order_relaxed);
   e.state.store(SubscriberEntry::kFree, std::memory_order_release);
@@ -165,19 +159,23 @@ std::uint64_t Ring::space_limit(std::uint32_t lane, std::uint64_t head, std::uin
   return limit;
 }
 
+std::uint64_t Ring::unnoticed_losses(std::uint32_t entry) const noexcept {
+  const auto& e = subs_[entry];
+  const std::uint32_t lanes = hdr_->lane_hwm.load(std::memory_order_acquire);
+  std::uint64_t n = 0;
+  for (std::uint32_t l = 0; l < lanes; ++l) {
+    const std::uint64_t head = lanes_[l].head.load(std::memory_order_acquire);
+    const std::uint64_t cur = e.cursor[l].load(std::memory_order_acquire);
+    if (head > cur + capacity_) n += head - cur - capacity_;
+  }
+  return n;
+}
+
 std::uint64_t Ring::undetected_losses() const noexcept {
   std::uint64_t n = 0;
-  const std::uint32_t lanes = hdr_->lane_hwm.load(std::memory_order_acquire);
   const std::uint32_t hwm = hdr_->sub_hwm.load(std::memory_order_acquire);
-  for (std::uint32_t i = 0; i < hwm; ++i) {
-    const auto& e = subs_[i];
-    if (e.state.load(std::memory_order_acquire) != SubscriberEntry::kActive) continue;
-    for (std::uint32_t l = 0; l < lanes; ++l) {
-      const std::uint64_t head = lanes_[l].head.load(std::memory_order_acquire);
-      const std::uint64_t cur = e.cursor[l].load(std::memory_order_acquire);
-      if (head > cur + capacity_) n += head - cur - capacity_;
-    }
-  }
+  for (std::uint32_t i = 0; i < hwm; ++i)
+    if (subs_[i].state.load(std::memory_order_acquire) == SubscriberEntry::kActive) n += unnoticed_losses(i);
   return n;
 }
 

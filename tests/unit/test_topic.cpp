@@ -30,6 +30,16 @@ std::vector<std::uint64_t> drain(Topic<Stamp>& t) {
   return seqs;
 }
 
+// Opens kMaxPublishers handles on `name` that each hold a lane (every lane is then taken).
+std::vector<Topic<Stamp>> take_every_lane(const std::string& name) {
+  std::vector<Topic<Stamp>> pubs;
+  for (std::uint32_t p = 0; p < horus::shm::kMaxPublishers; ++p) {
+    pubs.emplace_back(name);
+    pubs.back().send(Stamp::make(p, 0));
+  }
+  return pubs;
+}
+
 std::vector<std::uint64_t> range(std::uint64_t from, std::uint64_t to) {
   std::vector<std::uint64_t> v;
   for (auto i = from; i < to; ++i) v.push_back(i);
@@ -386,11 +396,7 @@ TEST(Topic, MessagesFromSeveralPublishersAreAllDeliveredInOrderPerPublisher) {
 TEST(Topic, WhenEveryLaneIsTakenFurtherPublishersAreRefusedAndCounted) {
   const auto name = unique_name("lanes_full");
   Topic<Stamp> sub(name);
-  std::vector<Topic<Stamp>> pubs;
-  for (std::uint32_t p = 0; p < horus::shm::kMaxPublishers; ++p) {
-    pubs.emplace_back(name);
-    pubs.back().send(Stamp::make(p, 0));
-  }
+  auto pubs = take_every_lane(name);
   Topic<Stamp> extra(name);
   extra.send(Stamp::make(999, 0));
   EXPECT_EQ(extra.metrics().send_failures(), 1u);
@@ -460,11 +466,7 @@ TEST(Topic, AnIdleSubscriberMakesTrySendRefuseUntilItReads) {
 
 TEST(Topic, SendBlockingWithoutAFreeLaneFailsAtOnceWithLimitReached) {
   const auto name = unique_name("blocking_nolane");
-  std::vector<Topic<Stamp>> pubs;
-  for (std::uint32_t p = 0; p < horus::shm::kMaxPublishers; ++p) {
-    pubs.emplace_back(name);
-    pubs.back().send(Stamp::make(p, 0));
-  }
+  auto pubs = take_every_lane(name);
   Topic<Stamp> extra(name);
   const auto start = std::chrono::steady_clock::now();
   auto r = extra.send_blocking(Stamp::make(99, 0), std::chrono::seconds(30));

@@ -232,7 +232,9 @@ class Ring {
   /// subscriber has not read: the slowest cursor + capacity, at most head + capacity. The
   /// subscriber entry owned by `self` (the writer's own handle) is not waited for.
   std::uint64_t space_limit(std::uint32_t lane, std::uint64_t head, std::uint64_t self) const noexcept;
-  /// Messages that active subscribers lagged beyond capacity and have not yet noticed.
+  /// Messages subscriber `entry` lagged beyond capacity (overwritten) and has not yet noticed.
+  std::uint64_t unnoticed_losses(std::uint32_t entry) const noexcept;
+  /// The same, summed over all active subscribers.
   std::uint64_t undetected_losses() const noexcept;
   /// Messages sent on the topic since it was created (all lanes).
   std::uint64_t total_sent() const noexcept;
@@ -452,14 +454,8 @@ class RingReader {
 
   /// Messages this subscriber lost to overwrites, including ones not yet noticed by read().
   std::uint64_t lost() const noexcept {
-    const std::uint32_t lanes = lane_hwm_->load(std::memory_order_acquire);
-    std::uint64_t n = lost_before_ + lost_;
-    if (!subscribed()) return n;
-    for (std::uint32_t l = 0; l < lanes; ++l) {
-      const std::uint64_t head = ring_.lane(l).head.load(std::memory_order_acquire);
-      if (head > cursor_[l] + ring_.capacity()) n += head - cursor_[l] - ring_.capacity();
-    }
-    return n;
+    // The shared cursors mirror cursor_ (published on every advance).
+    return lost_before_ + lost_ + (subscribed() ? ring_.unnoticed_losses(entry_) : 0);
   }
 
   /// Copies the newest message of the topic. When subscribed, everything published before it
