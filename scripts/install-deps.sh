@@ -9,6 +9,8 @@ packages=(
   googletest libgtest-dev libgmock-dev libbenchmark-dev
   libfmt-dev libspdlog-dev nlohmann-json3-dev libeigen3-dev libcli11-dev
   libboost-dev   # boost::lockfree::spsc_queue, the benchmark baseline (header-only)
+  libmsgpack-cxx-dev   # GenericMessage payloads (MessagePack)
+  libdlpack-dev        # Tensor::to_dlpack (the DLPack ABI header)
 )
 
 missing=()

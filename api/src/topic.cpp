@@ -95,20 +95,42 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
     if (auto err = shm::Ring::check_config({*capacity, type.size, type.hash}))
       return fail(Errc::InvalidArgument, fmt::format("topic '{}': {}", name, *err));
   }
-  if (slot_size && *slot_size < type.size)
+  // The ring payload: sizeof(T), or for a serialized type a length word and the encoded bytes.
+  std::uint32_t payload = type.size;
+  if (type.serialized) {
+    constexpr std::size_t kMaxSerialized = (std::size_t{1} << 30) - 8;
+    const std::size_t max_bytes = slot_size.value_or(type.size);
+    if (max_bytes == 0 || max_bytes > kMaxSerialized)
+      return fail(Errc::InvalidArgument,
+                  fmt::format("topic '{}': slot_size {} for serialized {} messages is out of range; expected 1 to {} "
+                              "bytes (the largest encoded message the topic accepts)",
+                              name, max_bytes, type.name, kMaxSerialized));
+    payload = static_cast<std::uint32_t>(8 + max_bytes);
+    if (capacity) {
+      if (auto err = shm::Ring::check_config({*capacity, payload, type.hash}))
+        return fail(Errc::InvalidArgument, fmt::format("topic '{}': {}", name, *err));
+    }
+  } else if (slot_size && *slot_size < type.size) {
     return fail(Errc::InvalidArgument,
                 fmt::format("topic '{}': slot_size {} is smaller than a {} message ({} bytes); expected at least {}",
                             name, *slot_size, type.name, type.size, type.size));
+  }
 
   auto& reg = registry();
   std::lock_guard lock(reg.mutex);
   if (auto it = reg.topics.find(name); it != reg.topics.end()) {
     if (auto core = it->second.lock()) {
-      if (core->type_hash != type.hash || core->type_name != type.name || core->payload_size != type.size)
+      if (core->type_hash != type.hash || core->type_name != type.name || core->serialized != type.serialized ||
+          (!type.serialized && core->payload_size != type.size))
         return fail(Errc::TypeMismatch,
                     fmt::format("topic '{}' carries {}; cannot open it as {}", name,
                                 describe(core->type_name, core->type_hash, core->payload_size),
                                 describe(type.name, type.hash, type.size)));
+      if (type.serialized && slot_size && payload != core->payload_size)
+        return fail(Errc::ConfigMismatch,
+                    fmt::format("topic '{}' exists with slot_size {} (largest encoded message); cannot open it with "
+                                "slot_size {} (open it with the same slot size, or without one to accept it)",
+                                name, shm::max_serialized_size(core->payload_size), *slot_size));
       if (capacity && *capacity != core->ring.capacity())
         return fail(Errc::ConfigMismatch,
                     fmt::format("topic '{}' exists with capacity {}; cannot open it with capacity {} (open it "
@@ -119,12 +141,17 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
     reg.topics.erase(it);
   }
 
-  const shm::RingConfig cfg{capacity.value_or(shm::default_capacity(type.size)), type.size, type.hash};
+  // Serialized topics with big slots (images) default to 4 slots per lane: the ring is virtual
+  // memory, touched only as far as messages are written, but 16 slots of 8 MiB is a lot.
+  const std::uint32_t default_cap =
+      type.serialized && payload >= (1u << 20) ? 4u : shm::default_capacity(payload);
+  const shm::RingConfig cfg{capacity.value_or(default_cap), payload, type.hash};
   auto core = std::make_shared<TopicCore>();
   core->name = std::string(name);
   core->type_name = std::string(type.name);
   core->type_hash = type.hash;
-  core->payload_size = type.size;
+  core->payload_size = payload;
+  core->serialized = type.serialized;
   try {
     core->region = shm::HeapRegion(shm::Ring::required_size(cfg));
   } catch (const std::bad_alloc&) {
@@ -147,6 +174,29 @@ void report_no_lane(const TopicCore& core) {
   log().error("topic '{}': all {} publisher lanes are in use; this handle's messages are refused and counted "
               "in metrics().send_failures() (close other publishing handles)",
               core.name, shm::kMaxPublishers);
+}
+
+void report_too_large(const TopicCore& core, std::size_t size, std::uint64_t count) {
+  // Every refusal is counted in send_failures(); the log says the first and then every 1024th.
+  if (count == 1 || count % 1024 == 0)
+    log().error("topic '{}': a {} message encodes to {} bytes, over the topic's slot size of {} bytes; refused "
+                "({} so far). Open the topic with Topic::with_capacity(name, capacity, slot_size) and a larger "
+                "slot_size.",
+                core.name, core.type_name, size, shm::max_serialized_size(core.payload_size), count);
+}
+
+void report_decode_failure(const TopicCore& core, const std::string& what, std::uint64_t count) {
+  if (count == 1 || count % 1024 == 0)
+    log().error("topic '{}': a received {} message does not decode ({}); skipped ({} so far)", core.name,
+                core.type_name, what, count);
+}
+
+Error too_large_error(const TopicCore& core, std::size_t size) {
+  return Error(Errc::MessageTooLarge,
+               fmt::format("topic '{}': a {} message encodes to {} bytes, over the topic's slot size of {} bytes; "
+                           "expected at most {} (open the topic with a larger slot_size)",
+                           core.name, core.type_name, size, shm::max_serialized_size(core.payload_size),
+                           shm::max_serialized_size(core.payload_size)));
 }
 
 void report_no_subscriber_slot(const TopicCore& core) {

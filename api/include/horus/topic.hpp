@@ -29,7 +29,9 @@
 #include <string_view>
 #include <thread>
 #include <type_traits>
+#include <vector>
 
+#include "horus/codec.hpp"
 #include "horus/error.hpp"
 #include "horus/metrics.hpp"
 #include "horus/reflect.hpp"
@@ -50,16 +52,35 @@ inline constexpr std::size_t kMaxTopicNameLength = 128;
 /// no leading '-'. The error names the offending character and the rule.
 Result<void> validate_topic_name(std::string_view name);
 
-/// A message type Topic<T> can carry (today: reflected and trivially copyable).
+/// A message type Topic<T> can carry: any reflected message. Trivially copyable ones travel
+/// by copy; the others (vectors, strings, large-data classes) are serialized (horus/codec.hpp).
 template <class T>
-concept Message = Reflected<T> && std::is_trivially_copyable_v<T>;
+concept Message = Reflected<T> && std::is_default_constructible_v<T>;
+
+/// True when Topic<T> serializes T rather than copying it.
+template <class T>
+inline constexpr bool is_serialized_message = !std::is_trivially_copyable_v<T>;
+
+namespace detail {
+template <class T>
+concept HasDefaultSlotBytes = requires { { T::kDefaultSlotBytes } -> std::convertible_to<std::size_t>; };
+}  // namespace detail
+
+/// Largest encoded message a serialized topic accepts unless the slot size is given:
+/// T::kDefaultSlotBytes when T declares it (Image: a 1920x1080 RGBA frame), else 64 KiB.
+template <class T>
+inline constexpr std::size_t default_slot_bytes = [] {
+  if constexpr (detail::HasDefaultSlotBytes<T>) return static_cast<std::size_t>(T::kDefaultSlotBytes);
+  else return std::size_t{64 * 1024};
+}();
 
 namespace detail {
 
 struct TypeInfo {
   std::string_view name;
   std::uint64_t hash;
-  std::uint32_t size;
+  std::uint32_t size;        // sizeof(T); for a serialized type, the default largest encoded message
+  bool serialized = false;   // variable-size: slots hold [length][encoded bytes]
 };
 
 /// The shared state of one topic in this process: its ring and the memory it lives in.
@@ -67,7 +88,8 @@ struct TopicCore {
   std::string name;
   std::string type_name;
   std::uint64_t type_hash = 0;
-  std::uint32_t payload_size = 0;
+  std::uint32_t payload_size = 0;  // ring payload: sizeof(T), or 8 + largest encoded message
+  bool serialized = false;
   shm::HeapRegion region;
   shm::Ring ring;
 };
@@ -81,6 +103,11 @@ std::uint64_t next_token() noexcept;
 /// Logs (once per handle) that a send found no free lane / a receive no free subscriber entry.
 void report_no_lane(const TopicCore& core);
 void report_no_subscriber_slot(const TopicCore& core);
+/// Logs a serialized message refused for its size, or a received one that did not decode.
+void report_too_large(const TopicCore& core, std::size_t size, std::uint64_t count);
+void report_decode_failure(const TopicCore& core, const std::string& what, std::uint64_t count);
+/// The error send_blocking returns for a message over the slot size.
+Error too_large_error(const TopicCore& core, std::size_t size);
 
 }  // namespace detail
 
@@ -88,14 +115,15 @@ template <class T>
 class Topic {
   static_assert(Reflected<T>,
                 "horus::Topic<T>: T must be a message declared with HORUS_MESSAGE or HORUS_REFLECT");
-  static_assert(std::is_trivially_copyable_v<T>,
-                "horus::Topic<T>: T must be trivially copyable (fixed-size messages travel by copy)");
-  static_assert(sizeof(T) <= (1u << 20),
+  static_assert(std::is_default_constructible_v<T>, "horus::Topic<T>: T must be default constructible");
+  static_assert(is_serialized_message<T> || sizeof(T) <= (1u << 20),
                 "horus::Topic<T>: fixed-size messages are at most 1 MiB (they are copied through the stack); "
-                "large data (images, point clouds) travels through pools");
+                "large data (images, point clouds) uses the large-data classes");
 
  public:
   using message_type = T;
+  /// True when messages are serialized into slots (variable-size T) rather than copied.
+  static constexpr bool kSerialized = is_serialized_message<T>;
 
   /// Opens (or creates) the topic with the default capacity; throws horus::Exception.
   explicit Topic(std::string_view name) : Topic(value_or_throw(open(name))) {}
@@ -104,9 +132,10 @@ class Topic {
   static Result<Topic> open(std::string_view name) { return make(name, std::nullopt, std::nullopt); }
 
   /// Opens (or creates) the topic with `capacity` slots per publisher (a power of two).
-  /// `slot_size`, when given, must be at least sizeof(T) (fixed-size messages use exactly
-  /// sizeof(T) per slot; larger slots matter for variable-size messages). Opening an existing topic with a
-  /// different capacity is an error (Errc::ConfigMismatch).
+  /// `slot_size`: for a fixed-size T, at least sizeof(T) (which is what a slot holds); for a
+  /// serialized T, the largest encoded message the topic accepts (default_slot_bytes<T> when not
+  /// given). Opening an existing topic with a different capacity or slot size is an error
+  /// (Errc::ConfigMismatch).
   static Result<Topic> with_capacity(std::string_view name, std::uint32_t capacity,
                                      std::optional<std::size_t> slot_size = std::nullopt) {
     return make(name, capacity, slot_size);
@@ -123,6 +152,12 @@ class Topic {
     reader_ = std::move(other.reader_);
     send_failures_ = other.send_failures_;
     recv_failures_ = other.recv_failures_;
+    too_large_ = other.too_large_;
+    decode_failures_ = other.decode_failures_;
+    undelivered_ = other.undelivered_;
+    encoded_size_ = other.encoded_size_;
+    scratch_ = std::move(other.scratch_);
+    inbox_ = std::move(other.inbox_);
     received_ = other.received_;
     no_lane_reported_ = other.no_lane_reported_;
     no_sub_reported_ = other.no_sub_reported_;
@@ -134,9 +169,9 @@ class Topic {
 
   // -- sending ---------------------------------------------------------------
 
-  /// Publishes. Never blocks, never fails: a full ring overwrites its oldest message.
-  /// (Only when all kMaxPublishers lanes are taken is the message refused: it is then
-  /// counted in metrics().send_failures() and logged.)
+  /// Publishes. Never blocks: a full ring overwrites its oldest message. A message is refused
+  /// only when all kMaxPublishers lanes are taken, or (serialized T) when it encodes to more
+  /// than max_message_size() bytes; it is then counted in metrics().send_failures() and logged.
   [[gnu::always_inline]] void send(const T& msg) {
     if (!writer_.has_lane()) [[unlikely]] {
       if (!become_publisher()) {
@@ -144,10 +179,19 @@ class Topic {
         return;
       }
     }
-    writer_.write(msg);
+    if constexpr (kSerialized) {
+      if (!encode(msg)) {
+        ++send_failures_;
+        return;
+      }
+      writer_.write_bytes(encoded());
+    } else {
+      writer_.write(msg);
+    }
   }
 
-  /// Publishes only if no subscriber would lose an unread message; else gives the message back.
+  /// Publishes only if no subscriber would lose an unread message; else gives the message back
+  /// (also when it is refused for its size).
   std::expected<void, T> try_send(const T& msg) {
     if (try_write(msg)) return {};
     ++send_failures_;
@@ -164,6 +208,12 @@ class Topic {
       ++send_failures_;
       return fail(Errc::LimitReached, "topic '" + core_->name + "': all " + std::to_string(shm::kMaxPublishers) +
                                           " publisher lanes are in use; message not sent");
+    }
+    if constexpr (kSerialized) {
+      if (!encode(msg)) {
+        ++send_failures_;
+        return std::unexpected(detail::too_large_error(*core_, codec::encoded_size(msg)));
+      }
     }
     if (try_write(msg)) return {};
     const auto deadline = clock::now() + timeout;
@@ -188,7 +238,8 @@ class Topic {
 
   // -- receiving -------------------------------------------------------------
 
-  /// Takes the next unread message (FIFO per publisher), or nothing.
+  /// Takes the next unread message (FIFO per publisher), or nothing. A serialized message that
+  /// does not decode (a corrupt slot) is skipped, counted in metrics().decode_failures() and logged.
   [[gnu::always_inline]] std::optional<T> recv() {
     if (!reader_.subscribed()) [[unlikely]] {
       if (!resubscribe()) {
@@ -196,8 +247,16 @@ class Topic {
         return std::nullopt;
       }
     }
-    Slot s;
-    if (reader_.read(s.value)) return s.value;
+    if constexpr (kSerialized) {
+      prepare_inbox();
+      while (reader_.read(inbox_)) {
+        if (auto m = decode_inbox()) return m;
+        ++undelivered_;
+      }
+    } else {
+      Slot s;
+      if (reader_.read(s.value)) return s.value;
+    }
     ++recv_failures_;  // also marks this handle as a receiver (see receives())
     return std::nullopt;
   }
@@ -212,9 +271,15 @@ class Topic {
   /// rewritten and this may return nothing: use a capacity of 2 or more for "latest" topics.
   std::optional<T> read_latest() {
     received_ = true;
-    Slot s;
-    if (!reader_.read_latest(s.value)) return std::nullopt;
-    return s.value;
+    if constexpr (kSerialized) {
+      prepare_inbox();
+      if (!reader_.read_latest(inbox_)) return std::nullopt;
+      return decode_inbox();
+    } else {
+      Slot s;
+      if (!reader_.read_latest(s.value)) return std::nullopt;
+      return s.value;
+    }
   }
 
   // -- state -----------------------------------------------------------------
@@ -242,11 +307,15 @@ class Topic {
   /// Handles currently subscribed to this topic.
   std::uint32_t sub_count() const noexcept { return core_->ring.subscriber_count(); }
   TopicMetrics metrics() const noexcept {
-    return TopicMetrics(writer_.sent(), reader_.delivered(), send_failures_, recv_failures_, dropped_count(),
-                        core_->ring.total_sent());
+    return TopicMetrics(writer_.sent(), reader_.delivered() - undelivered_, send_failures_, recv_failures_,
+                        dropped_count(), core_->ring.total_sent(), decode_failures_);
   }
   /// Slots per publisher lane.
   std::uint32_t capacity() const noexcept { return core_->ring.capacity(); }
+  /// Largest message the topic carries: sizeof(T), or for a serialized T the largest encoded size.
+  std::size_t max_message_size() const noexcept {
+    return kSerialized ? shm::max_serialized_size(core_->payload_size) : sizeof(T);
+  }
   Backend backend() const noexcept { return Backend::InProcess; }
   /// The qualified message type name ("horus::msg::CmdVel").
   static constexpr std::string_view type_name() noexcept { return horus::type_name<T>(); }
@@ -265,7 +334,9 @@ class Topic {
 
   static Result<Topic> make(std::string_view name, std::optional<std::uint32_t> capacity,
                             std::optional<std::size_t> slot_size) {
-    const detail::TypeInfo type{horus::type_name<T>(), horus::type_hash<T>, static_cast<std::uint32_t>(sizeof(T))};
+    const detail::TypeInfo type{horus::type_name<T>(), horus::type_hash<T>,
+                                static_cast<std::uint32_t>(kSerialized ? default_slot_bytes<T> : sizeof(T)),
+                                kSerialized};
     auto core = detail::open_core(name, type, capacity, slot_size);
     if (!core) return std::unexpected(std::move(core.error()));
     Topic topic(std::move(*core));
@@ -285,8 +356,39 @@ class Topic {
   bool try_write(const T& msg) {
     if (!writer_.has_lane() && !become_publisher()) return false;
     if (!writer_.has_space(reader_.token())) return false;
-    writer_.write(msg);
+    if constexpr (kSerialized) {
+      if (!encode(msg)) return false;
+      writer_.write_bytes(encoded());
+    } else {
+      writer_.write(msg);
+    }
     return true;
+  }
+
+  // Serialized messages: encode into scratch_ (false, logged, when too large; the caller counts it).
+  bool encode(const T& msg) {
+    const std::size_t n = codec::encoded_size(msg);
+    if (n > writer_.max_bytes()) [[unlikely]] {
+      ++too_large_;
+      detail::report_too_large(*core_, n, too_large_);
+      return false;
+    }
+    if (scratch_.size() < n) scratch_.resize(std::max(n, scratch_.size() * 2));
+    encoded_size_ = codec::encode(msg, std::span<std::byte>(scratch_));
+    return true;
+  }
+  std::span<const std::byte> encoded() const noexcept { return {scratch_.data(), encoded_size_}; }
+
+  void prepare_inbox() {
+    const std::size_t max = shm::max_serialized_size(core_->payload_size);
+    if (inbox_.bytes.size() != max) [[unlikely]] inbox_.bytes.resize(max);
+  }
+  std::optional<T> decode_inbox() {
+    auto m = codec::decode<T>(std::span<const std::byte>(inbox_.bytes.data(), inbox_.size));
+    if (m) return std::move(*m);
+    ++decode_failures_;
+    detail::report_decode_failure(*core_, m.error(), decode_failures_);
+    return std::nullopt;
   }
 
   // True once this handle has used a receiving method (then its first send keeps it subscribed).
@@ -309,11 +411,20 @@ class Topic {
     return false;
   }
 
+  using Payload = std::conditional_t<kSerialized, shm::ByteMessage, T>;
+
   std::shared_ptr<detail::TopicCore> core_;  // first: outlives writer_ and reader_
-  shm::RingWriter<T> writer_;
-  shm::RingReader<T> reader_;
+  shm::RingWriter<Payload> writer_;
+  shm::RingReader<Payload> reader_;
   std::uint64_t send_failures_ = 0;
   std::uint64_t recv_failures_ = 0;
+  std::uint64_t too_large_ = 0;
+  std::uint64_t decode_failures_ = 0;
+  std::uint64_t undelivered_ = 0;  // read by recv() but not decoded (not counted as received)
+  // Serialized messages only: the encoding buffer and the last slot read.
+  std::vector<std::byte> scratch_;
+  std::size_t encoded_size_ = 0;
+  shm::ByteMessage inbox_;
   bool received_ = false;  // has_message/pending_count/read_latest were called
   bool no_lane_reported_ = false;
   bool no_sub_reported_ = false;

@@ -40,6 +40,10 @@ Out format_value(Out out, const V& v) {
     return fmt::format_to(out, "{}", static_cast<int>(v));
   } else if constexpr (std::is_arithmetic_v<V>) {
     return fmt::format_to(out, "{}", v);
+  } else if constexpr (ReflectedEnum<V>) {
+    const std::string_view name = enum_name(v);
+    if (name.empty()) return format_value(out, static_cast<std::underlying_type_t<V>>(v));
+    return fmt::format_to(out, "{}", name);
   } else if constexpr (HasEnumToString<V>) {
     return fmt::format_to(out, "{}", std::string_view(to_string(v)));
   } else if constexpr (std::is_enum_v<V>) {

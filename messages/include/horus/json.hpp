@@ -4,7 +4,7 @@
 //   horus::from_json<Pose2D>(j)   -> Pose2D, throws horus::JsonError naming the field
 //
 // Char arrays are JSON strings, other arrays and sequences JSON arrays, enums
-// their number, nested messages objects. Non-finite floats render as null (JSON
+// declared with HORUS_REFLECT_ENUM their name (else their number), nested messages objects. Non-finite floats render as null (JSON
 // has no NaN) and read back as NaN. from_json() is strict: an unknown key, a
 // wrong JSON type, a number out of range or a text that does not fit its field
 // is an error; a missing key keeps the field's default.
@@ -39,6 +39,10 @@ nlohmann::json value_to_json(const V& v) {
     return static_cast<std::conditional_t<std::is_signed_v<V>, std::int64_t, std::uint64_t>>(v);
   } else if constexpr (std::is_floating_point_v<V>) {
     return std::isfinite(v) ? nlohmann::json(static_cast<double>(v)) : nlohmann::json(nullptr);
+  } else if constexpr (ReflectedEnum<V>) {
+    const std::string_view name = enum_name(v);
+    if (name.empty()) return value_to_json(static_cast<std::underlying_type_t<V>>(v));
+    return std::string(name);
   } else if constexpr (std::is_enum_v<V>) {
     return value_to_json(static_cast<std::underlying_type_t<V>>(v));
   } else if constexpr (std::is_same_v<V, std::string>) {
@@ -90,6 +94,18 @@ void value_from_json(const nlohmann::json& j, V& v, const std::string& path) {
     } else {
       if (!j.is_number()) json_fail(path, "expected a number, found " + j.dump());
       v = static_cast<V>(j.get<double>());
+    }
+  } else if constexpr (ReflectedEnum<V>) {
+    if (j.is_string()) {
+      if (!enum_from_name(j.get_ref<const std::string&>(), v)) {
+        std::string valid;
+        for (const auto& e : enum_values<V>()) valid += (valid.empty() ? "" : ", ") + std::string(e.name);
+        json_fail(path, "unknown " + std::string(type_name<V>()) + " " + j.dump() + " (expected one of: " + valid + ")");
+      }
+    } else {
+      std::underlying_type_t<V> raw{};
+      value_from_json(j, raw, path);
+      v = static_cast<V>(raw);
     }
   } else if constexpr (std::is_enum_v<V>) {
     std::underlying_type_t<V> raw{};

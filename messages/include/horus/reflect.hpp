@@ -72,6 +72,42 @@ constexpr Field<C, M> make_field(std::string_view name, M C::*ptr, std::size_t o
   return Field<C, M>{name, ptr, offset};
 }
 
+/// One enumerator of a reflected enum: its name and value.
+template <class E>
+struct EnumValue {
+  std::string_view name;
+  E value;
+};
+
+/// True for enums declared with HORUS_REFLECT_ENUM.
+template <class E>
+concept ReflectedEnum = std::is_enum_v<E> && requires { horus_enum_values(tag<std::remove_cv_t<E>>{}); };
+
+/// The enumerators of E, in declaration order.
+template <ReflectedEnum E>
+constexpr auto enum_values() noexcept {
+  return horus_enum_values(tag<std::remove_cv_t<E>>{});
+}
+
+/// The enumerator name of e ("Rgb8"), or an empty view when e has no declared name.
+template <ReflectedEnum E>
+constexpr std::string_view enum_name(E e) noexcept {
+  for (const auto& v : enum_values<E>())
+    if (v.value == e) return v.name;
+  return {};
+}
+
+/// The enumerator called `name`, if any.
+template <ReflectedEnum E>
+constexpr bool enum_from_name(std::string_view name, E& out) noexcept {
+  for (const auto& v : enum_values<E>())
+    if (v.name == name) {
+      out = v.value;
+      return true;
+    }
+  return false;
+}
+
 /// True for types declared with HORUS_REFLECT / HORUS_MESSAGE.
 template <class T>
 concept Reflected = requires { horus_fields(tag<std::remove_cv_t<T>>{}); };
@@ -231,6 +267,19 @@ constexpr void describe_type(Sink& sink) {
     sink.put(type_name<T>());
     sink.put(":");
     sink.put(detail::scalar_name<std::underlying_type_t<T>>());
+    if constexpr (ReflectedEnum<T>) {
+      // Enumerators are part of the contract (IDL and LCM constants come from them).
+      sink.put("{");
+      for (const auto& v : enum_values<T>()) {
+        sink.put(v.name);
+        sink.put("=");
+        const auto raw = static_cast<std::underlying_type_t<T>>(v.value);
+        if (raw < 0) sink.put("-");
+        detail::put_number(sink, static_cast<std::size_t>(raw < 0 ? -static_cast<long long>(raw) : static_cast<long long>(raw)));
+        sink.put(";");
+      }
+      sink.put("}");
+    }
   } else if constexpr (std::is_same_v<T, std::string>) {
     sink.put("string");
   } else if constexpr (detail::is_std_array<T>::value) {
@@ -303,12 +352,43 @@ inline constexpr std::uint64_t type_hash = reflect::type_hash<T>;
 /// Declares the fields of struct T (write it in T's namespace, after T).
 #define HORUS_REFLECT(T, ...) HORUS_REFLECT_FIELDS_(T, __VA_ARGS__)
 
+#define HORUS_REFLECT_AS_I_(T, name, member) ::horus::reflect::make_field(#name, &T::member, offsetof(T, member))
+#define HORUS_REFLECT_AS_(T, nm) HORUS_REFLECT_AS_I_ HORUS_PP_PREPEND_T_(T, nm)
+#define HORUS_PP_PREPEND_T_(T, nm) (T, HORUS_PP_UNPAREN_ nm)
+#define HORUS_PP_UNPAREN_(...) __VA_ARGS__
+
+/// For classes with private members: fields under a public name, as (name, member) pairs.
+///   class Image { ... std::uint32_t width_; HORUS_REFLECT_FRIEND(Image) };
+///   HORUS_REFLECT_AS(Image, (width, width_), (data, data_))
+#define HORUS_REFLECT_AS(T, ...)                                                               \
+  [[maybe_unused]] constexpr auto horus_fields(::horus::reflect::tag<T>) noexcept {            \
+    _Pragma("GCC diagnostic push") _Pragma("GCC diagnostic ignored \"-Winvalid-offsetof\"")   \
+    return std::make_tuple(HORUS_PP_FOR_EACH_COMMA(HORUS_REFLECT_AS_, T, __VA_ARGS__));         \
+    _Pragma("GCC diagnostic pop")                                                              \
+  }
+
+/// Inside a class with private reflected members: lets HORUS_REFLECT / HORUS_REFLECT_AS see them.
+#define HORUS_REFLECT_FRIEND(T) friend constexpr auto horus_fields(::horus::reflect::tag<T>) noexcept;
+
 /// Same, with an explicit type name (for renamed or versioned types).
 #define HORUS_REFLECT_NAMED(T, NAME, ...)                                                          \
   [[maybe_unused]] constexpr std::string_view horus_type_name(::horus::reflect::tag<T>) noexcept { \
     return NAME;                                                                                    \
   }                                                                                                 \
   HORUS_REFLECT_FIELDS_(T, __VA_ARGS__)
+
+#define HORUS_REFLECT_ENUMERATOR_(E, v) ::horus::reflect::EnumValue<E>{#v, E::v}
+
+/// Declares the enumerators of enum E (write it in E's namespace, after E):
+///   enum class ImageEncoding : std::uint8_t { Mono8, Rgb8 };
+///   HORUS_REFLECT_ENUM(ImageEncoding, Mono8, Rgb8)
+/// Gives enum_values<E>(), enum_name(e), enum_from_name(), and an ADL to_string(e)
+/// ("Rgb8", or "" for a value with no enumerator). JSON and fmt print the name.
+#define HORUS_REFLECT_ENUM(E, ...)                                                                    \
+  [[maybe_unused]] constexpr auto horus_enum_values(::horus::reflect::tag<E>) noexcept {              \
+    return std::array{HORUS_PP_FOR_EACH_COMMA(HORUS_REFLECT_ENUMERATOR_, E, __VA_ARGS__)};            \
+  }                                                                                                   \
+  [[maybe_unused]] constexpr std::string_view to_string(E e) noexcept { return ::horus::reflect::enum_name(e); }
 
 #define HORUS_MESSAGE_MEMBER_I_(type, name) type name{};
 #define HORUS_MESSAGE_MEMBER_(unused, tf) HORUS_MESSAGE_MEMBER_I_ tf

@@ -39,7 +39,9 @@
 #include <cstdint>
 #include <cstring>
 #include <optional>
+#include <span>
 #include <string>
+#include <vector>
 #include <type_traits>
 
 namespace horus::shm {
@@ -181,6 +183,67 @@ template <class T>
   return ReadStatus::Ok;
 }
 
+// ---------------------------------------------------------------------------
+// Serialized (variable-size) messages. The payload of such a ring is a length word and the
+// encoded bytes:  slot = [ seq : u64 ][ length : u64 ][ bytes, padded to 8 ]
+// payload_size is 8 + the largest encoded message the topic accepts.
+
+/// A serialized message as read from a slot. Topic sizes `bytes` to max_size before reading.
+struct ByteMessage {
+  std::vector<std::byte> bytes;  // max_size bytes once prepared
+  std::uint32_t size = 0;        // bytes of the message just read
+};
+
+/// Largest encoded message a ring with this payload size carries.
+constexpr std::uint32_t max_serialized_size(std::uint32_t payload_size) noexcept {
+  return payload_size > 8 ? payload_size - 8 : 0;
+}
+
+/// Writes the encoded message number `seq` (at most max_serialized_size bytes) into its slot.
+inline void write_slot(std::byte* slot, std::uint64_t seq, std::span<const std::byte> msg) noexcept {
+  auto sq = detail::seq_of(slot);
+  sq.store(2 * seq + 1, std::memory_order_relaxed);
+  detail::store_word(slot + 8, msg.size());
+  std::byte* dst = slot + 16;
+  const std::size_t full = msg.size() / 8;
+  const std::size_t tail = msg.size() % 8;
+  for (std::size_t i = 0; i < full; ++i) {
+    std::uint64_t w;
+    std::memcpy(&w, msg.data() + i * 8, 8);
+    detail::store_word(dst + i * 8, w);
+  }
+  if (tail != 0) {
+    std::uint64_t w = 0;
+    std::memcpy(&w, msg.data() + full * 8, tail);
+    detail::store_word(dst + full * 8, w);
+  }
+  sq.store(2 * seq + 2, std::memory_order_release);
+}
+
+/// Reads the encoded message number `seq`. A committed length larger than out.bytes (a
+/// corrupt slot) reads as Lost, so the message is skipped and counted, never returned.
+inline ReadStatus read_slot(const std::byte* slot, std::uint64_t seq, ByteMessage& out) noexcept {
+  const std::uint64_t want = 2 * seq + 2;
+  const std::uint64_t v1 = detail::load_seq(slot, std::memory_order_acquire);
+  if (v1 != want) return v1 < want ? ReadStatus::Empty : ReadStatus::Lost;
+  const std::uint64_t len = detail::load_word(slot + 8);
+  if (len > out.bytes.size()) return ReadStatus::Lost;
+  const std::byte* src = slot + 16;
+  const std::size_t words = (len + 7) / 8;
+  const std::size_t full = len / 8;
+  for (std::size_t i = 0; i < full; ++i) {
+    const std::uint64_t w = detail::load_word(src + i * 8);
+    std::memcpy(out.bytes.data() + i * 8, &w, 8);
+  }
+  if (words != full) {
+    const std::uint64_t w = detail::load_word(src + full * 8);
+    std::memcpy(out.bytes.data() + full * 8, &w, len - full * 8);
+  }
+  if (detail::load_seq(slot, std::memory_order_relaxed) != want) return ReadStatus::Lost;
+  out.size = static_cast<std::uint32_t>(len);
+  return ReadStatus::Ok;
+}
+
 /// True if the slot holds message `seq` or a later one (something to read at `seq`).
 inline bool slot_has(const std::byte* slot, std::uint64_t seq) noexcept {
   return detail::load_seq(slot, std::memory_order_acquire) >= 2 * seq + 2;
@@ -252,13 +315,14 @@ class Ring {
 // ---------------------------------------------------------------------------
 
 /// The sending side of one handle: owns a lane once it has sent. Not thread-safe.
+/// T is a trivially copyable message, or ByteMessage for serialized messages (write_bytes).
 template <class T>
 class RingWriter {
  public:
-  static constexpr std::size_t kStride = slot_stride_for(sizeof(T));
+  static constexpr bool kBytes = std::is_same_v<T, ByteMessage>;
 
   RingWriter() = default;
-  RingWriter(Ring ring, std::uint64_t token) noexcept : ring_(ring), token_(token) {}
+  RingWriter(Ring ring, std::uint64_t token) noexcept : ring_(ring), token_(token), stride_(ring.stride()) {}
   RingWriter(RingWriter&& o) noexcept { *this = std::move(o); }
   RingWriter& operator=(RingWriter&& o) noexcept {
     if (this != &o) {
@@ -274,6 +338,7 @@ class RingWriter {
       space_limit_ = o.space_limit_;
       claim_head_ = o.claim_head_;
       sent_before_ = o.sent_before_;
+      stride_ = o.stride_;
       o.lane_ = kNoLane;
       o.slots_ = nullptr;
     }
@@ -299,14 +364,21 @@ class RingWriter {
   }
 
   /// Publishes; overwrites the oldest slot of the lane when it is full. Requires ensure_lane().
-  [[gnu::always_inline]] void write(const T& msg) noexcept {
-    const std::uint64_t s = head_;
-    write_slot(slots_ + (s & mask_) * kStride, s, msg);
-    head_ = s + 1;
-    lane_head_->store(s + 1, std::memory_order_release);
-    // Only written when it changes, so one publisher keeps this line shared and cheap.
-    if (latest_->load(std::memory_order_relaxed) != lane_) latest_->store(lane_, std::memory_order_relaxed);
+  [[gnu::always_inline]] void write(const T& msg) noexcept
+    requires(!kBytes)
+  {
+    commit(msg);
   }
+
+  /// Publishes an encoded message of at most max_serialized_size(payload_size) bytes.
+  void write_bytes(std::span<const std::byte> msg) noexcept
+    requires kBytes
+  {
+    commit(msg);
+  }
+
+  /// Largest encoded message write_bytes() accepts.
+  std::uint32_t max_bytes() const noexcept { return max_serialized_size(ring_.header().payload_size); }
 
   /// True if write() would not overwrite a message some other subscriber has not read. The limit
   /// is cached (like rigtorp's SPSCQueue caches the read index): subscribers' cursors are
@@ -331,6 +403,22 @@ class RingWriter {
 
  private:
   static constexpr std::uint32_t kNoLane = ~0u;
+
+  std::size_t stride() const noexcept {
+    if constexpr (kBytes) return stride_;
+    else return slot_stride_for(sizeof(T));
+  }
+
+  template <class P>
+  [[gnu::always_inline]] void commit(const P& msg) noexcept {
+    const std::uint64_t s = head_;
+    write_slot(slots_ + (s & mask_) * stride(), s, msg);
+    head_ = s + 1;
+    lane_head_->store(s + 1, std::memory_order_release);
+    // Only written when it changes, so one publisher keeps this line shared and cheap.
+    if (latest_->load(std::memory_order_relaxed) != lane_) latest_->store(lane_, std::memory_order_relaxed);
+  }
+
   // Hot fields first, read on every write.
   std::byte* slots_ = nullptr;  // this lane's slots; null until a lane is claimed
   std::uint64_t head_ = 0;
@@ -343,19 +431,22 @@ class RingWriter {
   std::uint64_t sent_before_ = 0;  // messages sent through lanes released earlier
   Ring ring_;
   std::uint64_t token_ = 0;
+  std::size_t stride_ = 0;  // used for ByteMessage only (fixed-size T: a constant)
 };
 
 /// The receiving side of one handle: a cursor per lane. Not thread-safe.
+/// T is a trivially copyable message, or ByteMessage for serialized messages.
 template <class T>
 class RingReader {
  public:
-  static constexpr std::size_t kStride = slot_stride_for(sizeof(T));
+  static constexpr bool kBytes = std::is_same_v<T, ByteMessage>;
 
   RingReader() = default;
   RingReader(Ring ring, std::uint64_t token) noexcept
       : slots_(ring.lane_slots(0)),
         mask_(ring.capacity() - 1),
-        lane_bytes_(static_cast<std::size_t>(ring.capacity()) * kStride),
+        lane_bytes_(static_cast<std::size_t>(ring.capacity()) * ring.stride()),
+        stride_(ring.stride()),
         lane_hwm_(&ring.header().lane_hwm),
         ring_(ring),
         token_(token) {}
@@ -366,6 +457,7 @@ class RingReader {
       slots_ = o.slots_;
       mask_ = o.mask_;
       lane_bytes_ = o.lane_bytes_;
+      stride_ = o.stride_;
       lane_hwm_ = o.lane_hwm_;
       shared_cursor_ = o.shared_cursor_;
       next_lane_ = o.next_lane_;
@@ -494,7 +586,8 @@ class RingReader {
   static constexpr std::uint32_t kNone = ~0u;
 
   const std::byte* slot_of(std::uint32_t lane, std::uint64_t seq) const noexcept {
-    return slots_ + lane * lane_bytes_ + (seq & mask_) * kStride;
+    if constexpr (kBytes) return slots_ + lane * lane_bytes_ + (seq & mask_) * stride_;
+    else return slots_ + lane * lane_bytes_ + (seq & mask_) * slot_stride_for(sizeof(T));
   }
 
   [[gnu::always_inline]] bool read_lane(std::uint32_t lane, T& out) noexcept {
@@ -553,6 +646,7 @@ class RingReader {
   const std::byte* slots_ = nullptr;  // lane 0's first slot
   std::uint64_t mask_ = 0;
   std::size_t lane_bytes_ = 0;
+  std::size_t stride_ = 0;  // used for ByteMessage only (fixed-size T: a constant)
   const std::atomic<std::uint32_t>* lane_hwm_ = nullptr;
   std::atomic<std::uint64_t>* shared_cursor_ = nullptr;  // our entry's cursors; null when not subscribed
   std::uint32_t next_lane_ = 0;

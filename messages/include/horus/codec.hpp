@@ -1,0 +1,226 @@
+// The local wire format: how a variable-size message (one with std::vector or std::string
+// fields, or a large-data class such as Image) is written into a ring slot.
+//
+//   std::size_t n = horus::codec::encoded_size(grid);
+//   horus::codec::encode(grid, buffer);                  // buffer.size() >= n
+//   auto back = horus::codec::decode<OccupancyGrid>(bytes);   // std::expected<T, std::string>
+//
+// It is driven by the reflection, so every reflected message can be encoded with no
+// hand-written code. The format is for one host (native byte order, no alignment padding):
+//
+//   trivially copyable value (scalar, enum, fixed array, POD message)  its bytes, as in memory
+//   std::vector<E>, std::string                                         u32 count, then the elements
+//   std::array<E, N> of a non-trivially-copyable E                      the N elements
+//   other reflected message                                             its fields in order
+//
+// Network backends use their own codecs (CDR, LCM); this one never leaves the host.
+// decode() checks every length against the bytes that remain before reading or
+// allocating, so a corrupt or truncated buffer gives an error that names the field
+// (never a crash, never a read past the end), and refuses trailing bytes.
+#pragma once
+
+#include <array>
+#include <bit>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <expected>
+#include <limits>
+#include <span>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "horus/reflect.hpp"
+
+namespace horus::codec {
+
+static_assert(std::endian::native == std::endian::little, "the local wire format assumes a little-endian host");
+
+namespace detail {
+using reflect::detail::is_std_array;
+using reflect::detail::is_std_vector;
+
+template <class V>
+inline constexpr bool is_raw = std::is_trivially_copyable_v<V>;
+
+template <class V>
+inline constexpr bool is_sequence = is_std_vector<V>::value || std::is_same_v<V, std::string>;
+
+/// Fewest bytes an encoded V can take (bounds a corrupt element count before allocating).
+template <class V>
+constexpr std::size_t min_size() {
+  if constexpr (is_raw<V>) {
+    return sizeof(V);
+  } else if constexpr (is_sequence<V>) {
+    return 4;
+  } else if constexpr (is_std_array<V>::value) {
+    return std::tuple_size_v<V> * min_size<typename V::value_type>();
+  } else {
+    static_assert(Reflected<V>, "horus::codec: not a reflected message or supported field type");
+    std::size_t n = 0;
+    reflect::for_each_field_desc<V>([&](const auto& fd) { n += min_size<typename std::remove_cvref_t<decltype(fd)>::type>(); });
+    return n;
+  }
+}
+
+template <class V>
+std::size_t size_of(const V& v) {
+  if constexpr (is_raw<V>) {
+    return sizeof(V);
+  } else if constexpr (is_sequence<V>) {
+    using E = typename V::value_type;
+    if constexpr (is_raw<E>) {
+      return 4 + v.size() * sizeof(E);
+    } else {
+      std::size_t n = 4;
+      for (const auto& e : v) n += size_of(e);
+      return n;
+    }
+  } else if constexpr (is_std_array<V>::value) {
+    std::size_t n = 0;
+    for (const auto& e : v) n += size_of(e);
+    return n;
+  } else {
+    std::size_t n = 0;
+    reflect::for_each_field(v, [&](std::string_view, const auto& f) { n += size_of(f); });
+    return n;
+  }
+}
+
+class Writer {
+ public:
+  explicit Writer(std::byte* out) noexcept : p_(out) {}
+  void raw(const void* src, std::size_t n) noexcept {
+    if (n != 0) std::memcpy(p_, src, n);
+    p_ += n;
+  }
+  std::byte* position() const noexcept { return p_; }
+
+ private:
+  std::byte* p_;
+};
+
+template <class V>
+void put(Writer& w, const V& v) {
+  if constexpr (is_raw<V>) {
+    w.raw(&v, sizeof(V));
+  } else if constexpr (is_sequence<V>) {
+    using E = typename V::value_type;
+    const auto count = static_cast<std::uint32_t>(v.size());
+    w.raw(&count, 4);
+    if constexpr (is_raw<E>) {
+      w.raw(v.data(), v.size() * sizeof(E));
+    } else {
+      for (const auto& e : v) put(w, e);
+    }
+  } else if constexpr (is_std_array<V>::value) {
+    for (const auto& e : v) put(w, e);
+  } else {
+    reflect::for_each_field(v, [&](std::string_view, const auto& f) { put(w, f); });
+  }
+}
+
+class Reader {
+ public:
+  explicit Reader(std::span<const std::byte> in) noexcept : p_(in.data()), end_(in.data() + in.size()) {}
+  std::size_t remaining() const noexcept { return static_cast<std::size_t>(end_ - p_); }
+  bool raw(void* dst, std::size_t n) noexcept {
+    if (n > remaining()) return false;
+    if (n != 0) std::memcpy(dst, p_, n);
+    p_ += n;
+    return true;
+  }
+  // Set on the first failure; later reads are skipped.
+  std::string error;
+
+ private:
+  const std::byte* p_;
+  const std::byte* end_;
+};
+
+inline std::string join(const std::string& path, std::string_view field) {
+  return path + "." + std::string(field);
+}
+
+template <class V>
+bool get(Reader& r, V& v, const std::string& path) {
+  if constexpr (is_raw<V>) {
+    if (!r.raw(&v, sizeof(V))) {
+      r.error = path + ": needs " + std::to_string(sizeof(V)) + " bytes, " + std::to_string(r.remaining()) +
+                " remain (truncated message)";
+      return false;
+    }
+    return true;
+  } else if constexpr (is_sequence<V>) {
+    using E = typename V::value_type;
+    std::uint32_t count = 0;
+    if (!r.raw(&count, 4)) {
+      r.error = path + ": the element count is cut off (truncated message)";
+      return false;
+    }
+    constexpr std::size_t kMin = min_size<E>();
+    if (kMin != 0 && count > r.remaining() / kMin) {
+      r.error = path + ": count " + std::to_string(count) + " needs at least " +
+                std::to_string(static_cast<std::uint64_t>(count) * kMin) + " bytes, " +
+                std::to_string(r.remaining()) + " remain (corrupt or truncated message)";
+      return false;
+    }
+    v.resize(count);
+    if constexpr (is_raw<E>) {
+      return r.raw(v.data(), static_cast<std::size_t>(count) * sizeof(E));  // checked above
+    } else {
+      for (std::uint32_t i = 0; i < count; ++i)
+        if (!get(r, v[i], path + "[" + std::to_string(i) + "]")) return false;
+      return true;
+    }
+  } else if constexpr (is_std_array<V>::value) {
+    for (std::size_t i = 0; i < v.size(); ++i)
+      if (!get(r, v[i], path + "[" + std::to_string(i) + "]")) return false;
+    return true;
+  } else {
+    bool ok = true;
+    reflect::for_each_field(v, [&](std::string_view name, auto& f) {
+      if (ok) ok = get(r, f, join(path, name));
+    });
+    return ok;
+  }
+}
+}  // namespace detail
+
+/// Bytes encode(msg) writes.
+template <Reflected T>
+std::size_t encoded_size(const T& msg) {
+  return detail::size_of(msg);
+}
+
+/// Writes msg into out, which must hold at least encoded_size(msg) bytes; returns the bytes written.
+template <Reflected T>
+std::size_t encode(const T& msg, std::span<std::byte> out) {
+  detail::Writer w(out.data());
+  detail::put(w, msg);
+  return static_cast<std::size_t>(w.position() - out.data());
+}
+
+/// The bytes of msg, in a new buffer.
+template <Reflected T>
+std::vector<std::byte> encode(const T& msg) {
+  std::vector<std::byte> out(encoded_size(msg));
+  encode(msg, std::span<std::byte>(out));
+  return out;
+}
+
+/// Reads a message; on a truncated, corrupt or over-long buffer, an error naming the field.
+template <Reflected T>
+  requires std::is_default_constructible_v<T>
+std::expected<T, std::string> decode(std::span<const std::byte> in) {
+  T msg{};
+  detail::Reader r(in);
+  if (!detail::get(r, msg, std::string(type_name<T>()))) return std::unexpected(std::move(r.error));
+  if (r.remaining() != 0)
+    return std::unexpected(std::string(type_name<T>()) + ": " + std::to_string(r.remaining()) +
+                           " bytes left over after the message (corrupt message or wrong type)");
+  return msg;
+}
+
+}  // namespace horus::codec
