@@ -305,6 +305,28 @@ constexpr void describe_type(Sink& sink) {
   }
 }
 
+/// A short, human-readable type label for catalogues and tools: "f64", "[f32; 360]",
+/// "char[32]" (text), "seq<i8>", "string", and the unqualified name of enums and messages.
+template <class T>
+std::string type_label() {
+  if constexpr (detail::is_scalar_field<T>) {
+    return std::string(detail::scalar_name<T>());
+  } else if constexpr (detail::is_char_array<T>::value) {
+    return "char[" + std::to_string(std::tuple_size_v<T>) + "]";
+  } else if constexpr (detail::is_std_array<T>::value) {
+    return "[" + type_label<typename T::value_type>() + "; " + std::to_string(std::tuple_size_v<T>) + "]";
+  } else if constexpr (detail::is_std_vector<T>::value) {
+    return "seq<" + type_label<typename T::value_type>() + ">";
+  } else if constexpr (std::is_same_v<T, std::string>) {
+    return "string";
+  } else {
+    static_assert(std::is_enum_v<T> || Reflected<T>, "type_label: unsupported field type");
+    const std::string_view q = type_name<T>();
+    const auto pos = q.rfind("::");
+    return std::string(pos == std::string_view::npos ? q : q.substr(pos + 2));
+  }
+}
+
 /// The canonical layout text of T (see above).
 template <Reflected T>
 std::string type_signature() {

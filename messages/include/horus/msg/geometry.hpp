@@ -1,4 +1,5 @@
-// Geometry messages: points, vectors, rotations, poses, velocities, transforms.
+// Geometry messages: points, vectors, rotations, poses, velocities, transforms,
+// accelerations, and poses / velocities with covariance.
 //
 // Every message is a plain aggregate: `T{}` is all zeros (note that a zero
 // Quaternion is not a rotation; use Quaternion::identity()). Field names and
@@ -15,8 +16,14 @@
 
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <numbers>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+#include <fmt/format.h>
 
 #include "horus/fixed_string.hpp"
 #include "horus/format.hpp"
@@ -317,5 +324,177 @@ static_assert(horus::reflect::is_fixed_size<Pose2D>, "Pose2D must be trivially c
 static_assert(horus::reflect::is_fixed_size<Pose3D>, "Pose3D must be trivially copyable and standard layout");
 static_assert(horus::reflect::is_fixed_size<TransformStamped>,
               "TransformStamped must be trivially copyable and standard layout");
+
+// ===========================================================================
+// Covariance, acceleration and stamped messages (HORUS geometry.rs; the spec
+// only names them). 6x6 covariances are row-major; the diagonal holds the
+// variances, at indices 0, 7, 14, 21, 28, 35.
+
+namespace detail {
+/// Stores text into a fixed field, or throws std::invalid_argument (naming
+/// `what` and the limit) and leaves the field unchanged when it does not fit.
+template <std::size_t N>
+void assign_fixed_str_or_throw(std::array<char, N>& field, std::string_view text, std::string_view what) {
+  if (!set_fixed_str(field, text))
+    throw std::invalid_argument(std::string(what) + " '" + std::string(text) + "' has " + std::to_string(text.size()) +
+                                " characters; at most " + std::to_string(N - 1) + " fit (and no NUL)");
+}
+}  // namespace detail
+
+// ---------------------------------------------------------------------------
+/// A 3D pose with its 6x6 uncertainty (localisation output: AMCL, EKF).
+/// Covariance order: x, y, z (m), roll, pitch, yaw (rad).
+struct PoseWithCovariance {
+  Pose3D pose{};
+  std::array<double, 36> covariance{};  ///< 6x6, row-major; units m^2, rad^2 and m*rad
+  std::array<char, 32> frame_id{};      ///< NUL-terminated, at most 31 characters
+  std::uint64_t timestamp_ns{};
+
+  /// The pose with zero covariance and no frame; the message takes the pose's timestamp.
+  static constexpr PoseWithCovariance make(const Pose3D& p) noexcept {
+    return PoseWithCovariance{p, {}, {}, p.timestamp_ns};
+  }
+
+  /// Sets the frame; returns false, changing nothing, when it does not fit (31 characters at most, no NUL).
+  constexpr bool set_frame_id(std::string_view frame) noexcept { return set_fixed_str(frame_id, frame); }
+  constexpr std::string_view frame_id_str() const noexcept { return fixed_str_view(frame_id); }
+  /// A copy with the frame set; throws std::invalid_argument when the name does not fit
+  /// (HORUS Rust cuts it to 31 bytes instead; a cut frame name would name another frame).
+  [[nodiscard]] PoseWithCovariance with_frame_id(std::string_view frame) const {
+    PoseWithCovariance m = *this;
+    detail::assign_fixed_str_or_throw(m.frame_id, frame, "PoseWithCovariance frame_id");
+    return m;
+  }
+
+  /// Variances of x, y, z in m^2 (covariance diagonal 0, 7, 14).
+  constexpr std::array<double, 3> position_variance() const noexcept {
+    return {covariance[0], covariance[7], covariance[14]};
+  }
+  /// Variances of roll, pitch, yaw in rad^2 (covariance diagonal 21, 28, 35).
+  constexpr std::array<double, 3> orientation_variance() const noexcept {
+    return {covariance[21], covariance[28], covariance[35]};
+  }
+
+  /// "PoseWithCovariance(map, position (1.00, 2.00, 0.00) m, var xyz (0.01, 0.01, 0) m^2, var rpy (0, 0, 0.05) rad^2)".
+  std::string log_summary() const {
+    const auto pv = position_variance();
+    const auto ov = orientation_variance();
+    return fmt::format(
+        "PoseWithCovariance({}, position ({:.2f}, {:.2f}, {:.2f}) m, var xyz ({:.3g}, {:.3g}, {:.3g}) m^2, "
+        "var rpy ({:.3g}, {:.3g}, {:.3g}) rad^2)",
+        frame_id_str().empty() ? std::string_view("no frame") : frame_id_str(), pose.position.x, pose.position.y,
+        pose.position.z, pv[0], pv[1], pv[2], ov[0], ov[1], ov[2]);
+  }
+
+  friend constexpr bool operator==(const PoseWithCovariance&, const PoseWithCovariance&) = default;
+};
+HORUS_REFLECT(PoseWithCovariance, pose, covariance, frame_id, timestamp_ns)
+
+// ---------------------------------------------------------------------------
+/// A 3D velocity with its 6x6 uncertainty (sensor-fusion input).
+/// Covariance order: vx, vy, vz (m/s), wx, wy, wz (rad/s).
+struct TwistWithCovariance {
+  Twist twist{};
+  std::array<double, 36> covariance{};  ///< 6x6, row-major; units (m/s)^2, (rad/s)^2 and cross terms
+  std::array<char, 32> frame_id{};      ///< NUL-terminated, at most 31 characters
+  std::uint64_t timestamp_ns{};
+
+  /// The twist with zero covariance and no frame; the message takes the twist's timestamp.
+  static constexpr TwistWithCovariance make(const Twist& t) noexcept {
+    return TwistWithCovariance{t, {}, {}, t.timestamp_ns};
+  }
+
+  /// Sets the frame; returns false, changing nothing, when it does not fit (31 characters at most, no NUL).
+  constexpr bool set_frame_id(std::string_view frame) noexcept { return set_fixed_str(frame_id, frame); }
+  constexpr std::string_view frame_id_str() const noexcept { return fixed_str_view(frame_id); }
+  /// A copy with the frame set; throws std::invalid_argument when the name does not fit.
+  [[nodiscard]] TwistWithCovariance with_frame_id(std::string_view frame) const {
+    TwistWithCovariance m = *this;
+    detail::assign_fixed_str_or_throw(m.frame_id, frame, "TwistWithCovariance frame_id");
+    return m;
+  }
+
+  /// Variances of vx, vy, vz in (m/s)^2 (covariance diagonal 0, 7, 14).
+  constexpr std::array<double, 3> linear_variance() const noexcept {
+    return {covariance[0], covariance[7], covariance[14]};
+  }
+  /// Variances of wx, wy, wz in (rad/s)^2 (covariance diagonal 21, 28, 35).
+  constexpr std::array<double, 3> angular_variance() const noexcept {
+    return {covariance[21], covariance[28], covariance[35]};
+  }
+
+  /// "TwistWithCovariance(base_link, linear (0.50, 0.00, 0.00) m/s, angular (0.00, 0.00, 0.20) rad/s, var ...)".
+  std::string log_summary() const {
+    const auto lv = linear_variance();
+    const auto av = angular_variance();
+    return fmt::format(
+        "TwistWithCovariance({}, linear ({:.2f}, {:.2f}, {:.2f}) m/s, angular ({:.2f}, {:.2f}, {:.2f}) rad/s, "
+        "var linear ({:.3g}, {:.3g}, {:.3g}), var angular ({:.3g}, {:.3g}, {:.3g}))",
+        frame_id_str().empty() ? std::string_view("no frame") : frame_id_str(), twist.linear[0], twist.linear[1],
+        twist.linear[2], twist.angular[0], twist.angular[1], twist.angular[2], lv[0], lv[1], lv[2], av[0], av[1],
+        av[2]);
+  }
+
+  friend constexpr bool operator==(const TwistWithCovariance&, const TwistWithCovariance&) = default;
+};
+HORUS_REFLECT(TwistWithCovariance, twist, covariance, frame_id, timestamp_ns)
+
+// ---------------------------------------------------------------------------
+/// 3D acceleration: linear [x, y, z] in m/s^2, angular [roll, pitch, yaw] in rad/s^2.
+struct Accel {
+  std::array<double, 3> linear{};
+  std::array<double, 3> angular{};
+  std::uint64_t timestamp_ns{};
+
+  /// The spec's Accel::new(linear, angular); the timestamp is left 0.
+  static constexpr Accel make(const std::array<double, 3>& linear_mps2,
+                              const std::array<double, 3>& angular_radps2) noexcept {
+    return Accel{linear_mps2, angular_radps2, 0};
+  }
+
+  /// All six components finite (NaN or infinity anywhere gives false).
+  bool is_valid() const noexcept {
+    for (double v : linear)
+      if (!std::isfinite(v)) return false;
+    for (double v : angular)
+      if (!std::isfinite(v)) return false;
+    return true;
+  }
+
+  friend constexpr bool operator==(const Accel&, const Accel&) = default;
+};
+HORUS_REFLECT(Accel, linear, angular, timestamp_ns)
+
+// ---------------------------------------------------------------------------
+/// An acceleration in a named frame.
+struct AccelStamped {
+  Accel accel{};
+  std::array<char, 32> frame_id{};  ///< NUL-terminated, at most 31 characters
+  std::uint64_t timestamp_ns{};
+
+  /// The acceleration with no frame; the message takes the acceleration's timestamp.
+  static constexpr AccelStamped make(const Accel& a) noexcept { return AccelStamped{a, {}, a.timestamp_ns}; }
+
+  /// Sets the frame; returns false, changing nothing, when it does not fit (31 characters at most, no NUL).
+  constexpr bool set_frame_id(std::string_view frame) noexcept { return set_fixed_str(frame_id, frame); }
+  constexpr std::string_view frame_id_str() const noexcept { return fixed_str_view(frame_id); }
+  /// A copy with the frame set; throws std::invalid_argument when the name does not fit.
+  [[nodiscard]] AccelStamped with_frame_id(std::string_view frame) const {
+    AccelStamped m = *this;
+    detail::assign_fixed_str_or_throw(m.frame_id, frame, "AccelStamped frame_id");
+    return m;
+  }
+
+  friend constexpr bool operator==(const AccelStamped&, const AccelStamped&) = default;
+};
+HORUS_REFLECT(AccelStamped, accel, frame_id, timestamp_ns)
+
+static_assert(horus::reflect::is_fixed_size<PoseWithCovariance>,
+              "PoseWithCovariance must be trivially copyable and standard layout");
+static_assert(horus::reflect::is_fixed_size<TwistWithCovariance>,
+              "TwistWithCovariance must be trivially copyable and standard layout");
+static_assert(horus::reflect::is_fixed_size<Accel>, "Accel must be trivially copyable and standard layout");
+static_assert(horus::reflect::is_fixed_size<AccelStamped>,
+              "AccelStamped must be trivially copyable and standard layout");
 
 }  // namespace horus::msg

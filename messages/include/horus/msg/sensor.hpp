@@ -1,4 +1,5 @@
-// Sensor messages: Imu, LaserScan, Odometry, JointState.
+// Sensor messages: Imu, LaserScan, Odometry, JointState, Range, BatteryState,
+// NavSatFix.
 //
 // Fixed-size (trivially copyable) like every standard message: text fields are
 // NUL-terminated std::array<char, 32>, written through set_fixed_str() so a
@@ -10,6 +11,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <string>
@@ -260,5 +262,203 @@ static_assert(horus::reflect::is_fixed_size<Imu>, "Imu must be trivially copyabl
 static_assert(horus::reflect::is_fixed_size<LaserScan>, "LaserScan must be trivially copyable and standard layout");
 static_assert(horus::reflect::is_fixed_size<Odometry>, "Odometry must be trivially copyable and standard layout");
 static_assert(horus::reflect::is_fixed_size<JointState>, "JointState must be trivially copyable and standard layout");
+
+// ---------------------------------------------------------------------------
+/// A single distance reading from an ultrasonic or infrared ranger.
+struct Range {
+  static constexpr std::uint8_t ULTRASONIC = 0;
+  static constexpr std::uint8_t INFRARED = 1;
+
+  std::uint8_t sensor_type{};  ///< ULTRASONIC or INFRARED
+  float field_of_view{};       ///< rad, full cone angle
+  float min_range{};           ///< m
+  float max_range{};           ///< m
+  float range{};               ///< m
+  std::uint64_t timestamp_ns{};
+
+  /// The spec's Range::new(sensor_type, range) with HORUS's defaults: field of
+  /// view 0.1 rad (about 6 degrees), limits 0.02 m to 4 m; the timestamp is left 0.
+  static constexpr Range make(std::uint8_t type, float range_m) noexcept {
+    return Range{type, 0.1f, 0.02f, 4.0f, range_m, 0};
+  }
+
+  /// True when range is finite and within [min_range, max_range], both limits
+  /// included. NaN in the reading or in either limit gives false.
+  bool is_valid() const noexcept { return std::isfinite(range) && range >= min_range && range <= max_range; }
+
+  friend constexpr bool operator==(const Range&, const Range&) = default;
+};
+HORUS_REFLECT(Range, sensor_type, field_of_view, min_range, max_range, range, timestamp_ns)
+
+// ---------------------------------------------------------------------------
+/// Battery status. NaN in charge or capacity means "not measured" (as in ROS
+/// and HORUS); make() starts them as NaN, so two make() results do not compare
+/// equal with ==.
+struct BatteryState {
+  static constexpr std::uint8_t STATUS_UNKNOWN = 0;
+  static constexpr std::uint8_t STATUS_CHARGING = 1;
+  static constexpr std::uint8_t STATUS_DISCHARGING = 2;
+  static constexpr std::uint8_t STATUS_FULL = 3;
+  static constexpr std::size_t kMaxCells = 16;
+  /// is_critical() threshold, in percent.
+  static constexpr float kCriticalPercent = 10.0f;
+
+  float voltage{};                               ///< V
+  float current{};                               ///< A, negative = discharging
+  float charge{};                                ///< Ah remaining, NaN = unknown
+  float capacity{};                              ///< Ah when full, NaN = unknown
+  float percentage{};                            ///< 0 to 100
+  std::uint8_t power_supply_status{};            ///< STATUS_UNKNOWN, _CHARGING, _DISCHARGING or _FULL
+  float temperature{};                           ///< degrees Celsius
+  std::array<float, kMaxCells> cell_voltages{};  ///< V, entries [0, cell_count) in use
+  std::uint8_t cell_count{};
+  std::uint64_t timestamp_ns{};
+
+  /// The spec's BatteryState::new(voltage, percentage) with HORUS's defaults:
+  /// current 0, charge and capacity NaN (unknown), STATUS_UNKNOWN, temperature
+  /// 25 degrees C, no cells; the timestamp is left 0.
+  static constexpr BatteryState make(float voltage_v, float percent) noexcept {
+    BatteryState b{};
+    b.voltage = voltage_v;
+    b.charge = std::numeric_limits<float>::quiet_NaN();
+    b.capacity = std::numeric_limits<float>::quiet_NaN();
+    b.percentage = percent;
+    b.power_supply_status = STATUS_UNKNOWN;
+    b.temperature = 25.0f;
+    return b;
+  }
+
+  /// True when percentage is strictly below threshold_percent (so exactly at the
+  /// threshold is not low). A NaN percentage or threshold gives false.
+  constexpr bool is_low(float threshold_percent) const noexcept { return percentage < threshold_percent; }
+
+  /// True below 10 % (strictly: exactly 10 % is not critical). NaN gives false.
+  constexpr bool is_critical() const noexcept { return percentage < kCriticalPercent; }
+
+  /// Seconds until the remaining charge is used up at the present current:
+  /// charge (Ah) / -current (A) * 3600. Only while discharging, which the sign
+  /// of current decides (power_supply_status is not consulted, as in HORUS):
+  /// nullopt when current is >= 0 (charging or idle), NaN or infinite, or when
+  /// charge is unknown (NaN), infinite or negative. A charge of 0 gives 0 s.
+  std::optional<double> time_remaining() const noexcept {
+    if (!(current < 0.0f) || !std::isfinite(current)) return std::nullopt;
+    if (!std::isfinite(charge) || charge < 0.0f) return std::nullopt;
+    return static_cast<double>(charge) / -static_cast<double>(current) * 3600.0;
+  }
+
+  /// "BatteryState(12.60 V, 75.0 %, -2.50 A, discharging, 28.5 degC, 3 cells)".
+  std::string log_summary() const {
+    std::string status;
+    switch (power_supply_status) {
+      case STATUS_UNKNOWN: status = "unknown"; break;
+      case STATUS_CHARGING: status = "charging"; break;
+      case STATUS_DISCHARGING: status = "discharging"; break;
+      case STATUS_FULL: status = "full"; break;
+      default: status = fmt::format("status {}", static_cast<int>(power_supply_status)); break;
+    }
+    return fmt::format("BatteryState({:.2f} V, {:.1f} %, {:.2f} A, {}, {:.1f} degC, {} cells)",
+                       static_cast<double>(voltage), static_cast<double>(percentage), static_cast<double>(current),
+                       status, static_cast<double>(temperature), static_cast<int>(cell_count));
+  }
+
+  friend constexpr bool operator==(const BatteryState&, const BatteryState&) = default;
+};
+HORUS_REFLECT(BatteryState, voltage, current, charge, capacity, percentage, power_supply_status, temperature,
+              cell_voltages, cell_count, timestamp_ns)
+
+// ---------------------------------------------------------------------------
+/// A GNSS (GPS, GLONASS, Galileo ...) position fix. Latitude and longitude in
+/// degrees (north and east positive), altitude in metres above the WGS84
+/// ellipsoid.
+struct NavSatFix {
+  static constexpr std::uint8_t STATUS_NO_FIX = 0;
+  static constexpr std::uint8_t STATUS_FIX = 1;
+  static constexpr std::uint8_t STATUS_SBAS_FIX = 2;  ///< satellite-based augmentation
+  static constexpr std::uint8_t STATUS_GBAS_FIX = 3;  ///< ground-based augmentation
+  /// Mean Earth radius used by distance_to(), in metres.
+  static constexpr double kEarthRadiusM = 6'371'000.0;
+
+  double latitude{};                            ///< degrees, [-90, 90]
+  double longitude{};                           ///< degrees, [-180, 180]
+  double altitude{};                            ///< m above the WGS84 ellipsoid
+  std::array<double, 9> position_covariance{};  ///< 3x3, row-major, m^2 (latitude, longitude, altitude order)
+  std::uint8_t status{};                        ///< STATUS_NO_FIX ... STATUS_GBAS_FIX
+  std::uint16_t satellites_visible{};
+  float hdop{};     ///< horizontal dilution of precision
+  float vdop{};     ///< vertical dilution of precision
+  float speed{};    ///< m/s over ground
+  float heading{};  ///< rad (the spec's unit; HORUS Rust documents degrees)
+  std::uint64_t timestamp_ns{};
+
+  /// The spec's NavSatFix::new(): no fix, position 0, hdop and vdop 99.9
+  /// ("unknown precision", as HORUS); the timestamp is left 0.
+  static constexpr NavSatFix make() noexcept {
+    NavSatFix f{};
+    f.hdop = 99.9f;
+    f.vdop = 99.9f;
+    return f;
+  }
+  /// A fix (STATUS_FIX) at the given position; otherwise as make().
+  static constexpr NavSatFix from_coordinates(double lat_deg, double lon_deg, double alt_m) noexcept {
+    NavSatFix f = make();
+    f.latitude = lat_deg;
+    f.longitude = lon_deg;
+    f.altitude = alt_m;
+    f.status = STATUS_FIX;
+    return f;
+  }
+
+  /// True for STATUS_FIX and better (any status >= STATUS_FIX, as HORUS).
+  constexpr bool has_fix() const noexcept { return status >= STATUS_FIX; }
+
+  /// Latitude within [-90, 90], longitude within [-180, 180] (limits
+  /// included) and altitude finite; NaN anywhere gives false.
+  bool is_valid() const noexcept {
+    return std::isfinite(latitude) && std::isfinite(longitude) && std::isfinite(altitude) && latitude >= -90.0 &&
+           latitude <= 90.0 && longitude >= -180.0 && longitude <= 180.0;
+  }
+
+  /// A rough horizontal accuracy in metres: hdop * 5 m (as HORUS).
+  constexpr float horizontal_accuracy() const noexcept { return hdop * 5.0f; }
+
+  /// Great-circle (haversine) distance in metres to other, on a sphere of
+  /// radius kEarthRadiusM; altitude is ignored. NaN coordinates give NaN.
+  double distance_to(const NavSatFix& other) const noexcept {
+    constexpr double deg = std::numbers::pi / 180.0;
+    const double lat1 = latitude * deg;
+    const double lat2 = other.latitude * deg;
+    const double dlat = (other.latitude - latitude) * deg;
+    const double dlon = (other.longitude - longitude) * deg;
+    const double s_lat = std::sin(dlat / 2.0);
+    const double s_lon = std::sin(dlon / 2.0);
+    double a = s_lat * s_lat + std::cos(lat1) * std::cos(lat2) * s_lon * s_lon;
+    if (std::isnan(a)) return a;
+    a = std::clamp(a, 0.0, 1.0);  // rounding can push it just outside [0, 1]
+    return kEarthRadiusM * 2.0 * std::atan2(std::sqrt(a), std::sqrt(1.0 - a));
+  }
+
+  /// "NavSatFix(lat 47.397742 deg, lon 8.545594 deg, alt 488.0 m, 9 sats, fix, hdop 0.9)".
+  std::string log_summary() const {
+    std::string fix;
+    switch (status) {
+      case STATUS_NO_FIX: fix = "no fix"; break;
+      case STATUS_FIX: fix = "fix"; break;
+      case STATUS_SBAS_FIX: fix = "SBAS fix"; break;
+      case STATUS_GBAS_FIX: fix = "GBAS fix"; break;
+      default: fix = fmt::format("status {}", static_cast<int>(status)); break;
+    }
+    return fmt::format("NavSatFix(lat {:.6f} deg, lon {:.6f} deg, alt {:.1f} m, {} sats, {}, hdop {:.1f})", latitude,
+                       longitude, altitude, satellites_visible, fix, static_cast<double>(hdop));
+  }
+
+  friend constexpr bool operator==(const NavSatFix&, const NavSatFix&) = default;
+};
+HORUS_REFLECT(NavSatFix, latitude, longitude, altitude, position_covariance, status, satellites_visible, hdop, vdop,
+              speed, heading, timestamp_ns)
+
+static_assert(horus::reflect::is_fixed_size<Range>, "Range must be trivially copyable and standard layout");
+static_assert(horus::reflect::is_fixed_size<BatteryState>,
+              "BatteryState must be trivially copyable and standard layout");
+static_assert(horus::reflect::is_fixed_size<NavSatFix>, "NavSatFix must be trivially copyable and standard layout");
 
 }  // namespace horus::msg

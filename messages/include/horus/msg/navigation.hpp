@@ -1,0 +1,733 @@
+// Navigation messages: goals and their results, waypoints and paths, compact
+// path plans, occupancy grids, cost maps and velocity obstacles.
+//
+// Goal, GoalResult, Waypoint, Path, NavPath, PathPlan, VelocityObstacle and
+// VelocityObstacles are fixed-size (trivially copyable, zero-copy); `T{}` is
+// all zeros. OccupancyGrid and CostMap are variable-size (their cells live in a
+// std::vector) and travel serialized.
+//
+// Goal and NavGoal are one type (NavGoal is an alias): the spec's NavGoal
+// table lists a subset of Goal's fields, in the same order with the same
+// types, and HORUS has one struct (it was renamed Goal -> NavGoal). Path and
+// NavPath are two types with the same layout: the spec names the fourth field
+// `duration_seconds` for Path but `estimated_time` for NavPath.
+//
+// Units as in geometry.hpp: metres, radians, seconds, nanoseconds since the
+// epoch. Grid cells are addressed (gx, gy) with gx along world x, gy along
+// world y, stored row-major (index gy * width + gx).
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "horus/fixed_string.hpp"
+#include "horus/format.hpp"
+#include "horus/msg/geometry.hpp"
+#include "horus/reflect.hpp"
+
+namespace horus::msg {
+
+// ---------------------------------------------------------------------------
+/// State of a navigation goal (carried as a raw byte in GoalResult::status).
+enum class GoalStatus : std::uint8_t {
+  Pending = 0,    ///< waiting to be executed
+  Active = 1,     ///< being pursued
+  Succeeded = 2,  ///< reached
+  Aborted = 3,    ///< given up because of an error
+  Cancelled = 4,  ///< cancelled by the user
+  Preempted = 5,  ///< replaced by a higher-priority goal
+  TimedOut = 6,   ///< not reached within timeout_seconds
+};
+HORUS_REFLECT_ENUM(GoalStatus, Pending, Active, Succeeded, Aborted, Cancelled, Preempted, TimedOut)
+
+// ---------------------------------------------------------------------------
+/// A navigation target: a planar pose to reach and how close counts as reached.
+struct Goal {
+  Pose2D target_pose{};         ///< m, rad
+  double tolerance_position{};  ///< m, acceptable position error (inclusive)
+  double tolerance_angle{};     ///< rad, acceptable heading error (inclusive)
+  double timeout_seconds{};     ///< s to reach the goal, 0 = no limit
+  std::uint8_t priority{};      ///< 0 = highest
+  std::uint32_t goal_id{};
+  std::uint64_t timestamp_ns{};
+
+  /// The spec's Goal::new(pose, position_tol, angle_tol): no timeout, priority 1
+  /// (as HORUS), goal_id 0; the timestamp is left 0.
+  static constexpr Goal make(const Pose2D& target, double position_tolerance_m, double angle_tolerance_rad) noexcept {
+    Goal g{};
+    g.target_pose = target;
+    g.tolerance_position = position_tolerance_m;
+    g.tolerance_angle = angle_tolerance_rad;
+    g.priority = 1;
+    return g;
+  }
+
+  /// A copy with timeout_seconds set (s, 0 = no limit).
+  [[nodiscard]] constexpr Goal with_timeout(double timeout_s) const noexcept {
+    Goal g = *this;
+    g.timeout_seconds = timeout_s;
+    return g;
+  }
+  /// A copy with the priority set (0 = highest).
+  [[nodiscard]] constexpr Goal with_priority(std::uint8_t goal_priority) const noexcept {
+    Goal g = *this;
+    g.priority = goal_priority;
+    return g;
+  }
+
+  /// Distance between the positions <= tolerance_position (heading ignored).
+  /// False when anything involved is NaN.
+  bool is_position_reached(const Pose2D& current) const noexcept {
+    return target_pose.distance_to(current) <= tolerance_position;
+  }
+
+  /// |heading difference| <= tolerance_angle, the difference wrapped into
+  /// [-pi, pi] first: 3.13 and -3.13 are 0.023 rad apart. Works for headings of
+  /// any size (HORUS only unwraps differences below 3 pi). False on NaN.
+  bool is_orientation_reached(const Pose2D& current) const noexcept {
+    return std::abs(msg::normalize_angle(target_pose.theta - current.theta)) <= tolerance_angle;
+  }
+
+  /// Position and heading both within tolerance (boundaries count as reached).
+  bool is_reached(const Pose2D& current) const noexcept {
+    return is_position_reached(current) && is_orientation_reached(current);
+  }
+
+  friend constexpr bool operator==(const Goal&, const Goal&) = default;
+};
+HORUS_REFLECT(Goal, target_pose, tolerance_position, tolerance_angle, timeout_seconds, priority, goal_id, timestamp_ns)
+
+/// The navigation-messages page's name for Goal (same type, same fields).
+using NavGoal = Goal;
+
+// ---------------------------------------------------------------------------
+/// Feedback on a goal: status, remaining distance and time, progress, error text.
+struct GoalResult {
+  std::uint32_t goal_id{};
+  std::uint8_t status{};                ///< a GoalStatus value (see status_enum())
+  double distance_to_goal{};            ///< m
+  double eta_seconds{};                 ///< s, estimated time to reach the goal
+  float progress{};                     ///< 0.0 to 1.0
+  std::array<char, 64> error_message{};  ///< NUL-terminated, at most 63 characters, empty if no error
+  std::uint64_t timestamp_ns{};
+
+  /// The spec's GoalResult::new(goal_id, status); the timestamp is left 0.
+  static constexpr GoalResult make(std::uint32_t id, GoalStatus goal_status) noexcept {
+    GoalResult r{};
+    r.goal_id = id;
+    r.status = static_cast<std::uint8_t>(goal_status);
+    return r;
+  }
+
+  /// The status as a GoalStatus. A byte with no enumerator (> 6, e.g. from a
+  /// newer sender) gives a GoalStatus whose to_string() is "".
+  constexpr GoalStatus status_enum() const noexcept { return static_cast<GoalStatus>(status); }
+  constexpr void set_status(GoalStatus goal_status) noexcept { status = static_cast<std::uint8_t>(goal_status); }
+
+  /// Sets the error text; returns false, changing nothing, when it does not fit
+  /// (at most 63 characters, no NUL). HORUS's with_error() cuts instead.
+  constexpr bool set_error_message(std::string_view text) noexcept { return set_fixed_str(error_message, text); }
+  constexpr std::string_view error_message_str() const noexcept { return fixed_str_view(error_message); }
+
+  friend constexpr bool operator==(const GoalResult&, const GoalResult&) = default;
+};
+HORUS_REFLECT(GoalResult, goal_id, status, distance_to_goal, eta_seconds, progress, error_message, timestamp_ns)
+
+// ---------------------------------------------------------------------------
+/// One point of a path: where to be, how fast to go there, and whether to stop.
+struct Waypoint {
+  Pose2D pose{};              ///< m, rad
+  Twist velocity{};           ///< desired velocity at this point, m/s and rad/s
+  double time_from_start{};   ///< s from the start of the path
+  float curvature{};          ///< 1/m (1 / turning radius), 0 = straight
+  std::uint8_t stop_required{};  ///< 1 = stop at this waypoint
+
+  /// The spec's Waypoint::new(pose): zero velocity, no stop.
+  static constexpr Waypoint make(const Pose2D& p) noexcept {
+    Waypoint w{};
+    w.pose = p;
+    return w;
+  }
+  /// A copy with the desired velocity set.
+  [[nodiscard]] constexpr Waypoint with_velocity(const Twist& v) const noexcept {
+    Waypoint w = *this;
+    w.velocity = v;
+    return w;
+  }
+  /// A copy that requires a stop: stop_required = 1 and a zero velocity.
+  [[nodiscard]] constexpr Waypoint with_stop() const noexcept {
+    Waypoint w = *this;
+    w.stop_required = 1;
+    w.velocity = Twist::stop();
+    return w;
+  }
+
+  friend constexpr bool operator==(const Waypoint&, const Waypoint&) = default;
+};
+HORUS_REFLECT(Waypoint, pose, velocity, time_from_start, curvature, stop_required)
+
+namespace detail {
+inline constexpr std::size_t kMaxPathWaypoints = 256;
+
+// Shared by Path and NavPath (same layout, the time field is named differently).
+template <class P>
+constexpr std::size_t path_count(const P& p) noexcept {
+  return std::min<std::size_t>(p.waypoint_count, kMaxPathWaypoints);
+}
+
+template <class P>
+bool path_add_waypoint(P& p, const Waypoint& wp) noexcept {
+  const std::size_t n = path_count(p);
+  if (n >= kMaxPathWaypoints) return false;
+  p.waypoints[n] = wp;
+  p.waypoint_count = static_cast<std::uint16_t>(n + 1);
+  if (n > 0) p.total_length += p.waypoints[n - 1].pose.distance_to(wp.pose);
+  return true;
+}
+
+inline double polyline_length(std::span<const Waypoint> wps) noexcept {
+  double length = 0.0;
+  for (std::size_t i = 1; i < wps.size(); ++i) length += wps[i - 1].pose.distance_to(wps[i].pose);
+  return length;
+}
+
+inline std::optional<std::size_t> closest_waypoint(std::span<const Waypoint> wps, const Pose2D& current) noexcept {
+  if (wps.empty()) return std::nullopt;
+  std::size_t best = 0;
+  double best_distance = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < wps.size(); ++i) {
+    const double d = current.distance_to(wps[i].pose);
+    if (d < best_distance) {
+      best_distance = d;
+      best = i;
+    }
+  }
+  return best;
+}
+
+inline float path_progress(std::span<const Waypoint> wps, const Pose2D& current) noexcept {
+  const auto i = closest_waypoint(wps, current);
+  if (!i) return 0.0f;
+  return static_cast<float>(*i) / static_cast<float>(wps.size());
+}
+}  // namespace detail
+
+// ---------------------------------------------------------------------------
+/// A planned path of up to 256 waypoints (messages page: "Path"). Entries
+/// [0, waypoint_count) are in use.
+struct Path {
+  static constexpr std::size_t kMaxWaypoints = detail::kMaxPathWaypoints;
+
+  std::array<Waypoint, kMaxWaypoints> waypoints{};
+  std::uint16_t waypoint_count{};
+  double total_length{};       ///< m, sum of the segment lengths
+  double duration_seconds{};   ///< s, estimated time to complete the path
+  std::array<char, 32> frame_id{};   ///< NUL-terminated, at most 31 characters
+  std::array<char, 32> algorithm{};  ///< planner name, NUL-terminated, at most 31 characters
+  std::uint64_t timestamp_ns{};
+
+  /// The spec's Path::new(): empty; the timestamp is left 0.
+  static constexpr Path make() noexcept { return Path{}; }
+
+  /// waypoint_count, clamped to 256 (a received message may hold any value).
+  constexpr std::size_t count() const noexcept { return detail::path_count(*this); }
+  constexpr bool is_empty() const noexcept { return count() == 0; }
+  constexpr bool is_full() const noexcept { return count() >= kMaxWaypoints; }
+
+  /// Appends a waypoint and adds the segment from the previous one to
+  /// total_length. Returns false, changing nothing, when 256 are in use.
+  bool add_waypoint(const Waypoint& wp) noexcept { return detail::path_add_waypoint(*this, wp); }
+
+  /// Removes every waypoint (zeroing them) and resets total_length and
+  /// duration_seconds; frame_id, algorithm and timestamp_ns are kept.
+  constexpr void clear() noexcept {
+    waypoints.fill(Waypoint{});
+    waypoint_count = 0;
+    total_length = 0.0;
+    duration_seconds = 0.0;
+  }
+
+  /// The waypoints in use (HORUS's waypoints()).
+  std::span<const Waypoint> valid_waypoints() const noexcept { return {waypoints.data(), count()}; }
+
+  /// The length of the polyline through the waypoints in use, in metres,
+  /// computed afresh (total_length is only kept up to date by add_waypoint).
+  double compute_length() const noexcept { return detail::polyline_length(valid_waypoints()); }
+
+  /// Index of the waypoint nearest to current (first one on ties), or nullopt when empty.
+  std::optional<std::size_t> closest_waypoint_index(const Pose2D& current) const noexcept {
+    return detail::closest_waypoint(valid_waypoints(), current);
+  }
+  /// Progress as HORUS computes it: closest index / count, in [0, 1) (0 when
+  /// empty; it reaches (count - 1) / count at the last waypoint, never 1).
+  float calculate_progress(const Pose2D& current) const noexcept {
+    return detail::path_progress(valid_waypoints(), current);
+  }
+
+  /// Set the text fields; false, changing nothing, when the text does not fit.
+  constexpr bool set_frame_id(std::string_view frame) noexcept { return set_fixed_str(frame_id, frame); }
+  constexpr std::string_view frame_id_str() const noexcept { return fixed_str_view(frame_id); }
+  constexpr bool set_algorithm(std::string_view name) noexcept { return set_fixed_str(algorithm, name); }
+  constexpr std::string_view algorithm_str() const noexcept { return fixed_str_view(algorithm); }
+
+  /// "Path(42 waypoints, 12.3 m)".
+  std::string log_summary() const { return fmt::format("Path({} waypoints, {:.1f} m)", count(), total_length); }
+
+  friend constexpr bool operator==(const Path&, const Path&) = default;
+};
+HORUS_REFLECT(Path, waypoints, waypoint_count, total_length, duration_seconds, frame_id, algorithm, timestamp_ns)
+
+// ---------------------------------------------------------------------------
+/// A planned path of up to 256 waypoints (navigation page: "NavPath"). Same
+/// layout and helpers as Path; its time field is called estimated_time.
+struct NavPath {
+  static constexpr std::size_t kMaxWaypoints = detail::kMaxPathWaypoints;
+
+  std::array<Waypoint, kMaxWaypoints> waypoints{};
+  std::uint16_t waypoint_count{};
+  double total_length{};     ///< m, sum of the segment lengths
+  double estimated_time{};   ///< s, estimated time to complete the path
+  std::array<char, 32> frame_id{};   ///< NUL-terminated, at most 31 characters
+  std::array<char, 32> algorithm{};  ///< planner name, NUL-terminated, at most 31 characters
+  std::uint64_t timestamp_ns{};
+
+  /// Empty path; the timestamp is left 0.
+  static constexpr NavPath make() noexcept { return NavPath{}; }
+
+  /// waypoint_count, clamped to 256 (a received message may hold any value).
+  constexpr std::size_t count() const noexcept { return detail::path_count(*this); }
+  constexpr bool is_empty() const noexcept { return count() == 0; }
+  constexpr bool is_full() const noexcept { return count() >= kMaxWaypoints; }
+
+  /// Appends a waypoint and adds the segment from the previous one to
+  /// total_length. Returns false, changing nothing, when 256 are in use.
+  bool add_waypoint(const Waypoint& wp) noexcept { return detail::path_add_waypoint(*this, wp); }
+
+  /// Removes every waypoint (zeroing them) and resets total_length and
+  /// estimated_time; frame_id, algorithm and timestamp_ns are kept.
+  constexpr void clear() noexcept {
+    waypoints.fill(Waypoint{});
+    waypoint_count = 0;
+    total_length = 0.0;
+    estimated_time = 0.0;
+  }
+
+  /// The waypoints in use.
+  std::span<const Waypoint> valid_waypoints() const noexcept { return {waypoints.data(), count()}; }
+
+  /// The length of the polyline through the waypoints in use, in metres, computed afresh.
+  double compute_length() const noexcept { return detail::polyline_length(valid_waypoints()); }
+
+  /// Index of the waypoint nearest to current (first one on ties), or nullopt when empty.
+  std::optional<std::size_t> closest_waypoint_index(const Pose2D& current) const noexcept {
+    return detail::closest_waypoint(valid_waypoints(), current);
+  }
+  /// Closest index / count, in [0, 1) (0 when empty); see Path::calculate_progress.
+  float calculate_progress(const Pose2D& current) const noexcept {
+    return detail::path_progress(valid_waypoints(), current);
+  }
+
+  /// Set the text fields; false, changing nothing, when the text does not fit.
+  constexpr bool set_frame_id(std::string_view frame) noexcept { return set_fixed_str(frame_id, frame); }
+  constexpr std::string_view frame_id_str() const noexcept { return fixed_str_view(frame_id); }
+  constexpr bool set_algorithm(std::string_view name) noexcept { return set_fixed_str(algorithm, name); }
+  constexpr std::string_view algorithm_str() const noexcept { return fixed_str_view(algorithm); }
+
+  /// "NavPath(42 waypoints, 12.3 m)".
+  std::string log_summary() const { return fmt::format("NavPath({} waypoints, {:.1f} m)", count(), total_length); }
+
+  friend constexpr bool operator==(const NavPath&, const NavPath&) = default;
+};
+HORUS_REFLECT(NavPath, waypoints, waypoint_count, total_length, estimated_time, frame_id, algorithm, timestamp_ns)
+
+// ---------------------------------------------------------------------------
+/// A compact path: up to 256 waypoints packed as [x0, y0, theta0, x1, y1, ...]
+/// (m, m, rad). Triples [0, waypoint_count) are in use.
+struct PathPlan {
+  static constexpr std::size_t kMaxWaypoints = 256;
+
+  std::array<float, kMaxWaypoints * 3> waypoint_data{};  ///< packed [x, y, theta] triples
+  std::array<float, 3> goal_pose{};                      ///< [x, y, theta] of the target
+  std::uint16_t waypoint_count{};
+  std::uint64_t timestamp_ns{};
+
+  /// The spec's PathPlan::new(): empty; the timestamp is left 0.
+  static constexpr PathPlan make() noexcept { return PathPlan{}; }
+
+  /// A plan through the given [x, y, theta] waypoints towards goal. Only the
+  /// first 256 are kept (as HORUS); check the size first if that matters.
+  static constexpr PathPlan from_waypoints(std::span<const std::array<float, 3>> points,
+                                           const std::array<float, 3>& goal) noexcept {
+    PathPlan plan{};
+    plan.goal_pose = goal;
+    for (const auto& p : points.first(std::min(points.size(), kMaxWaypoints))) plan.add_waypoint(p[0], p[1], p[2]);
+    return plan;
+  }
+
+  /// waypoint_count, clamped to 256 (a received message may hold any value).
+  constexpr std::size_t count() const noexcept { return std::min<std::size_t>(waypoint_count, kMaxWaypoints); }
+  constexpr bool is_empty() const noexcept { return count() == 0; }
+
+  /// Appends (x, y, theta). Returns false, changing nothing, when 256 are in use.
+  constexpr bool add_waypoint(float x, float y, float theta) noexcept {
+    const std::size_t n = count();
+    if (n >= kMaxWaypoints) return false;
+    waypoint_data[n * 3] = x;
+    waypoint_data[n * 3 + 1] = y;
+    waypoint_data[n * 3 + 2] = theta;
+    waypoint_count = static_cast<std::uint16_t>(n + 1);
+    return true;
+  }
+
+  /// Waypoint i as [x, y, theta], or nullopt when i >= waypoint_count.
+  constexpr std::optional<std::array<float, 3>> waypoint(std::size_t i) const noexcept {
+    if (i >= count()) return std::nullopt;
+    return std::array<float, 3>{waypoint_data[i * 3], waypoint_data[i * 3 + 1], waypoint_data[i * 3 + 2]};
+  }
+
+  /// "PathPlan(42 waypoints, goal (5.00, 3.00, 0.00))", goal in m, m, rad.
+  std::string log_summary() const {
+    return fmt::format("PathPlan({} waypoints, goal ({:.2f}, {:.2f}, {:.2f}))", count(), goal_pose[0], goal_pose[1],
+                       goal_pose[2]);
+  }
+
+  friend constexpr bool operator==(const PathPlan&, const PathPlan&) = default;
+};
+HORUS_REFLECT(PathPlan, waypoint_data, goal_pose, waypoint_count, timestamp_ns)
+
+// ---------------------------------------------------------------------------
+/// A 2D occupancy map (variable-size). Cell values: -1 unknown, 0 free ...
+/// 100 occupied (a probability in percent). The map is axis-aligned: origin is
+/// the world position of the outer corner of cell (0, 0); as in HORUS,
+/// origin.theta is carried but NOT applied by the coordinate conversions.
+struct OccupancyGrid {
+  /// Largest encoded grid a Topic<OccupancyGrid> carries unless told otherwise (a 2000x2000 map).
+  static constexpr std::size_t kDefaultSlotBytes = std::size_t{4} << 20;
+  static constexpr std::int8_t UNKNOWN = -1;
+  static constexpr std::int8_t FREE = 0;
+  static constexpr std::int8_t OCCUPIED = 100;
+  /// is_free(): 0 <= value < 50; is_occupied(): value >= 50 (HORUS thresholds).
+  static constexpr std::int8_t OCCUPIED_THRESHOLD = 50;
+
+  float resolution{0.05f};  ///< m per cell (HORUS default 0.05)
+  std::uint32_t width{};    ///< cells along x
+  std::uint32_t height{};   ///< cells along y
+  Pose2D origin{};          ///< corner of cell (0, 0) in the world (theta ignored, see above)
+  std::vector<std::int8_t> data{};  ///< width * height cells, row-major (gy * width + gx)
+  std::array<char, 32> frame_id{};  ///< NUL-terminated, at most 31 characters
+  std::array<char, 64> metadata{};  ///< free text, NUL-terminated, at most 63 characters
+  std::uint64_t timestamp_ns{};
+
+  /// The spec's OccupancyGrid::new(width, height, resolution, origin): every
+  /// cell unknown (-1); the timestamp is left 0.
+  static OccupancyGrid make(std::uint32_t width_cells, std::uint32_t height_cells, float resolution_m,
+                            const Pose2D& origin_pose) {
+    OccupancyGrid g{};
+    g.resolution = resolution_m;
+    g.width = width_cells;
+    g.height = height_cells;
+    g.origin = origin_pose;
+    g.data.assign(static_cast<std::size_t>(width_cells) * height_cells, UNKNOWN);
+    return g;
+  }
+
+  /// The cell containing world point (x, y) in metres: floor((x - origin.x) /
+  /// resolution + 1e-6), likewise for y. The 1e-6 cell epsilon (HORUS's) makes a
+  /// point on a cell boundary belong to the upper cell despite rounding
+  /// (0.5 at 0.1 m is cell 5). nullopt outside [0, width) x [0, height), for a
+  /// NaN or infinite coordinate, and when resolution is not a positive number.
+  std::optional<std::pair<std::uint32_t, std::uint32_t>> world_to_grid(double x, double y) const noexcept {
+    const double res = static_cast<double>(resolution);
+    if (!(res > 0.0) || !std::isfinite(res)) return std::nullopt;
+    const double gx = std::floor((x - origin.x) / res + kCellEpsilon);
+    const double gy = std::floor((y - origin.y) / res + kCellEpsilon);
+    // Written so that NaN fails every comparison.
+    if (!(gx >= 0.0 && gx < static_cast<double>(width) && gy >= 0.0 && gy < static_cast<double>(height)))
+      return std::nullopt;
+    return std::pair{static_cast<std::uint32_t>(gx), static_cast<std::uint32_t>(gy)};
+  }
+
+  /// World position (m) of the centre of cell (gx, gy), or nullopt outside the grid.
+  std::optional<std::pair<double, double>> grid_to_world(std::uint32_t gx, std::uint32_t gy) const noexcept {
+    if (gx >= width || gy >= height) return std::nullopt;
+    const double res = static_cast<double>(resolution);
+    return std::pair{origin.x + (static_cast<double>(gx) + 0.5) * res,
+                     origin.y + (static_cast<double>(gy) + 0.5) * res};
+  }
+
+  /// Index of cell (gx, gy) into data, or nullopt outside the grid or beyond
+  /// the end of data (a malformed message may carry fewer cells).
+  std::optional<std::size_t> cell_index(std::uint32_t gx, std::uint32_t gy) const noexcept {
+    if (gx >= width || gy >= height) return std::nullopt;
+    const std::size_t i = static_cast<std::size_t>(gy) * width + gx;
+    if (i >= data.size()) return std::nullopt;
+    return i;
+  }
+
+  /// The value of cell (gx, gy), or nullopt outside the grid.
+  std::optional<std::int8_t> occupancy(std::uint32_t gx, std::uint32_t gy) const noexcept {
+    if (const auto i = cell_index(gx, gy)) return data[*i];
+    return std::nullopt;
+  }
+
+  /// Sets cell (gx, gy). Returns false, changing nothing, outside the grid or
+  /// when value is not in -1..100 (HORUS clamps such values instead).
+  bool set_occupancy(std::uint32_t gx, std::uint32_t gy, std::int8_t value) noexcept {
+    if (value < UNKNOWN || value > OCCUPIED) return false;
+    const auto i = cell_index(gx, gy);
+    if (!i) return false;
+    data[*i] = value;
+    return true;
+  }
+
+  /// World point (m) lies in a known cell with 0 <= value < 50. Unknown cells
+  /// and points outside the grid are not free.
+  bool is_free(double x, double y) const noexcept {
+    const auto v = world_occupancy(x, y);
+    return v && *v >= 0 && *v < OCCUPIED_THRESHOLD;
+  }
+  /// World point (m) lies in a cell with value >= 50. Unknown cells and points
+  /// outside the grid are not occupied (check is_free() to plan conservatively).
+  bool is_occupied(double x, double y) const noexcept {
+    const auto v = world_occupancy(x, y);
+    return v && *v >= OCCUPIED_THRESHOLD;
+  }
+
+  constexpr bool set_frame_id(std::string_view frame) noexcept { return set_fixed_str(frame_id, frame); }
+  constexpr std::string_view frame_id_str() const noexcept { return fixed_str_view(frame_id); }
+  constexpr bool set_metadata(std::string_view text) noexcept { return set_fixed_str(metadata, text); }
+  constexpr std::string_view metadata_str() const noexcept { return fixed_str_view(metadata); }
+
+  /// "OccupancyGrid(200x200 @ 0.05 m, 40000 cells)".
+  std::string log_summary() const {
+    return fmt::format("OccupancyGrid({}x{} @ {:g} m, {} cells)", width, height, static_cast<double>(resolution),
+                       data.size());
+  }
+
+  friend bool operator==(const OccupancyGrid&, const OccupancyGrid&) = default;
+
+  static constexpr double kCellEpsilon = 1e-6;  ///< in cells, see world_to_grid()
+
+ private:
+  std::optional<std::int8_t> world_occupancy(double x, double y) const noexcept {
+    if (const auto cell = world_to_grid(x, y)) return occupancy(cell->first, cell->second);
+    return std::nullopt;
+  }
+};
+HORUS_REFLECT(OccupancyGrid, resolution, width, height, origin, data, frame_id, metadata, timestamp_ns)
+
+// ---------------------------------------------------------------------------
+/// An inflated cost grid over an OccupancyGrid (variable-size); costs[i]
+/// belongs to occupancy_grid.data[i]. Costs: 0 free, 1..lethal_cost-1 near an
+/// obstacle, lethal_cost (253) in an obstacle, 255 unknown.
+///
+/// compute_costs(), as HORUS:
+///  1. Base cost per cell from its occupancy v: -1 (unknown) -> 255;
+///     v >= 65 -> lethal_cost; otherwise max(2 v, 0) (so 0..64 -> 0..128).
+///     Cells missing from a short data vector count as unknown.
+///  2. Inflation: every cell whose base cost is below lethal_cost takes
+///     max(base, floor((lethal_cost - 1) * (1 - d / R)^cost_scaling_factor))
+///     where R = inflation_radius and d (m) is the distance between cell centres
+///     to the nearest cell with base cost >= lethal_cost (occupied AND unknown
+///     cells, as in HORUS) among the cells at most ceil(R / resolution) cells
+///     away along x and y, when d <= R. So a cell next to an obstacle gets up to
+///     252, a cell at d = R gets 0, cells beyond R are untouched. This is a
+///     power law (HORUS's formula), not ROS's exp(-k (d - r_inscribed)); there
+///     is no inscribed (254) cost. Computed in single precision as HORUS.
+///     No inflation when R <= 0 (or NaN) or resolution is not a positive number.
+struct CostMap {
+  /// Largest encoded cost map a Topic<CostMap> carries unless told otherwise (a 2000x2000 map).
+  static constexpr std::size_t kDefaultSlotBytes = std::size_t{8} << 20;
+  static constexpr std::uint8_t COST_FREE = 0;
+  static constexpr std::uint8_t COST_LETHAL = 253;
+  static constexpr std::uint8_t COST_UNKNOWN = 255;
+  /// Occupancy at or above which a cell is an obstacle (lethal).
+  static constexpr std::int8_t LETHAL_OCCUPANCY = 65;
+
+  OccupancyGrid occupancy_grid{};
+  std::vector<std::uint8_t> costs{};  ///< one per cell, row-major like occupancy_grid.data
+  float inflation_radius{0.55f};      ///< m (HORUS default 0.55)
+  float cost_scaling_factor{10.0f};   ///< exponent of the decay (HORUS default 10)
+  std::uint8_t lethal_cost{COST_LETHAL};
+
+  /// The spec's CostMap::from_occupancy_grid(grid, inflation_radius): takes the
+  /// grid, default cost_scaling_factor 10 and lethal_cost 253, and runs
+  /// compute_costs().
+  static CostMap from_occupancy_grid(OccupancyGrid grid, float inflation_radius_m) {
+    CostMap map{};
+    map.occupancy_grid = std::move(grid);
+    map.inflation_radius = inflation_radius_m;
+    map.compute_costs();
+    return map;
+  }
+
+  /// Recomputes costs from occupancy_grid and the parameters (see the type comment).
+  void compute_costs() {
+    const std::size_t w = occupancy_grid.width;
+    const std::size_t h = occupancy_grid.height;
+    const std::size_t n = w * h;
+    const auto& occ = occupancy_grid.data;
+    costs.assign(n, COST_UNKNOWN);
+    for (std::size_t i = 0; i < std::min(n, occ.size()); ++i) costs[i] = base_cost(occ[i]);
+    inflate(w, h);
+  }
+
+  /// The cost at world point (x, y) in metres. Outside the grid: lethal_cost
+  /// (as HORUS: unmapped space is not drivable). nullopt only when costs is
+  /// shorter than the grid (not computed, or a malformed message).
+  std::optional<std::uint8_t> cost(double x, double y) const noexcept {
+    const auto cell = occupancy_grid.world_to_grid(x, y);
+    if (!cell) return lethal_cost;
+    const std::size_t i = static_cast<std::size_t>(cell->second) * occupancy_grid.width + cell->first;
+    if (i >= costs.size()) return std::nullopt;
+    return costs[i];
+  }
+
+  /// "CostMap(200x200 @ 0.05 m, inflation 0.55 m, 12 lethal, 340 inflated, 500 unknown)".
+  std::string log_summary() const {
+    std::size_t lethal = 0, inflated = 0, unknown = 0;
+    for (std::uint8_t c : costs) {
+      if (c == COST_UNKNOWN) ++unknown;
+      else if (c >= lethal_cost) ++lethal;
+      else if (c > COST_FREE) ++inflated;
+    }
+    return fmt::format("CostMap({}x{} @ {:g} m, inflation {:g} m, {} lethal, {} inflated, {} unknown)",
+                       occupancy_grid.width, occupancy_grid.height, static_cast<double>(occupancy_grid.resolution),
+                       static_cast<double>(inflation_radius), lethal, inflated, unknown);
+  }
+
+  friend bool operator==(const CostMap&, const CostMap&) = default;
+
+ private:
+  std::uint8_t base_cost(std::int8_t v) const noexcept {
+    if (v == OccupancyGrid::UNKNOWN) return COST_UNKNOWN;
+    if (v >= LETHAL_OCCUPANCY) return lethal_cost;
+    return static_cast<std::uint8_t>(std::max(2 * static_cast<int>(v), 0));
+  }
+
+  void inflate(std::size_t w, std::size_t h) {
+    const float res = occupancy_grid.resolution;
+    const float radius = inflation_radius;
+    if (!(radius > 0.0f) || !(res > 0.0f) || !std::isfinite(res) || w == 0 || h == 0) return;
+    // Window half-width in cells; beyond the grid size it changes nothing.
+    const double cells = std::ceil(static_cast<double>(radius) / static_cast<double>(res));
+    const long k = static_cast<long>(std::min(cells, static_cast<double>(std::max(w, h))));
+    const std::vector<std::uint8_t> base = costs;
+    const auto is_source = [&](std::size_t i) { return base[i] >= lethal_cost; };
+    std::vector<float> nearest(base.size(), std::numeric_limits<float>::infinity());
+    const long lw = static_cast<long>(w), lh = static_cast<long>(h);
+    for (long y = 0; y < lh; ++y) {
+      for (long x = 0; x < lw; ++x) {
+        const std::size_t s = static_cast<std::size_t>(y * lw + x);
+        if (!is_source(s)) continue;
+        // The nearest source of any cell has a non-source 4-neighbour (a closer
+        // one would otherwise exist), so interior sources can be skipped.
+        const bool frontier = (x > 0 && !is_source(s - 1)) || (x + 1 < lw && !is_source(s + 1)) ||
+                              (y > 0 && !is_source(s - w)) || (y + 1 < lh && !is_source(s + w));
+        if (!frontier) continue;
+        for (long ny = std::max(0L, y - k); ny <= std::min(lh - 1, y + k); ++ny) {
+          for (long nx = std::max(0L, x - k); nx <= std::min(lw - 1, x + k); ++nx) {
+            const std::size_t t = static_cast<std::size_t>(ny * lw + nx);
+            if (is_source(t)) continue;
+            const long dx = nx - x, dy = ny - y;
+            const float d = std::sqrt(static_cast<float>(dx * dx + dy * dy)) * res;
+            nearest[t] = std::min(nearest[t], d);
+          }
+        }
+      }
+    }
+    const float cap = static_cast<float>(lethal_cost) - 1.0f;
+    for (std::size_t i = 0; i < base.size(); ++i) {
+      if (is_source(i) || !(nearest[i] <= radius)) continue;
+      const float factor = 1.0f - nearest[i] / radius;
+      float c = std::min(cap * std::pow(factor, cost_scaling_factor), cap);
+      if (!(c > 0.0f)) c = 0.0f;  // also NaN
+      costs[i] = std::max(costs[i], static_cast<std::uint8_t>(c));
+    }
+  }
+};
+HORUS_REFLECT(CostMap, occupancy_grid, costs, inflation_radius, cost_scaling_factor, lethal_cost)
+
+// ---------------------------------------------------------------------------
+/// A moving obstacle for velocity-obstacle collision avoidance.
+struct VelocityObstacle {
+  std::array<double, 2> position{};  ///< m, [x, y]
+  std::array<double, 2> velocity{};  ///< m/s, [vx, vy]
+  float radius{};                    ///< m
+  float time_horizon{};              ///< s ahead to predict collisions
+  std::uint32_t obstacle_id{};       ///< for tracking across messages
+
+  friend constexpr bool operator==(const VelocityObstacle&, const VelocityObstacle&) = default;
+};
+HORUS_REFLECT(VelocityObstacle, position, velocity, radius, time_horizon, obstacle_id)
+
+// ---------------------------------------------------------------------------
+/// Up to 32 velocity obstacles; entries [0, count) are in use.
+struct VelocityObstacles {
+  static constexpr std::size_t kMaxObstacles = 32;
+
+  std::array<VelocityObstacle, kMaxObstacles> obstacles{};
+  std::uint8_t count{};
+  std::uint64_t timestamp_ns{};
+
+  /// count, clamped to 32 (a received message may hold any byte).
+  constexpr std::size_t size() const noexcept { return std::min<std::size_t>(count, kMaxObstacles); }
+  constexpr bool is_full() const noexcept { return size() >= kMaxObstacles; }
+
+  /// Appends an obstacle. Returns false, changing nothing, when 32 are in use.
+  constexpr bool add(const VelocityObstacle& obstacle) noexcept {
+    const std::size_t n = size();
+    if (n >= kMaxObstacles) return false;
+    obstacles[n] = obstacle;
+    count = static_cast<std::uint8_t>(n + 1);
+    return true;
+  }
+
+  /// Removes every obstacle (zeroing them); timestamp_ns is kept.
+  constexpr void clear() noexcept {
+    obstacles.fill(VelocityObstacle{});
+    count = 0;
+  }
+
+  /// The obstacles in use.
+  std::span<const VelocityObstacle> valid_obstacles() const noexcept { return {obstacles.data(), size()}; }
+
+  /// "VelocityObstacles(3 obstacles, ids 4, 7, 9)": the ids of the first 8, then "+N more".
+  std::string log_summary() const {
+    std::string out = fmt::format("VelocityObstacles({} obstacles", size());
+    constexpr std::size_t kShown = 8;
+    for (std::size_t i = 0; i < std::min(size(), kShown); ++i)
+      out += fmt::format("{}{}", i == 0 ? ", ids " : ", ", obstacles[i].obstacle_id);
+    if (size() > kShown) out += fmt::format(", +{} more", size() - kShown);
+    out += ')';
+    return out;
+  }
+
+  friend constexpr bool operator==(const VelocityObstacles&, const VelocityObstacles&) = default;
+};
+HORUS_REFLECT(VelocityObstacles, obstacles, count, timestamp_ns)
+
+static_assert(horus::reflect::is_fixed_size<Goal>, "Goal must be trivially copyable and standard layout");
+static_assert(horus::reflect::is_fixed_size<GoalResult>, "GoalResult must be trivially copyable and standard layout");
+static_assert(horus::reflect::is_fixed_size<Waypoint>, "Waypoint must be trivially copyable and standard layout");
+static_assert(horus::reflect::is_fixed_size<Path>, "Path must be trivially copyable and standard layout");
+static_assert(horus::reflect::is_fixed_size<NavPath>, "NavPath must be trivially copyable and standard layout");
+static_assert(horus::reflect::is_fixed_size<PathPlan>, "PathPlan must be trivially copyable and standard layout");
+static_assert(horus::reflect::is_fixed_size<VelocityObstacle>,
+              "VelocityObstacle must be trivially copyable and standard layout");
+static_assert(horus::reflect::is_fixed_size<VelocityObstacles>,
+              "VelocityObstacles must be trivially copyable and standard layout");
+
+}  // namespace horus::msg

@@ -1,0 +1,681 @@
+// Perception messages: the fixed-size point types (PointXYZ, PointXYZRGB,
+// PointXYZI), PointCloud and DepthImage with their descriptors, and (through
+// tensor.hpp, included here) TensorDtype, Device, TensorDescriptor and Tensor.
+//
+// PointCloud and DepthImage are large-data messages (see tensor.hpp): classes
+// whose metadata and bytes are private and always agree. A point cloud is an
+// N x K table of one TensorDtype (N points, K fields per point: 3 = XYZ,
+// 4 = XYZI, 6 = XYZRGB), stored point after point. A depth image is a
+// height x width grid of F32 metres or U16 millimetres, row-major.
+// Units: metres for coordinates and depths, ns since the epoch for timestamps.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <new>
+#include <optional>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <tuple>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "horus/fixed_string.hpp"
+#include "horus/format.hpp"
+#include "horus/msg/tensor.hpp"
+#include "horus/reflect.hpp"
+
+namespace horus::msg {
+
+// ---------------------------------------------------------------------------
+/// A 3D point in metres (12 bytes).
+struct PointXYZ {
+  float x{};
+  float y{};
+  float z{};
+
+  static constexpr PointXYZ make(float x_m, float y_m, float z_m) noexcept { return PointXYZ{x_m, y_m, z_m}; }
+
+  /// Distance from the origin in metres.
+  float distance() const noexcept { return std::sqrt(x * x + y * y + z * z); }
+  /// Distance to other in metres.
+  float distance_to(const PointXYZ& other) const noexcept {
+    const float dx = x - other.x, dy = y - other.y, dz = z - other.z;
+    return std::sqrt(dx * dx + dy * dy + dz * dz);
+  }
+
+  friend constexpr bool operator==(const PointXYZ&, const PointXYZ&) = default;
+};
+HORUS_REFLECT(PointXYZ, x, y, z)
+
+/// A 3D point in metres with an 8-bit colour (16 bytes; RGB-D cameras).
+struct PointXYZRGB {
+  float x{};
+  float y{};
+  float z{};
+  std::uint8_t r{};  ///< 0..255
+  std::uint8_t g{};
+  std::uint8_t b{};
+  std::uint8_t a{};  ///< alpha (or padding); make() and from_xyz() set 255
+
+  /// Opaque colour (a = 255), as HORUS's PointXYZRGB::new.
+  static constexpr PointXYZRGB make(float x_m, float y_m, float z_m, std::uint8_t red, std::uint8_t green,
+                                    std::uint8_t blue) noexcept {
+    return PointXYZRGB{x_m, y_m, z_m, red, green, blue, 255};
+  }
+  /// The point in opaque white.
+  static constexpr PointXYZRGB from_xyz(const PointXYZ& p) noexcept { return make(p.x, p.y, p.z, 255, 255, 255); }
+
+  /// Colour packed as 0xRRGGBBAA.
+  constexpr std::uint32_t rgb_packed() const noexcept {
+    return (std::uint32_t{r} << 24) | (std::uint32_t{g} << 16) | (std::uint32_t{b} << 8) | std::uint32_t{a};
+  }
+  constexpr PointXYZ xyz() const noexcept { return PointXYZ{x, y, z}; }
+
+  friend constexpr bool operator==(const PointXYZRGB&, const PointXYZRGB&) = default;
+};
+HORUS_REFLECT(PointXYZRGB, x, y, z, r, g, b, a)
+
+/// A 3D point in metres with a lidar intensity (reflectance, sensor units;
+/// typically 0..255 or 0..65535) (16 bytes).
+struct PointXYZI {
+  float x{};
+  float y{};
+  float z{};
+  float intensity{};
+
+  static constexpr PointXYZI make(float x_m, float y_m, float z_m, float intensity_) noexcept {
+    return PointXYZI{x_m, y_m, z_m, intensity_};
+  }
+  /// The point with intensity 0.
+  static constexpr PointXYZI from_xyz(const PointXYZ& p) noexcept { return PointXYZI{p.x, p.y, p.z, 0.0f}; }
+  constexpr PointXYZ xyz() const noexcept { return PointXYZ{x, y, z}; }
+
+  friend constexpr bool operator==(const PointXYZI&, const PointXYZI&) = default;
+};
+HORUS_REFLECT(PointXYZI, x, y, z, intensity)
+
+static_assert(horus::reflect::is_fixed_size<PointXYZ>, "PointXYZ must be trivially copyable and standard layout");
+static_assert(horus::reflect::is_fixed_size<PointXYZRGB>,
+              "PointXYZRGB must be trivially copyable and standard layout");
+static_assert(horus::reflect::is_fixed_size<PointXYZI>, "PointXYZI must be trivially copyable and standard layout");
+static_assert(sizeof(PointXYZ) == 12 && sizeof(PointXYZRGB) == 16 && sizeof(PointXYZI) == 16,
+              "point sizes are HORUS's: 12, 16, 16 bytes");
+
+namespace detail {
+/// "xyz", "xyzi", "xyzrgb" or "5 fields".
+inline std::string cloud_kind(std::uint32_t fields) {
+  switch (fields) {
+    case 3: return "xyz";
+    case 4: return "xyzi";
+    case 6: return "xyzrgb";
+    default: return fmt::format("{} fields", fields);
+  }
+}
+/// "meters", "millimeters", or the dtype in lower case.
+inline std::string depth_unit(TensorDtype d) {
+  if (d == TensorDtype::F32) return "meters";
+  if (d == TensorDtype::U16) return "millimeters";
+  return ascii_lower(dtype_text(d));
+}
+}  // namespace detail
+
+// ---------------------------------------------------------------------------
+/// Fixed-size description of a PointCloud (HORUS's 272-byte
+/// PointCloudDescriptor also carries per-field names, offsets and types, which
+/// this PointCloud does not model: fields are positional, see PointCloud).
+struct PointCloudDescriptor {
+  std::uint64_t point_count{};
+  std::uint32_t fields_per_point{};
+  TensorDtype dtype{TensorDtype::F32};
+  std::array<char, 32> frame_id{};  ///< reference frame, NUL-terminated, at most 31 characters
+  std::uint64_t timestamp_ns{};     ///< ns since the epoch
+  std::uint64_t data_size{};        ///< bytes of point data
+  // Location of the bytes: filled by the shared-memory pool (next issue); 0 = heap.
+  std::uint32_t pool_id{};     ///< pool holding the bytes; 0 = heap (not in a pool)
+  std::uint32_t slot_id{};     ///< slot within the pool
+  std::uint64_t generation{};  ///< slot generation (guards against reuse of a freed slot)
+  std::uint64_t offset{};      ///< byte offset of the data from the pool base
+
+  bool set_frame_id(std::string_view text) noexcept { return set_fixed_str(frame_id, text); }
+  std::string_view frame_id_str() const noexcept { return fixed_str_view(frame_id); }
+
+  /// "PointCloudDescriptor(1000 points xyz f32, 11.7 KiB, heap)".
+  std::string log_summary() const {
+    return fmt::format("PointCloudDescriptor({} points {} {}, {}, {})", point_count,
+                       detail::cloud_kind(fields_per_point), detail::ascii_lower(detail::dtype_text(dtype)),
+                       detail::format_bytes(data_size), detail::pool_text(pool_id, slot_id));
+  }
+
+  friend constexpr bool operator==(const PointCloudDescriptor&, const PointCloudDescriptor&) = default;
+};
+HORUS_REFLECT(PointCloudDescriptor, point_count, fields_per_point, dtype, frame_id, timestamp_ns, data_size, pool_id,
+              slot_id, generation, offset)
+static_assert(horus::reflect::is_fixed_size<PointCloudDescriptor>,
+              "PointCloudDescriptor must be trivially copyable and standard layout");
+
+// ---------------------------------------------------------------------------
+/// A point cloud: point_count() points of fields_per_point() values of dtype()
+/// each, point after point. Field meaning by position: 0-2 = x, y, z (m);
+/// with 4 or 5 fields, 3 = intensity; with 6 or more, 3-5 = r, g, b.
+///
+///   std::vector<std::array<float, 3>> pts = ...;
+///   PointCloud cloud = PointCloud::from_xyz(pts);     // F32, 3 fields
+///   auto xyz = cloud.extract_xyz();                   // optional<vector<array<float, 3>>>
+///
+/// A default-constructed PointCloud is empty (0 points, 0 fields, F32). An
+/// empty cloud (0 points) is a valid message ("nothing seen"). Copying a
+/// PointCloud copies its points.
+class PointCloud {
+ public:
+  /// Largest encoded message a Topic<PointCloud> carries unless told otherwise: a 130,000-point XYZI cloud (a 64-beam lidar) fits twice over.
+  static constexpr std::size_t kDefaultSlotBytes = std::size_t{8} << 20;
+  /// Empty cloud: 0 points, 0 fields, F32, no data.
+  PointCloud() = default;
+
+  /// A zero-filled cloud of num_points points of fields_per_point values of
+  /// dtype (HORUS's PointCloud::new). Throws std::invalid_argument naming the
+  /// problem when fields_per_point is 0, dtype is unknown, or the size
+  /// overflows or exceeds kMaxLargeDataBytes (2 GiB). num_points may be 0.
+  static PointCloud make(std::uint64_t num_points, std::uint32_t fields_per_point, TensorDtype dtype) {
+    std::uint64_t bytes = 0;
+    const detail::SizeError err = check(num_points, fields_per_point, dtype, bytes);
+    if (err != detail::SizeError::None)
+      throw std::invalid_argument(fmt::format(
+          "horus::msg::PointCloud({} points x {} fields {}): {}", num_points, fields_per_point,
+          detail::dtype_text(dtype),
+          err == detail::SizeError::ZeroDimension ? std::string("fields_per_point must be greater than zero")
+                                                  : detail::size_error_text(err, bytes)));
+    PointCloud pc;
+    pc.init(num_points, fields_per_point, dtype, bytes);
+    return pc;
+  }
+
+  /// Non-throwing form of make(): nullopt for invalid arguments or when the
+  /// memory cannot be allocated.
+  static std::optional<PointCloud> create(std::uint64_t num_points, std::uint32_t fields_per_point,
+                                          TensorDtype dtype) noexcept {
+    std::uint64_t bytes = 0;
+    if (check(num_points, fields_per_point, dtype, bytes) != detail::SizeError::None) return std::nullopt;
+    try {
+      PointCloud pc;
+      pc.init(num_points, fields_per_point, dtype, bytes);
+      return pc;
+    } catch (const std::bad_alloc&) {
+      return std::nullopt;
+    }
+  }
+
+  /// An F32 XYZ cloud (3 fields) holding a copy of points. Throws
+  /// std::invalid_argument when it would exceed kMaxLargeDataBytes.
+  static PointCloud from_xyz(std::span<const std::array<float, 3>> points) {
+    PointCloud pc = make(points.size(), 3, TensorDtype::F32);
+    for (std::size_t i = 0; i < points.size(); ++i) pc.put_floats(i, points[i]);
+    return pc;
+  }
+  static PointCloud from_xyz(std::span<const PointXYZ> points) {
+    PointCloud pc = make(points.size(), 3, TensorDtype::F32);
+    for (std::size_t i = 0; i < points.size(); ++i)
+      pc.put_floats(i, std::array<float, 3>{points[i].x, points[i].y, points[i].z});
+    return pc;
+  }
+
+  /// An F32 XYZI cloud (4 fields: x, y, z, intensity) holding a copy of points.
+  static PointCloud from_xyzi(std::span<const std::array<float, 4>> points) {
+    PointCloud pc = make(points.size(), 4, TensorDtype::F32);
+    for (std::size_t i = 0; i < points.size(); ++i) pc.put_floats(i, points[i]);
+    return pc;
+  }
+  static PointCloud from_xyzi(std::span<const PointXYZI> points) {
+    PointCloud pc = make(points.size(), 4, TensorDtype::F32);
+    for (std::size_t i = 0; i < points.size(); ++i)
+      pc.put_floats(i, std::array<float, 4>{points[i].x, points[i].y, points[i].z, points[i].intensity});
+    return pc;
+  }
+
+  /// An F32 XYZRGB cloud (6 fields: x, y, z, r, g, b) holding a copy of points,
+  /// as HORUS's from_xyzrgb(&[[f32; 6]]).
+  static PointCloud from_xyzrgb(std::span<const std::array<float, 6>> points) {
+    PointCloud pc = make(points.size(), 6, TensorDtype::F32);
+    for (std::size_t i = 0; i < points.size(); ++i) pc.put_floats(i, points[i]);
+    return pc;
+  }
+  /// Same from PointXYZRGB: r, g, b become floats 0..255; alpha is dropped.
+  static PointCloud from_xyzrgb(std::span<const PointXYZRGB> points) {
+    PointCloud pc = make(points.size(), 6, TensorDtype::F32);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      const PointXYZRGB& p = points[i];
+      pc.put_floats(i, std::array<float, 6>{p.x, p.y, p.z, static_cast<float>(p.r), static_cast<float>(p.g),
+                                            static_cast<float>(p.b)});
+    }
+    return pc;
+  }
+
+  // --- metadata -----------------------------------------------------------
+  std::uint64_t point_count() const noexcept { return point_count_; }
+  /// Values per point (3 = XYZ, 4 = XYZI, 6 = XYZRGB).
+  std::uint32_t fields_per_point() const noexcept { return fields_per_point_; }
+  TensorDtype dtype() const noexcept { return dtype_; }
+  /// Exactly 3 fields per point.
+  bool is_xyz() const noexcept { return fields_per_point_ == 3; }
+  /// 4 or 5 fields per point: field 3 is intensity. (HORUS says >= 4, which
+  /// would call field 3 of an XYZRGB cloud, the red value, an intensity.)
+  bool has_intensity() const noexcept { return fields_per_point_ >= 4 && !has_color(); }
+  /// 6 or more fields per point: fields 3-5 are r, g, b (as HORUS).
+  bool has_color() const noexcept { return fields_per_point_ >= 6; }
+  /// Bytes per point.
+  std::uint64_t point_size() const noexcept { return std::uint64_t{fields_per_point_} * element_size(dtype_); }
+
+  std::string_view frame_id() const noexcept { return fixed_str_view(frame_id_); }
+  /// False, changing nothing, when the name does not fit (at most 31 characters, no NUL).
+  bool set_frame_id(std::string_view id) noexcept { return set_fixed_str(frame_id_, id); }
+  std::uint64_t timestamp_ns() const noexcept { return timestamp_ns_; }
+  PointCloud& set_timestamp_ns(std::uint64_t ns) noexcept {
+    timestamp_ns_ = ns;
+    return *this;
+  }
+
+  // --- points -------------------------------------------------------------
+  std::span<const std::uint8_t> data() const noexcept { return data_; }
+  std::span<std::uint8_t> data_mut() noexcept { return data_; }
+
+  /// The bytes of point idx (point_size() bytes), or nullopt when idx >= point_count().
+  std::optional<std::span<const std::uint8_t>> point_at(std::uint64_t idx) const noexcept {
+    const std::uint64_t size = point_size();
+    if (idx >= point_count_ || size == 0 || idx >= data_.size() / size) return std::nullopt;
+    return std::span<const std::uint8_t>(data_).subspan(static_cast<std::size_t>(idx * size),
+                                                        static_cast<std::size_t>(size));
+  }
+
+  /// x, y, z (fields 0-2) of every point. nullopt when dtype() is not F32 or
+  /// there are fewer than 3 fields per point (or the cloud is inconsistent).
+  std::optional<std::vector<std::array<float, 3>>> extract_xyz() const {
+    if (dtype_ != TensorDtype::F32 || fields_per_point_ < 3 || !is_consistent()) return std::nullopt;
+    std::vector<std::array<float, 3>> out(static_cast<std::size_t>(point_count_));
+    const std::size_t stride = static_cast<std::size_t>(point_size());
+    for (std::size_t i = 0; i < out.size(); ++i)
+      std::memcpy(out[i].data(), data_.data() + i * stride, 3 * sizeof(float));
+    return out;
+  }
+
+  /// Copies all point data (src.size() must equal data().size()). False,
+  /// copying nothing, otherwise (HORUS panics).
+  bool copy_from(std::span<const std::uint8_t> src) noexcept {
+    if (src.size() != data_.size()) return false;
+    if (!src.empty()) std::memcpy(data_.data(), src.data(), src.size());
+    return true;
+  }
+
+  // --- descriptor ---------------------------------------------------------
+  /// The fixed-size description of this cloud (pool fields 0: heap).
+  PointCloudDescriptor descriptor() const noexcept {
+    PointCloudDescriptor d{};
+    d.point_count = point_count_;
+    d.fields_per_point = fields_per_point_;
+    d.dtype = dtype_;
+    d.frame_id = frame_id_;
+    d.timestamp_ns = timestamp_ns_;
+    d.data_size = data_.size();
+    return d;
+  }
+
+  /// Rebuilds a cloud from its descriptor and bytes (copied). nullopt unless
+  /// fields_per_point > 0, dtype is known, data_size == point_count *
+  /// fields_per_point * element size <= kMaxLargeDataBytes, bytes.size() ==
+  /// data_size and frame_id is NUL-terminated. The pool fields are not used.
+  static std::optional<PointCloud> from_descriptor(const PointCloudDescriptor& desc,
+                                                   std::span<const std::uint8_t> bytes) {
+    std::uint64_t size = 0;
+    if (check(desc.point_count, desc.fields_per_point, desc.dtype, size) != detail::SizeError::None)
+      return std::nullopt;
+    if (size != desc.data_size || bytes.size() != size || !detail::has_terminator(desc.frame_id)) return std::nullopt;
+    PointCloud pc;
+    pc.point_count_ = desc.point_count;
+    pc.fields_per_point_ = desc.fields_per_point;
+    pc.dtype_ = desc.dtype;
+    pc.frame_id_ = desc.frame_id;
+    pc.timestamp_ns_ = desc.timestamp_ns;
+    pc.data_.assign(bytes.begin(), bytes.end());
+    return pc;
+  }
+
+  /// True when data().size() == point_count * point_size() and dtype is known
+  /// (always for a cloud made here; maybe not for hand-edited JSON).
+  bool is_consistent() const noexcept {
+    if (element_size(dtype_) == 0) return false;
+    std::uint64_t size = 0;
+    return detail::checked_mul(point_count_, point_size(), size) && size == data_.size();
+  }
+
+  /// "PointCloud(1000 points xyz f32, 11.7 KiB)".
+  std::string log_summary() const {
+    return fmt::format("PointCloud({} points {} {}, {})", point_count_, detail::cloud_kind(fields_per_point_),
+                       detail::ascii_lower(detail::dtype_text(dtype_)), detail::format_bytes(data_.size()));
+  }
+
+  friend bool operator==(const PointCloud&, const PointCloud&) = default;
+
+ private:
+  std::uint64_t point_count_{};
+  std::uint32_t fields_per_point_{};
+  TensorDtype dtype_{TensorDtype::F32};
+  std::array<char, 32> frame_id_{};
+  std::uint64_t timestamp_ns_{};
+  std::vector<std::uint8_t> data_;
+
+  HORUS_REFLECT_FRIEND(PointCloud)
+
+  static detail::SizeError check(std::uint64_t num_points, std::uint32_t fields, TensorDtype dtype,
+                                 std::uint64_t& bytes) noexcept {
+    const std::size_t elem = element_size(dtype);
+    if (elem == 0) return detail::SizeError::UnknownType;
+    if (fields == 0) return detail::SizeError::ZeroDimension;
+    std::uint64_t n = 0;
+    if (!detail::checked_mul(num_points, std::uint64_t{fields} * elem, n)) return detail::SizeError::Overflow;
+    bytes = n;
+    return n > kMaxLargeDataBytes ? detail::SizeError::TooLarge : detail::SizeError::None;
+  }
+
+  void init(std::uint64_t num_points, std::uint32_t fields, TensorDtype dtype, std::uint64_t bytes) {
+    point_count_ = num_points;
+    fields_per_point_ = fields;
+    dtype_ = dtype;
+    data_.assign(static_cast<std::size_t>(bytes), std::uint8_t{0});
+  }
+
+  // Writes the floats of point i (F32 clouds built by the factories).
+  template <std::size_t N>
+  void put_floats(std::size_t i, const std::array<float, N>& values) noexcept {
+    std::memcpy(data_.data() + i * N * sizeof(float), values.data(), N * sizeof(float));
+  }
+};
+HORUS_REFLECT_AS(PointCloud, (point_count, point_count_), (fields_per_point, fields_per_point_), (dtype, dtype_),
+                 (frame_id, frame_id_), (timestamp_ns, timestamp_ns_), (data, data_))
+
+// ---------------------------------------------------------------------------
+/// Fixed-size description of a DepthImage (HORUS's 224-byte
+/// DepthImageDescriptor also has min_depth / max_depth, which HORUS's
+/// DepthImage does not expose; they are left out here).
+struct DepthImageDescriptor {
+  std::uint32_t width{};   ///< pixels
+  std::uint32_t height{};  ///< pixels
+  TensorDtype dtype{TensorDtype::F32};  ///< F32 = metres, U16 = millimetres
+  float depth_scale{1.0f};              ///< mm per raw unit (U16 images)
+  std::array<char, 32> frame_id{};      ///< camera frame, NUL-terminated, at most 31 characters
+  std::uint64_t timestamp_ns{};         ///< ns since the epoch
+  std::uint64_t data_size{};            ///< bytes of depth data
+  // Location of the bytes: filled by the shared-memory pool (next issue); 0 = heap.
+  std::uint32_t pool_id{};     ///< pool holding the bytes; 0 = heap (not in a pool)
+  std::uint32_t slot_id{};     ///< slot within the pool
+  std::uint64_t generation{};  ///< slot generation (guards against reuse of a freed slot)
+  std::uint64_t offset{};      ///< byte offset of the data from the pool base
+
+  bool set_frame_id(std::string_view text) noexcept { return set_fixed_str(frame_id, text); }
+  std::string_view frame_id_str() const noexcept { return fixed_str_view(frame_id); }
+
+  /// "DepthImageDescriptor(640x480 meters, 1.2 MiB, heap)".
+  std::string log_summary() const {
+    return fmt::format("DepthImageDescriptor({}x{} {}, {}, {})", width, height, detail::depth_unit(dtype),
+                       detail::format_bytes(data_size), detail::pool_text(pool_id, slot_id));
+  }
+
+  friend constexpr bool operator==(const DepthImageDescriptor&, const DepthImageDescriptor&) = default;
+};
+HORUS_REFLECT(DepthImageDescriptor, width, height, dtype, depth_scale, frame_id, timestamp_ns, data_size, pool_id,
+              slot_id, generation, offset)
+static_assert(horus::reflect::is_fixed_size<DepthImageDescriptor>,
+              "DepthImageDescriptor must be trivially copyable and standard layout");
+
+// ---------------------------------------------------------------------------
+/// A depth image: height() x width() depths, row-major, either F32 metres
+/// (meters()) or U16 raw units (millimeters(); depth in m = raw *
+/// depth_scale() / 1000, depth_scale = mm per unit, 1 by default). A depth of
+/// 0, NaN or +-inf (or a negative one) means "no measurement".
+///
+///   DepthImage depth = DepthImage::meters(480, 640);   // height, width
+///   depth.set_depth(100, 200, 1.5f);                   // x = 100, y = 200, metres
+///   auto [min_m, max_m, mean_m] = depth.depth_statistics();
+///
+/// A default-constructed DepthImage is empty (0x0, F32, no data). Copying a
+/// DepthImage copies its depths.
+class DepthImage {
+ public:
+  /// Largest encoded message a Topic<DepthImage> carries unless told otherwise: a 1920x1080 F32 depth frame.
+  static constexpr std::size_t kDefaultSlotBytes = std::size_t{8} << 20;
+  /// Empty depth image: 0x0, F32, no data.
+  DepthImage() = default;
+
+  /// A zero-filled (no measurement) height x width image of F32 metres. Throws
+  /// std::invalid_argument naming the problem when a dimension is 0 or the
+  /// size exceeds kMaxLargeDataBytes (2 GiB).
+  static DepthImage meters(std::uint32_t height, std::uint32_t width) {
+    return make(height, width, TensorDtype::F32);
+  }
+  /// Same with U16 millimetres (depth_scale 1).
+  static DepthImage millimeters(std::uint32_t height, std::uint32_t width) {
+    return make(height, width, TensorDtype::U16);
+  }
+  /// Non-throwing forms: nullopt for invalid arguments or when the memory cannot be allocated.
+  static std::optional<DepthImage> create_meters(std::uint32_t height, std::uint32_t width) noexcept {
+    return create(height, width, TensorDtype::F32);
+  }
+  static std::optional<DepthImage> create_millimeters(std::uint32_t height, std::uint32_t width) noexcept {
+    return create(height, width, TensorDtype::U16);
+  }
+
+  // --- metadata -----------------------------------------------------------
+  std::uint32_t width() const noexcept { return width_; }    ///< pixels
+  std::uint32_t height() const noexcept { return height_; }  ///< pixels
+  TensorDtype dtype() const noexcept { return dtype_; }      ///< F32 or U16
+  bool is_meters() const noexcept { return dtype_ == TensorDtype::F32; }
+  bool is_millimeters() const noexcept { return dtype_ == TensorDtype::U16; }
+  /// Millimetres per raw unit of a U16 image (1 = raw values are mm).
+  float depth_scale() const noexcept { return depth_scale_; }
+  /// Sets the scale; false, changing nothing, unless it is finite and > 0.
+  bool set_depth_scale(float mm_per_unit) noexcept {
+    if (!std::isfinite(mm_per_unit) || mm_per_unit <= 0.0f) return false;
+    depth_scale_ = mm_per_unit;
+    return true;
+  }
+
+  std::string_view frame_id() const noexcept { return fixed_str_view(frame_id_); }
+  /// False, changing nothing, when the name does not fit (at most 31 characters, no NUL).
+  bool set_frame_id(std::string_view id) noexcept { return set_fixed_str(frame_id_, id); }
+  std::uint64_t timestamp_ns() const noexcept { return timestamp_ns_; }
+  DepthImage& set_timestamp_ns(std::uint64_t ns) noexcept {
+    timestamp_ns_ = ns;
+    return *this;
+  }
+
+  // --- depths -------------------------------------------------------------
+  std::span<const std::uint8_t> data() const noexcept { return data_; }
+  std::span<std::uint8_t> data_mut() noexcept { return data_; }
+
+  /// Depth at (x, y) in metres (U16: raw * depth_scale / 1000; invalid pixels
+  /// come back as stored: 0 or NaN). nullopt when out of bounds.
+  std::optional<float> get_depth(std::uint32_t x, std::uint32_t y) const noexcept {
+    const auto off = offset_of(x, y);
+    if (!off) return std::nullopt;
+    if (is_meters()) return detail::load_at<float>(data_, *off);
+    const auto raw = detail::load_at<std::uint16_t>(data_, *off);
+    return static_cast<float>(static_cast<double>(raw) * static_cast<double>(depth_scale_) / 1000.0);
+  }
+
+  /// Raw U16 value at (x, y); nullopt when out of bounds or the image is F32.
+  std::optional<std::uint16_t> get_depth_u16(std::uint32_t x, std::uint32_t y) const noexcept {
+    if (!is_millimeters()) return std::nullopt;
+    const auto off = offset_of(x, y);
+    if (!off) return std::nullopt;
+    return detail::load_at<std::uint16_t>(data_, *off);
+  }
+
+  /// Stores a depth in metres at (x, y). F32 images store any value (NaN or 0
+  /// marks "no measurement"). U16 images store round(metres * 1000 /
+  /// depth_scale); false when that is NaN, infinite, negative or above 65535
+  /// (HORUS returns an error there, and truncates instead of rounding).
+  /// False, changing nothing, when (x, y) is out of bounds. (HORUS returns
+  /// &mut Self; the bool lets a caller notice a refused value.)
+  bool set_depth(std::uint32_t x, std::uint32_t y, float metres) noexcept {
+    const auto off = offset_of(x, y);
+    if (!off) return false;
+    if (is_meters()) {
+      detail::store_at(data_mut(), *off, metres);
+      return true;
+    }
+    const double raw = std::round(static_cast<double>(metres) * 1000.0 / static_cast<double>(depth_scale_));
+    if (!std::isfinite(raw) || raw < 0.0 || raw > 65535.0) return false;
+    detail::store_at(data_mut(), *off, static_cast<std::uint16_t>(raw));
+    return true;
+  }
+
+  /// (min, max, mean) in metres over the valid pixels: those whose depth is
+  /// finite and > 0 (0, NaN, +-inf and negative depths are skipped, as HORUS).
+  /// (0, 0, 0) when no pixel is valid (newer HORUS returns None there).
+  std::tuple<float, float, float> depth_statistics() const noexcept {
+    float lo = std::numeric_limits<float>::max();
+    float hi = std::numeric_limits<float>::lowest();
+    double sum = 0.0;
+    std::uint64_t count = 0;
+    for (std::uint32_t y = 0; y < height_; ++y)
+      for (std::uint32_t x = 0; x < width_; ++x) {
+        const auto d = get_depth(x, y);
+        if (!d || !std::isfinite(*d) || *d <= 0.0f) continue;
+        lo = std::min(lo, *d);
+        hi = std::max(hi, *d);
+        sum += static_cast<double>(*d);
+        ++count;
+      }
+    if (count == 0) return {0.0f, 0.0f, 0.0f};
+    return {lo, hi, static_cast<float>(sum / static_cast<double>(count))};
+  }
+
+  /// Copies all depth data (src.size() must equal data().size()). False,
+  /// copying nothing, otherwise.
+  bool copy_from(std::span<const std::uint8_t> src) noexcept {
+    if (src.size() != data_.size()) return false;
+    if (!src.empty()) std::memcpy(data_.data(), src.data(), src.size());
+    return true;
+  }
+
+  // --- descriptor ---------------------------------------------------------
+  /// The fixed-size description of this depth image (pool fields 0: heap).
+  DepthImageDescriptor descriptor() const noexcept {
+    DepthImageDescriptor d{};
+    d.width = width_;
+    d.height = height_;
+    d.dtype = dtype_;
+    d.depth_scale = depth_scale_;
+    d.frame_id = frame_id_;
+    d.timestamp_ns = timestamp_ns_;
+    d.data_size = data_.size();
+    return d;
+  }
+
+  /// Rebuilds a depth image from its descriptor and bytes (copied). nullopt
+  /// unless dtype is F32 or U16, width and height are > 0, data_size == width *
+  /// height * element size <= kMaxLargeDataBytes, bytes.size() == data_size,
+  /// depth_scale is finite and > 0 and frame_id is NUL-terminated.
+  static std::optional<DepthImage> from_descriptor(const DepthImageDescriptor& desc,
+                                                   std::span<const std::uint8_t> bytes) {
+    std::uint64_t size = 0;
+    if (check(desc.height, desc.width, desc.dtype, size) != detail::SizeError::None) return std::nullopt;
+    if (size != desc.data_size || bytes.size() != size || !detail::has_terminator(desc.frame_id)) return std::nullopt;
+    DepthImage img;
+    if (!img.set_depth_scale(desc.depth_scale)) return std::nullopt;
+    img.width_ = desc.width;
+    img.height_ = desc.height;
+    img.dtype_ = desc.dtype;
+    img.frame_id_ = desc.frame_id;
+    img.timestamp_ns_ = desc.timestamp_ns;
+    img.data_.assign(bytes.begin(), bytes.end());
+    return img;
+  }
+
+  /// True when dtype is F32 or U16 and data().size() == width * height *
+  /// element size (always for an image made here; maybe not for hand-edited JSON).
+  bool is_consistent() const noexcept {
+    if (!is_meters() && !is_millimeters()) return false;
+    std::uint64_t size = 0;
+    return detail::checked_mul(std::uint64_t{width_} * height_, element_size(dtype_), size) && size == data_.size();
+  }
+
+  /// "DepthImage(640x480 meters, 1.2 MiB)" or "DepthImage(640x480 millimeters, 600 KiB)".
+  std::string log_summary() const {
+    return fmt::format("DepthImage({}x{} {}, {})", width_, height_, detail::depth_unit(dtype_),
+                       detail::format_bytes(data_.size()));
+  }
+
+  friend bool operator==(const DepthImage&, const DepthImage&) = default;
+
+ private:
+  std::uint32_t width_{};
+  std::uint32_t height_{};
+  TensorDtype dtype_{TensorDtype::F32};
+  float depth_scale_{1.0f};
+  std::array<char, 32> frame_id_{};
+  std::uint64_t timestamp_ns_{};
+  std::vector<std::uint8_t> data_;
+
+  HORUS_REFLECT_FRIEND(DepthImage)
+
+  static detail::SizeError check(std::uint32_t height, std::uint32_t width, TensorDtype dtype,
+                                 std::uint64_t& bytes) noexcept {
+    if (dtype != TensorDtype::F32 && dtype != TensorDtype::U16) return detail::SizeError::UnknownType;
+    if (width == 0 || height == 0) return detail::SizeError::ZeroDimension;
+    std::uint64_t n = 0;  // width * height < 2^64, but times the element size may overflow
+    if (!detail::checked_mul(std::uint64_t{width} * height, element_size(dtype), n)) return detail::SizeError::Overflow;
+    bytes = n;
+    return n > kMaxLargeDataBytes ? detail::SizeError::TooLarge : detail::SizeError::None;
+  }
+
+  static DepthImage make(std::uint32_t height, std::uint32_t width, TensorDtype dtype) {
+    std::uint64_t bytes = 0;
+    const detail::SizeError err = check(height, width, dtype, bytes);
+    if (err != detail::SizeError::None)
+      throw std::invalid_argument(fmt::format("horus::msg::DepthImage({}x{} {}): {}", width, height,
+                                              detail::depth_unit(dtype), detail::size_error_text(err, bytes)));
+    DepthImage img;
+    img.init(height, width, dtype, bytes);
+    return img;
+  }
+
+  static std::optional<DepthImage> create(std::uint32_t height, std::uint32_t width, TensorDtype dtype) noexcept {
+    std::uint64_t bytes = 0;
+    if (check(height, width, dtype, bytes) != detail::SizeError::None) return std::nullopt;
+    try {
+      DepthImage img;
+      img.init(height, width, dtype, bytes);
+      return img;
+    } catch (const std::bad_alloc&) {
+      return std::nullopt;
+    }
+  }
+
+  void init(std::uint32_t height, std::uint32_t width, TensorDtype dtype, std::uint64_t bytes) {
+    width_ = width;
+    height_ = height;
+    dtype_ = dtype;
+    data_.assign(static_cast<std::size_t>(bytes), std::uint8_t{0});
+  }
+
+  // Byte offset of pixel (x, y) when it is inside the image and inside data_.
+  std::optional<std::size_t> offset_of(std::uint32_t x, std::uint32_t y) const noexcept {
+    if (x >= width_ || y >= height_ || (!is_meters() && !is_millimeters())) return std::nullopt;
+    const std::uint64_t elem = element_size(dtype_);
+    const std::uint64_t off = (std::uint64_t{y} * width_ + x) * elem;
+    if (off + elem > data_.size()) return std::nullopt;
+    return static_cast<std::size_t>(off);
+  }
+};
+HORUS_REFLECT_AS(DepthImage, (width, width_), (height, height_), (dtype, dtype_), (depth_scale, depth_scale_),
+                 (frame_id, frame_id_), (timestamp_ns, timestamp_ns_), (data, data_))
+
+}  // namespace horus::msg

@@ -1,0 +1,1247 @@
+// Unit tests of the diagnostics, force, audio and generic messages: helpers and
+// their edges, layout guarantees, printing and JSON round trips.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <bit>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <ostream>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <type_traits>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "horus/json.hpp"
+#include "horus/msg/audio.hpp"
+#include "horus/msg/diagnostics.hpp"
+#include "horus/msg/force.hpp"
+#include "horus/msg/generic.hpp"
+
+namespace horus::msg {
+// Lets GoogleTest print messages in failure output (found by ADL).
+template <class T>
+  requires horus::Reflected<T>
+void PrintTo(const T& m, std::ostream* os) {
+  *os << horus::to_string(m);
+}
+}  // namespace horus::msg
+
+// A user type carried by GenericMessage (packed as a MessagePack array).
+namespace app {
+struct SensorReading {
+  double temperature{};
+  double humidity{};
+  std::string label;
+  std::vector<int> history;
+  MSGPACK_DEFINE(temperature, humidity, label, history)
+  friend bool operator==(const SensorReading&, const SensorReading&) = default;
+};
+}  // namespace app
+
+namespace {
+
+using namespace horus::msg;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+std::vector<std::uint8_t> bytes_of(std::size_t n) {
+  std::vector<std::uint8_t> v(n);
+  for (std::size_t i = 0; i < n; ++i) v[i] = static_cast<std::uint8_t>((i * 7 + 3) & 0xFF);
+  return v;
+}
+
+bool contains(std::string_view text, std::string_view part) { return text.find(part) != std::string_view::npos; }
+
+// ===========================================================================
+// Enums
+
+TEST(DiagnosticEnums, ValuesAndNamesMatchHorus) {
+  static_assert(static_cast<int>(StatusLevel::Ok) == 0 && static_cast<int>(StatusLevel::Fatal) == 3);
+  static_assert(static_cast<int>(NodeState::Idle) == 0 && static_cast<int>(NodeState::Error) == 5);
+  static_assert(static_cast<int>(HealthStatus::Healthy) == 0 && static_cast<int>(HealthStatus::Unknown) == 4);
+  EXPECT_EQ(to_string(StatusLevel::Warn), "Warn");
+  EXPECT_EQ(to_string(NodeState::Initializing), "Initializing");
+  EXPECT_EQ(to_string(HealthStatus::Critical), "Critical");
+  EXPECT_EQ(to_string(static_cast<StatusLevel>(9)), "");
+}
+
+// ===========================================================================
+// NodeHeartbeat
+
+TEST(NodeHeartbeat, FieldTypesFollowTheSpec) {
+  static_assert(std::is_same_v<decltype(NodeHeartbeat::tick_count), std::uint32_t>);
+  static_assert(std::is_same_v<decltype(NodeHeartbeat::target_rate), float>);
+  static_assert(std::is_same_v<decltype(NodeHeartbeat::actual_rate), float>);
+  static_assert(std::is_same_v<decltype(NodeHeartbeat::last_tick_timestamp), std::uint64_t>);
+  EXPECT_EQ(sizeof(NodeHeartbeat), 40u);
+}
+
+TEST(NodeHeartbeat, MakeSetsStateHealthAndBothTimestamps) {
+  const NodeHeartbeat hb = NodeHeartbeat::make(NodeState::Running, HealthStatus::Warning, 1'700'000'000);
+  EXPECT_EQ(hb.state_enum(), NodeState::Running);
+  EXPECT_EQ(hb.health_enum(), HealthStatus::Warning);
+  EXPECT_EQ(hb.state, 2u);
+  EXPECT_EQ(hb.health, 1u);
+  EXPECT_EQ(hb.last_tick_timestamp, 1'700'000'000u);
+  EXPECT_EQ(hb.heartbeat_timestamp, 1'700'000'000u);
+  EXPECT_EQ(hb.tick_count, 0u);
+  EXPECT_EQ(hb.error_count, 0u);
+}
+
+TEST(NodeHeartbeat, MakeWithoutATimeUsesEpochSecondsOfTheSystemClock) {
+  const auto now = [] {
+    return static_cast<std::uint64_t>(
+        std::chrono::duration_cast<std::chrono::seconds>(std::chrono::system_clock::now().time_since_epoch()).count());
+  };
+  const std::uint64_t before = now();
+  const NodeHeartbeat hb = NodeHeartbeat::make(NodeState::Idle, HealthStatus::Unknown);
+  const std::uint64_t after = now();
+  EXPECT_GE(hb.heartbeat_timestamp, before);
+  EXPECT_LE(hb.heartbeat_timestamp, after);
+  EXPECT_TRUE(hb.is_fresh(5));
+}
+
+TEST(NodeHeartbeat, IsFreshUpToMaxAgeAndStaleAfter) {
+  const NodeHeartbeat hb = NodeHeartbeat::make(NodeState::Running, HealthStatus::Healthy, 1000);
+  EXPECT_TRUE(hb.is_fresh(5, 1000));
+  EXPECT_TRUE(hb.is_fresh(5, 1005));
+  EXPECT_FALSE(hb.is_fresh(5, 1006));
+  EXPECT_FALSE(hb.is_fresh(0, 1001));
+  // Stamped in the future (clock skew): fresh, not an unsigned wrap-around.
+  EXPECT_TRUE(hb.is_fresh(0, 10));
+}
+
+TEST(NodeHeartbeat, UpdateTimestampMovesOnlyTheHeartbeatTime) {
+  NodeHeartbeat hb = NodeHeartbeat::make(NodeState::Running, HealthStatus::Healthy, 100);
+  hb.update_timestamp(250);
+  EXPECT_EQ(hb.heartbeat_timestamp, 250u);
+  EXPECT_EQ(hb.last_tick_timestamp, 100u);
+  hb.set_state(NodeState::Stopped);
+  hb.set_health(HealthStatus::Error);
+  EXPECT_EQ(hb.state, 4u);
+  EXPECT_EQ(hb.health, 2u);
+}
+
+// ===========================================================================
+// Status / DiagnosticStatus
+
+TEST(Status, FactoriesSetLevelCodeAndMessage) {
+  const Status ok = Status::ok("all good");
+  EXPECT_EQ(ok.level_enum(), StatusLevel::Ok);
+  EXPECT_EQ(ok.code, 0u);
+  EXPECT_EQ(ok.message_str(), "all good");
+  EXPECT_EQ(ok.component_str(), "");
+  EXPECT_EQ(Status::warn(12, "hot").level, Status::LEVEL_WARN);
+  EXPECT_EQ(Status::warn(12, "hot").code, 12u);
+  EXPECT_EQ(Status::error(13, "stalled").level, Status::LEVEL_ERROR);
+  EXPECT_EQ(Status::fatal(14, "dead").level, Status::LEVEL_FATAL);
+  EXPECT_EQ(Status::make(StatusLevel::Error, 7, "x"), *Status::create(StatusLevel::Error, 7, "x"));
+}
+
+TEST(Status, LevelConstantsMatchStatusLevel) {
+  static_assert(Status::LEVEL_OK == static_cast<std::uint8_t>(StatusLevel::Ok));
+  static_assert(Status::LEVEL_WARN == static_cast<std::uint8_t>(StatusLevel::Warn));
+  static_assert(Status::LEVEL_ERROR == static_cast<std::uint8_t>(StatusLevel::Error));
+  static_assert(Status::LEVEL_FATAL == static_cast<std::uint8_t>(StatusLevel::Fatal));
+  Status s{};
+  s.set_level(StatusLevel::Fatal);
+  EXPECT_EQ(s.level, 3u);
+}
+
+TEST(Status, MessageOf127CharactersFitsAnd128IsRefused) {
+  const std::string fits(127, 'm');
+  const std::string too_long(128, 'm');
+  EXPECT_EQ(Status::create(StatusLevel::Warn, 1, fits)->message_str(), fits);
+  EXPECT_EQ(Status::create(StatusLevel::Warn, 1, too_long), std::nullopt);
+  EXPECT_THROW((void)Status::warn(1, too_long), std::invalid_argument);
+  EXPECT_THROW((void)Status::ok(std::string("a\0b", 3)), std::invalid_argument);
+  try {
+    (void)Status::error(1, too_long);
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_TRUE(std::string_view(e.what()).starts_with("Status message")) << e.what();
+    EXPECT_TRUE(contains(e.what(), "128 characters")) << e.what();
+    EXPECT_TRUE(contains(e.what(), "at most 127")) << e.what();
+  }
+  Status s = Status::ok("keep");
+  EXPECT_FALSE(s.set_message(too_long));
+  EXPECT_EQ(s.message_str(), "keep");
+}
+
+TEST(Status, WithComponentSetsTheNameAndRefusesOneThatDoesNotFit) {
+  const Status s = Status::warn(3, "low battery").with_component("power");
+  EXPECT_EQ(s.component_str(), "power");
+  EXPECT_EQ(s.message_str(), "low battery");
+  EXPECT_EQ(Status::ok("x").with_component(std::string(31, 'c')).component_str(), std::string(31, 'c'));
+  EXPECT_THROW((void)Status::ok("x").with_component(std::string(32, 'c')), std::invalid_argument);
+  Status t = s;
+  EXPECT_FALSE(t.set_component(std::string(32, 'c')));
+  EXPECT_EQ(t.component_str(), "power");
+}
+
+TEST(DiagnosticStatus, HasTheFieldsHelpersAndLayoutOfStatusUnderItsOwnName) {
+  static_assert(!std::is_same_v<DiagnosticStatus, Status>);
+  EXPECT_EQ(horus::type_name<DiagnosticStatus>(), "horus::msg::DiagnosticStatus");
+  EXPECT_NE(horus::type_hash<DiagnosticStatus>, horus::type_hash<Status>);
+  EXPECT_EQ(sizeof(DiagnosticStatus), sizeof(Status));
+  EXPECT_EQ(offsetof(DiagnosticStatus, component), offsetof(Status, component));
+
+  const DiagnosticStatus d = DiagnosticStatus::error(5, "overheat").with_component("motor");
+  static_assert(std::is_same_v<decltype(d), const DiagnosticStatus>);
+  EXPECT_EQ(d.level_enum(), StatusLevel::Error);
+  EXPECT_EQ(d.code, 5u);
+  EXPECT_EQ(d.message_str(), "overheat");
+  EXPECT_EQ(d.component_str(), "motor");
+  EXPECT_EQ(DiagnosticStatus::create(StatusLevel::Fatal, 1, std::string(128, 'x')), std::nullopt);
+  // Same bytes as the Status built the same way.
+  const Status s = Status::error(5, "overheat").with_component("motor");
+  EXPECT_EQ(std::memcmp(&d, &s, sizeof s), 0);
+  try {
+    (void)DiagnosticStatus::ok(std::string(128, 'x'));
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_TRUE(std::string_view(e.what()).starts_with("DiagnosticStatus message")) << e.what();
+  }
+}
+
+TEST(Status, LayoutMatchesHorus) {
+  static_assert(std::is_aggregate_v<Status> && std::is_aggregate_v<DiagnosticStatus>);
+  EXPECT_EQ(sizeof(Status), 176u);
+  EXPECT_EQ(offsetof(Status, code), 4u);
+  EXPECT_EQ(offsetof(Status, message), 8u);
+  EXPECT_EQ(offsetof(Status, component), 136u);
+  EXPECT_EQ(offsetof(Status, timestamp_ns), 168u);
+  static_assert(std::tuple_size_v<decltype(Status::message)> == 128);
+  static_assert(std::tuple_size_v<decltype(Status::component)> == 32);
+}
+
+// ===========================================================================
+// EmergencyStop
+
+TEST(EmergencyStop, EngageSetsEngagedAndReason) {
+  const EmergencyStop e = EmergencyStop::engage("obstacle in path");
+  EXPECT_TRUE(e.is_engaged());
+  EXPECT_EQ(e.engaged, 1u);
+  EXPECT_EQ(e.reason_str(), "obstacle in path");
+  EXPECT_EQ(e.auto_reset, 0u);
+  EXPECT_EQ(e.source_str(), "");
+  const EmergencyStop s = e.with_source("teleop");
+  EXPECT_EQ(s.source_str(), "teleop");
+  EXPECT_EQ(s.reason_str(), "obstacle in path");
+  EXPECT_TRUE(s.is_engaged());
+}
+
+TEST(EmergencyStop, ReleaseClearsTheStop) {
+  const EmergencyStop r = EmergencyStop::release();
+  EXPECT_FALSE(r.is_engaged());
+  EXPECT_EQ(r.engaged, 0u);
+  EXPECT_EQ(r.reason_str(), "");
+  EXPECT_EQ(r, EmergencyStop{});
+}
+
+TEST(EmergencyStop, EngageWithAReasonThatDoesNotFitStillEngagesAndMarksTheCut) {
+  const std::string fits(63, 'r');
+  EXPECT_EQ(EmergencyStop::engage(fits).reason_str(), fits);
+
+  const std::string long_reason = "lidar reports an obstacle closer than the safety distance of 0.3 m on the left";
+  ASSERT_GT(long_reason.size(), 63u);
+  const EmergencyStop e = EmergencyStop::engage(long_reason);
+  EXPECT_TRUE(e.is_engaged());
+  const std::string_view r = e.reason_str();
+  EXPECT_EQ(r.size(), 63u);
+  EXPECT_EQ(r.substr(60), "...");
+  EXPECT_EQ(r.substr(0, 60), std::string_view(long_reason).substr(0, 60));
+
+  // A NUL ends the kept text; the cut is still marked.
+  const EmergencyStop n = EmergencyStop::engage(std::string("stop\0now", 8));
+  EXPECT_TRUE(n.is_engaged());
+  EXPECT_EQ(n.reason_str(), "stop...");
+
+  // Strict setter: refuses and leaves the reason alone.
+  EmergencyStop strict = EmergencyStop::engage("short");
+  EXPECT_FALSE(strict.set_reason(long_reason));
+  EXPECT_EQ(strict.reason_str(), "short");
+}
+
+TEST(EmergencyStop, ShortenedTextNeverSplitsAUtf8Character) {
+  // 59 ASCII bytes then 3-byte characters: byte 60 falls inside one.
+  std::string reason(59, 'a');
+  for (int i = 0; i < 5; ++i) reason += "\xE2\x82\xAC";  // U+20AC
+  const EmergencyStop e = EmergencyStop::engage(reason);
+  EXPECT_EQ(e.reason_str(), std::string(59, 'a') + "...");
+
+  const EmergencyStop s = EmergencyStop::engage("x").with_source(std::string(40, 's'));
+  EXPECT_EQ(s.source_str(), std::string(28, 's') + "...");
+}
+
+TEST(EmergencyStop, LayoutMatchesHorus) {
+  EXPECT_EQ(sizeof(EmergencyStop), 112u);
+  EXPECT_EQ(offsetof(EmergencyStop, reason), 1u);
+  EXPECT_EQ(offsetof(EmergencyStop, source), 65u);
+  EXPECT_EQ(offsetof(EmergencyStop, auto_reset), 97u);
+  EXPECT_EQ(offsetof(EmergencyStop, timestamp_ns), 104u);
+}
+
+// ===========================================================================
+// SafetyStatus
+
+TEST(SafetyStatus, MakeIsSafeAndAllZerosIsNot) {
+  const SafetyStatus s = SafetyStatus::make();
+  EXPECT_TRUE(s.is_safe());
+  EXPECT_EQ(s.mode, SafetyStatus::MODE_NORMAL);
+  EXPECT_FALSE(SafetyStatus{}.is_safe());
+  EXPECT_EQ(SafetyStatus::MODE_REDUCED, 1u);
+  EXPECT_EQ(SafetyStatus::MODE_SAFE_STOP, 2u);
+}
+
+TEST(SafetyStatus, AnyBadFlagOrFaultMakesItUnsafe) {
+  auto with = [](auto change) {
+    SafetyStatus s = SafetyStatus::make();
+    change(s);
+    return s.is_safe();
+  };
+  EXPECT_FALSE(with([](SafetyStatus& s) { s.enabled = 0; }));
+  EXPECT_FALSE(with([](SafetyStatus& s) { s.estop_engaged = 1; }));
+  EXPECT_FALSE(with([](SafetyStatus& s) { s.watchdog_ok = 0; }));
+  EXPECT_FALSE(with([](SafetyStatus& s) { s.limits_ok = 0; }));
+  EXPECT_FALSE(with([](SafetyStatus& s) { s.comms_ok = 0; }));
+  EXPECT_FALSE(with([](SafetyStatus& s) { s.fault_code = 42; }));
+  EXPECT_TRUE(with([](SafetyStatus& s) { s.mode = SafetyStatus::MODE_REDUCED; }));
+}
+
+TEST(SafetyStatus, SetFaultSwitchesToSafeStopAndClearFaultsRestoresNormal) {
+  SafetyStatus s = SafetyStatus::make();
+  s.set_fault(17);
+  EXPECT_EQ(s.fault_code, 17u);
+  EXPECT_EQ(s.mode, SafetyStatus::MODE_SAFE_STOP);
+  EXPECT_FALSE(s.is_safe());
+  s.set_fault(0);  // clears the code but keeps the mode
+  EXPECT_EQ(s.fault_code, 0u);
+  EXPECT_EQ(s.mode, SafetyStatus::MODE_SAFE_STOP);
+  s.set_fault(3);
+  s.clear_faults();
+  EXPECT_EQ(s.fault_code, 0u);
+  EXPECT_EQ(s.mode, SafetyStatus::MODE_NORMAL);
+  EXPECT_TRUE(s.is_safe());
+  EXPECT_EQ(sizeof(SafetyStatus), 24u);
+}
+
+// ===========================================================================
+// ResourceUsage
+
+TEST(ResourceUsage, ThresholdsAreStrictAndNaNIsNeverHigh) {
+  ResourceUsage r = ResourceUsage::make();
+  EXPECT_EQ(r, ResourceUsage{});
+  r.cpu_percent = 80.0f;
+  r.memory_percent = 50.0f;
+  r.temperature = 70.0f;
+  EXPECT_TRUE(r.is_cpu_high(79.9f));
+  EXPECT_FALSE(r.is_cpu_high(80.0f));
+  EXPECT_TRUE(r.is_memory_high(49.0f));
+  EXPECT_FALSE(r.is_memory_high(50.0f));
+  EXPECT_TRUE(r.is_temperature_high(65.0f));
+  EXPECT_FALSE(r.is_temperature_high(70.0f));
+  r.cpu_percent = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_FALSE(r.is_cpu_high(0.0f));
+  EXPECT_EQ(sizeof(ResourceUsage), 72u);
+}
+
+// ===========================================================================
+// DiagnosticValue
+
+TEST(DiagnosticValue, TypedConstructorsWriteTextAndTypeTag) {
+  const auto s = DiagnosticValue::from_string("mode", "auto");
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->key_str(), "mode");
+  EXPECT_EQ(s->value_str(), "auto");
+  EXPECT_EQ(s->value_type, DiagnosticValue::TYPE_STRING);
+
+  const auto i = DiagnosticValue::from_int("rpm", -1200);
+  ASSERT_TRUE(i);
+  EXPECT_EQ(i->value_str(), "-1200");
+  EXPECT_EQ(i->value_type, DiagnosticValue::TYPE_INT);
+  EXPECT_EQ(DiagnosticValue::from_int("min", std::numeric_limits<std::int64_t>::min())->value_str(),
+            "-9223372036854775808");
+
+  const auto f = DiagnosticValue::from_float("temp", 45.5);
+  ASSERT_TRUE(f);
+  EXPECT_EQ(f->value_str(), "45.500");
+  EXPECT_EQ(f->value_type, DiagnosticValue::TYPE_FLOAT);
+  EXPECT_EQ(DiagnosticValue::from_float("t", 1.0 / 3.0)->value_str(), "0.333");
+  EXPECT_EQ(DiagnosticValue::from_float("t", kNaN)->value_str(), "NaN");
+  EXPECT_EQ(DiagnosticValue::from_float("t", kInf)->value_str(), "inf");
+  EXPECT_EQ(DiagnosticValue::from_float("t", -kInf)->value_str(), "-inf");
+
+  const auto b = DiagnosticValue::from_bool("ok", true);
+  ASSERT_TRUE(b);
+  EXPECT_EQ(b->value_str(), "true");
+  EXPECT_EQ(b->value_type, DiagnosticValue::TYPE_BOOL);
+  EXPECT_EQ(DiagnosticValue::from_bool("ok", false)->value_str(), "false");
+}
+
+TEST(DiagnosticValue, TextThatDoesNotFitIsRefused) {
+  EXPECT_TRUE(DiagnosticValue::from_string(std::string(31, 'k'), "v"));
+  EXPECT_FALSE(DiagnosticValue::from_string(std::string(32, 'k'), "v"));
+  EXPECT_TRUE(DiagnosticValue::from_string("k", std::string(63, 'v')));
+  EXPECT_FALSE(DiagnosticValue::from_string("k", std::string(64, 'v')));
+  EXPECT_FALSE(DiagnosticValue::from_int(std::string(32, 'k'), 1));
+  EXPECT_FALSE(DiagnosticValue::from_bool(std::string(32, 'k'), true));
+  // 2^193 has 59 integer digits: 59 + ".000" = 63 characters fit; 2^196 has 60.
+  EXPECT_EQ(DiagnosticValue::from_float("big", std::ldexp(1.0, 193))->value_str().size(), 63u);
+  EXPECT_FALSE(DiagnosticValue::from_float("big", std::ldexp(1.0, 196)));
+  EXPECT_FALSE(DiagnosticValue::from_float("big", -std::ldexp(1.0, 193)));
+}
+
+TEST(DiagnosticValue, TypedReadersParseOnlyTheirType) {
+  EXPECT_EQ(DiagnosticValue::from_int("n", -42)->as_int(), -42);
+  EXPECT_EQ(DiagnosticValue::from_int("n", -42)->as_float(), -42.0);
+  EXPECT_EQ(DiagnosticValue::from_float("x", 2.25)->as_float(), 2.25);
+  EXPECT_EQ(DiagnosticValue::from_float("x", 2.25)->as_int(), std::nullopt);
+  EXPECT_TRUE(std::isnan(*DiagnosticValue::from_float("x", kNaN)->as_float()));
+  EXPECT_EQ(DiagnosticValue::from_bool("b", true)->as_bool(), true);
+  EXPECT_EQ(DiagnosticValue::from_bool("b", false)->as_bool(), false);
+  EXPECT_EQ(DiagnosticValue::from_string("s", "true")->as_bool(), std::nullopt);
+  EXPECT_EQ(DiagnosticValue::from_string("s", "12")->as_int(), std::nullopt);
+  DiagnosticValue bad = *DiagnosticValue::from_int("n", 1);
+  horus::set_fixed_str(bad.value, "12abc");
+  EXPECT_EQ(bad.as_int(), std::nullopt);
+}
+
+TEST(DiagnosticValue, LayoutMatchesHorus) {
+  EXPECT_EQ(sizeof(DiagnosticValue), 97u);
+  EXPECT_EQ(alignof(DiagnosticValue), 1u);
+  EXPECT_EQ(offsetof(DiagnosticValue, value), 32u);
+  EXPECT_EQ(offsetof(DiagnosticValue, value_type), 96u);
+}
+
+// ===========================================================================
+// DiagnosticReport
+
+TEST(DiagnosticReport, MakeNamesTheComponentAndStartsEmptyAtLevelOk) {
+  const DiagnosticReport r = DiagnosticReport::make("motor_left");
+  EXPECT_EQ(r.component_str(), "motor_left");
+  EXPECT_EQ(r.count(), 0u);
+  EXPECT_EQ(r.level_enum(), StatusLevel::Ok);
+  EXPECT_EQ(DiagnosticReport::create(std::string(32, 'c')), std::nullopt);
+  EXPECT_THROW((void)DiagnosticReport::make(std::string(32, 'c')), std::invalid_argument);
+  EXPECT_EQ(DiagnosticReport::create(std::string(31, 'c'))->component_str(), std::string(31, 'c'));
+}
+
+TEST(DiagnosticReport, TypedAddsAppendInOrderAndFindLooksUpByKey) {
+  DiagnosticReport r = DiagnosticReport::make("driver");
+  EXPECT_TRUE(r.add_string("mode", "auto"));
+  EXPECT_TRUE(r.add_int("rpm", 1200));
+  EXPECT_TRUE(r.add_float("temp_c", 45.5));
+  EXPECT_TRUE(r.add_bool("enabled", true));
+  EXPECT_EQ(r.count(), 4u);
+  EXPECT_EQ(r.values[0].key_str(), "mode");
+  EXPECT_EQ(r.values[3].value_str(), "true");
+  ASSERT_NE(r.find("temp_c"), nullptr);
+  EXPECT_EQ(r.find("temp_c")->as_float(), 45.5);
+  EXPECT_EQ(r.find("missing"), nullptr);
+  r.set_level(StatusLevel::Warn);
+  EXPECT_EQ(r.level, Status::LEVEL_WARN);
+}
+
+TEST(DiagnosticReport, IsFullAtSixteenValues) {
+  DiagnosticReport r = DiagnosticReport::make("c");
+  for (int i = 0; i < 16; ++i) {
+    EXPECT_FALSE(r.is_full());
+    ASSERT_TRUE(r.add_int(fmt::format("k{}", i), i)) << i;
+  }
+  EXPECT_TRUE(r.is_full());
+  EXPECT_EQ(r.value_count, 16u);
+  const DiagnosticReport before = r;
+  EXPECT_FALSE(r.add_value(*DiagnosticValue::from_bool("extra", true)));
+  EXPECT_FALSE(r.add_string("extra", "x"));
+  EXPECT_FALSE(r.add_int("extra", 1));
+  EXPECT_FALSE(r.add_float("extra", 1.0));
+  EXPECT_FALSE(r.add_bool("extra", true));
+  EXPECT_EQ(r, before);
+  EXPECT_EQ(r.find("extra"), nullptr);
+  EXPECT_EQ(r.values[15].as_int(), 15);
+}
+
+TEST(DiagnosticReport, TextThatDoesNotFitIsRefusedWithoutUsingASlot) {
+  DiagnosticReport r = DiagnosticReport::make("c");
+  EXPECT_FALSE(r.add_string(std::string(32, 'k'), "v"));
+  EXPECT_FALSE(r.add_string("k", std::string(64, 'v')));
+  EXPECT_FALSE(r.add_float("k", 1e300));
+  EXPECT_EQ(r.count(), 0u);
+  EXPECT_EQ(r, DiagnosticReport::make("c"));
+}
+
+TEST(DiagnosticReport, CorruptValueCountIsClampedToSixteen) {
+  DiagnosticReport r = DiagnosticReport::make("c");
+  r.value_count = 200;
+  EXPECT_EQ(r.count(), 16u);
+  EXPECT_TRUE(r.is_full());
+  EXPECT_FALSE(r.add_bool("x", true));
+  EXPECT_EQ(r.find("x"), nullptr);
+  EXPECT_LT(r.log_summary().size(), 200u);
+}
+
+TEST(DiagnosticReport, LogSummaryIsShortAndNamesLevelAndValues) {
+  DiagnosticReport r = DiagnosticReport::make("motor_left");
+  r.set_level(StatusLevel::Warn);
+  r.add_float("temp_c", 45.5);
+  r.add_int("rpm", 1200);
+  r.add_bool("ok", true);
+  EXPECT_EQ(r.log_summary(), "DiagnosticReport(motor_left, Warn, 3 values: temp_c=45.500, rpm=1200, ok=true)");
+  EXPECT_EQ(DiagnosticReport::make("idle").log_summary(), "DiagnosticReport(idle, Ok, 0 values)");
+  r.level = 9;
+  EXPECT_TRUE(contains(r.log_summary(), "(motor_left, 9, ")) << r.log_summary();
+
+  DiagnosticReport big = DiagnosticReport::make(std::string(31, 'c'));
+  for (int i = 0; i < 16; ++i)
+    ASSERT_TRUE(big.add_string(fmt::format("{:c}{}", 'a' + i, std::string(30, 'k')), std::string(63, 'v')));
+  const std::string line = big.log_summary();
+  EXPECT_LT(line.size(), 200u) << line;
+  EXPECT_TRUE(contains(line, "more)")) << line;
+}
+
+TEST(DiagnosticReport, LayoutMatchesHorus) {
+  EXPECT_EQ(sizeof(DiagnosticReport), 1600u);
+  EXPECT_EQ(offsetof(DiagnosticReport, values), 32u);
+  EXPECT_EQ(offsetof(DiagnosticReport, value_count), 1584u);
+  EXPECT_EQ(offsetof(DiagnosticReport, level), 1585u);
+  EXPECT_EQ(offsetof(DiagnosticReport, timestamp_ns), 1592u);
+  static_assert(std::tuple_size_v<decltype(DiagnosticReport::values)> == 16);
+}
+
+// ===========================================================================
+// WrenchStamped
+
+TEST(WrenchStamped, FactoriesPlaceForceAndTorqueAtTheOrigin) {
+  const WrenchStamped w = WrenchStamped::make(Vector3::make(1, 2, 3), Vector3::make(4, 5, 6));
+  EXPECT_EQ(w.force, Vector3::make(1, 2, 3));
+  EXPECT_EQ(w.torque, Vector3::make(4, 5, 6));
+  EXPECT_EQ(w.point_of_application, Point3::origin());
+  EXPECT_EQ(WrenchStamped::force_only(Vector3::make(1, 0, 0)).torque, Vector3::zero());
+  EXPECT_EQ(WrenchStamped::torque_only(Vector3::make(0, 1, 0)).force, Vector3::zero());
+  EXPECT_EQ(WrenchStamped::torque_only(Vector3::make(0, 1, 0)).torque, Vector3::make(0, 1, 0));
+}
+
+TEST(WrenchStamped, MagnitudesAreEuclidean) {
+  const WrenchStamped w = WrenchStamped::make(Vector3::make(3, 4, 12), Vector3::make(0, -6, 8));
+  EXPECT_DOUBLE_EQ(w.force_magnitude(), 13.0);
+  EXPECT_DOUBLE_EQ(w.torque_magnitude(), 10.0);
+  EXPECT_EQ(WrenchStamped{}.force_magnitude(), 0.0);
+}
+
+TEST(WrenchStamped, ExceedsLimitsIsStrictAndTreatsNonFiniteReadingsAsExceeding) {
+  const WrenchStamped w = WrenchStamped::make(Vector3::make(3, 4, 0), Vector3::make(0, 0, 2));
+  EXPECT_FALSE(w.exceeds_limits(5.0, 2.0));
+  EXPECT_TRUE(w.exceeds_limits(4.99, 2.0));
+  EXPECT_TRUE(w.exceeds_limits(5.0, 1.99));
+  EXPECT_TRUE(WrenchStamped::force_only(Vector3::make(kNaN, 0, 0)).exceeds_limits(100.0, 100.0));
+  EXPECT_TRUE(WrenchStamped::torque_only(Vector3::make(0, kInf, 0)).exceeds_limits(100.0, 100.0));
+}
+
+TEST(WrenchStamped, FilterBlendsWithThePreviousSampleAndClampsAlpha) {
+  const WrenchStamped prev = WrenchStamped::make(Vector3::make(0, 0, 0), Vector3::make(4, 4, 4));
+  WrenchStamped w = WrenchStamped::make(Vector3::make(8, -8, 4), Vector3::make(0, 0, 0));
+  w.filter(prev, 0.25);
+  EXPECT_EQ(w.force, Vector3::make(2, -2, 1));
+  EXPECT_EQ(w.torque, Vector3::make(3, 3, 3));
+
+  WrenchStamped hi = WrenchStamped::force_only(Vector3::make(1, 1, 1));
+  hi.filter(prev, 7.0);  // clamped to 1: keeps this sample
+  EXPECT_EQ(hi.force, Vector3::make(1, 1, 1));
+  EXPECT_EQ(hi.torque, Vector3::zero());
+  WrenchStamped lo = WrenchStamped::force_only(Vector3::make(1, 1, 1));
+  lo.filter(prev, -3.0);  // clamped to 0: takes the previous sample
+  EXPECT_EQ(lo.force, prev.force);
+  EXPECT_EQ(lo.torque, prev.torque);
+  WrenchStamped nan = WrenchStamped::force_only(Vector3::make(1, 1, 1));
+  nan.filter(prev, kNaN);
+  EXPECT_EQ(nan, WrenchStamped::force_only(Vector3::make(1, 1, 1)));
+}
+
+TEST(WrenchStamped, WithFrameIdRefusesNamesThatDoNotFit) {
+  EXPECT_EQ(WrenchStamped{}.with_frame_id("ft_sensor").frame_id_str(), "ft_sensor");
+  EXPECT_THROW((void)WrenchStamped{}.with_frame_id(std::string(32, 'f')), std::invalid_argument);
+  WrenchStamped w{};
+  EXPECT_TRUE(w.set_frame_id("a"));
+  EXPECT_FALSE(w.set_frame_id(std::string(32, 'f')));
+  EXPECT_EQ(w.frame_id_str(), "a");
+  EXPECT_EQ(sizeof(WrenchStamped), 112u);
+}
+
+// ===========================================================================
+// ImpedanceParameters
+
+TEST(ImpedanceParameters, PresetsMatchHorus) {
+  const ImpedanceParameters m = ImpedanceParameters::make();
+  EXPECT_EQ(m.stiffness, (std::array<double, 6>{1000, 1000, 1000, 100, 100, 100}));
+  EXPECT_EQ(m.damping, (std::array<double, 6>{50, 50, 50, 5, 5, 5}));
+  EXPECT_EQ(m.inertia, (std::array<double, 6>{1, 1, 1, 0.1, 0.1, 0.1}));
+  EXPECT_EQ(m.force_limits, (std::array<double, 6>{50, 50, 50, 5, 5, 5}));
+  EXPECT_FALSE(m.is_enabled());
+
+  const ImpedanceParameters c = ImpedanceParameters::compliant();
+  EXPECT_EQ(c.stiffness, (std::array<double, 6>{100, 100, 100, 10, 10, 10}));
+  EXPECT_EQ(c.damping, (std::array<double, 6>{20, 20, 20, 2, 2, 2}));
+  EXPECT_EQ(c.inertia, m.inertia);
+  const ImpedanceParameters s = ImpedanceParameters::stiff();
+  EXPECT_EQ(s.stiffness, (std::array<double, 6>{5000, 5000, 5000, 500, 500, 500}));
+  EXPECT_EQ(s.damping, (std::array<double, 6>{100, 100, 100, 10, 10, 10}));
+  EXPECT_EQ(s.force_limits, m.force_limits);
+}
+
+TEST(ImpedanceParameters, EnableAndDisable) {
+  ImpedanceParameters p = ImpedanceParameters::make();
+  p.enable();
+  EXPECT_TRUE(p.is_enabled());
+  EXPECT_EQ(p.enabled, 1u);
+  p.disable();
+  EXPECT_FALSE(p.is_enabled());
+  EXPECT_EQ(sizeof(ImpedanceParameters), 208u);
+}
+
+TEST(ImpedanceParameters, ForceLimitsAreCheckedPerAxisOnAbsoluteValues) {
+  const ImpedanceParameters p = ImpedanceParameters::make();  // 50 N, 5 N*m
+  EXPECT_FALSE(p.exceeds_force_limits(WrenchStamped::make(Vector3::make(50, -50, 49), Vector3::make(5, -5, 0))));
+  EXPECT_TRUE(p.exceeds_force_limits(WrenchStamped::force_only(Vector3::make(0, -50.5, 0))));
+  EXPECT_TRUE(p.exceeds_force_limits(WrenchStamped::torque_only(Vector3::make(0, 0, 5.01))));
+  EXPECT_TRUE(p.exceeds_force_limits(WrenchStamped::torque_only(Vector3::make(kNaN, 0, 0))));
+  // Per axis, not on the magnitude: 40 N on each axis is 69 N in total but within limits.
+  EXPECT_FALSE(p.exceeds_force_limits(WrenchStamped::force_only(Vector3::make(40, 40, 40))));
+}
+
+// ===========================================================================
+// ForceCommand
+
+TEST(ForceCommand, ForceOnlyControlsForceOnXYZ) {
+  const ForceCommand c = ForceCommand::force_only(Vector3::make(0, 0, -10));
+  EXPECT_EQ(c.target_force, Vector3::make(0, 0, -10));
+  EXPECT_EQ(c.force_mode, (std::array<std::uint8_t, 6>{1, 1, 1, 0, 0, 0}));
+  EXPECT_EQ(c.max_deviation, Vector3::make(0.01, 0.01, 0.01));
+  EXPECT_EQ(c.gains, (std::array<double, 6>{1, 1, 1, 1, 1, 1}));
+  EXPECT_FALSE(c.has_timeout());
+  EXPECT_TRUE(c.is_force_axis(2));
+  EXPECT_FALSE(c.is_force_axis(3));
+  EXPECT_FALSE(c.is_force_axis(6));
+}
+
+TEST(ForceCommand, HybridKeepsAxesForceAndPosition) {
+  const ForceCommand c = ForceCommand::hybrid({0, 0, 1, 0, 0, 1}, Vector3::make(0, 0, 5), Vector3::make(0.3, 0.1, 0));
+  EXPECT_EQ(c.force_mode, (std::array<std::uint8_t, 6>{0, 0, 1, 0, 0, 1}));
+  EXPECT_EQ(c.position_setpoint, Vector3::make(0.3, 0.1, 0));
+  EXPECT_EQ(c.target_torque, Vector3::zero());
+  EXPECT_TRUE(c.is_force_axis(5));
+  EXPECT_FALSE(c.is_force_axis(0));
+}
+
+TEST(ForceCommand, SurfaceContactPushesAlongTheUnitNormal) {
+  const ForceCommand v = ForceCommand::surface_contact(10.0, Vector3::make(0, 0, 2));
+  EXPECT_EQ(v.target_force, Vector3::make(0, 0, 10));
+  EXPECT_EQ(v.force_mode, (std::array<std::uint8_t, 6>{0, 0, 1, 0, 0, 0}));
+
+  // |z| = 0.8 after normalising: not "mostly vertical".
+  const ForceCommand s = ForceCommand::surface_contact(10.0, Vector3::make(3, 0, 4));
+  EXPECT_NEAR(s.target_force.x, 6.0, 1e-12);
+  EXPECT_NEAR(s.target_force.z, 8.0, 1e-12);
+  EXPECT_EQ(s.force_mode, (std::array<std::uint8_t, 6>{1, 1, 1, 0, 0, 0}));
+
+  const ForceCommand z = ForceCommand::surface_contact(10.0, Vector3::zero());
+  EXPECT_EQ(z.target_force, Vector3::zero());
+  EXPECT_EQ(z.force_mode, (std::array<std::uint8_t, 6>{1, 1, 1, 0, 0, 0}));
+}
+
+TEST(ForceCommand, BuildersSetTimeoutAndFrame) {
+  const ForceCommand c = ForceCommand::force_only(Vector3::make(1, 0, 0)).with_timeout(2.5).with_frame_id("tool0");
+  EXPECT_EQ(c.timeout_seconds, 2.5);
+  EXPECT_TRUE(c.has_timeout());
+  EXPECT_EQ(c.frame_id_str(), "tool0");
+  EXPECT_THROW((void)c.with_frame_id(std::string(32, 'f')), std::invalid_argument);
+  EXPECT_EQ(sizeof(ForceCommand), 224u);
+  EXPECT_EQ(offsetof(ForceCommand, position_setpoint), 56u);
+}
+
+// ===========================================================================
+// ContactInfo
+
+TEST(ContactInfo, MakeUsesHorusDefaults) {
+  const ContactInfo c = ContactInfo::make(ContactState::StableContact, 12.5);
+  EXPECT_EQ(c.state_enum(), ContactState::StableContact);
+  EXPECT_EQ(c.state, 2u);
+  EXPECT_EQ(c.contact_force, 12.5);
+  EXPECT_EQ(c.contact_normal, Vector3::make(0, 0, 1));
+  EXPECT_EQ(c.contact_point, Point3::origin());
+  EXPECT_EQ(c.confidence, 0.5f);
+  EXPECT_EQ(to_string(ContactState::ContactLoss), "ContactLoss");
+}
+
+TEST(ContactInfo, InContactForInitialStableAndSlidingOnly) {
+  EXPECT_FALSE(ContactInfo::make(ContactState::NoContact, 0).is_in_contact());
+  EXPECT_TRUE(ContactInfo::make(ContactState::InitialContact, 1).is_in_contact());
+  EXPECT_TRUE(ContactInfo::make(ContactState::StableContact, 1).is_in_contact());
+  EXPECT_FALSE(ContactInfo::make(ContactState::ContactLoss, 1).is_in_contact());
+  EXPECT_TRUE(ContactInfo::make(ContactState::Sliding, 1).is_in_contact());
+  EXPECT_FALSE(ContactInfo::make(ContactState::Impact, 1).is_in_contact());
+  ContactInfo odd{};
+  odd.state = 77;
+  EXPECT_FALSE(odd.is_in_contact());
+}
+
+TEST(ContactInfo, DurationIsZeroWithoutAStartAndNeverNegative) {
+  ContactInfo c = ContactInfo::make(ContactState::StableContact, 1);
+  c.timestamp_ns = 5'500'000'000ULL;
+  EXPECT_EQ(c.contact_duration_seconds(), 0.0);
+  c.contact_start_time = 3'000'000'000ULL;
+  EXPECT_DOUBLE_EQ(c.contact_duration_seconds(), 2.5);
+  c.contact_start_time = 6'000'000'000ULL;  // after the timestamp
+  EXPECT_EQ(c.contact_duration_seconds(), 0.0);
+  EXPECT_EQ(sizeof(ContactInfo), 136u);
+}
+
+// ===========================================================================
+// HapticFeedback
+
+TEST(HapticFeedback, VibrationClampsIntensityToZeroOne) {
+  const HapticFeedback h = HapticFeedback::vibration(0.5f, 200.0f, 0.1f);
+  EXPECT_EQ(h.vibration_intensity, 0.5f);
+  EXPECT_EQ(h.vibration_frequency, 200.0f);
+  EXPECT_EQ(h.duration_seconds, 0.1f);
+  EXPECT_EQ(h.pattern_type, HapticFeedback::PATTERN_CONSTANT);
+  EXPECT_TRUE(h.is_enabled());
+  EXPECT_EQ(HapticFeedback::vibration(1.5f, 1, 1).vibration_intensity, 1.0f);
+  EXPECT_EQ(HapticFeedback::vibration(-0.2f, 1, 1).vibration_intensity, 0.0f);
+  EXPECT_EQ(HapticFeedback::vibration(std::numeric_limits<float>::quiet_NaN(), 1, 1).vibration_intensity, 0.0f);
+}
+
+TEST(HapticFeedback, ForceAndPulse) {
+  const HapticFeedback f = HapticFeedback::force(Vector3::make(0, 3, 4), 0.25f);
+  EXPECT_EQ(f.vibration_intensity, 0.0f);
+  EXPECT_DOUBLE_EQ(f.force_magnitude(), 5.0);
+  EXPECT_EQ(f.duration_seconds, 0.25f);
+  EXPECT_TRUE(f.is_enabled());
+  const HapticFeedback p = HapticFeedback::pulse(2.0f, 50.0f, 1.0f);
+  EXPECT_EQ(p.pattern_type, HapticFeedback::PATTERN_PULSE);
+  EXPECT_EQ(p.vibration_intensity, 1.0f);
+  EXPECT_EQ(HapticFeedback::PATTERN_RAMP, 2u);
+  EXPECT_EQ(sizeof(HapticFeedback), 56u);
+}
+
+// ===========================================================================
+// AudioFrame
+
+TEST(AudioEncoding, ValuesAndNames) {
+  static_assert(static_cast<int>(AudioEncoding::F32) == 0 && static_cast<int>(AudioEncoding::I16) == 1);
+  EXPECT_EQ(to_string(AudioEncoding::I16), "I16");
+  AudioEncoding e{};
+  EXPECT_TRUE(horus::reflect::enum_from_name("I16", e));
+  EXPECT_EQ(e, AudioEncoding::I16);
+}
+
+TEST(AudioFrame, MonoHoldsTheSamplesAndKnowsItsDuration) {
+  const std::vector<float> pcm(1600, 0.25f);
+  const AudioFrame f = AudioFrame::mono(16000, pcm);
+  EXPECT_EQ(f.num_samples, 1600u);
+  EXPECT_EQ(f.sample_rate, 16000u);
+  EXPECT_EQ(f.channels, 1u);
+  EXPECT_EQ(f.encoding_enum(), AudioEncoding::F32);
+  EXPECT_EQ(f.frame_count(), 1600u);
+  EXPECT_EQ(f.valid_samples().size(), 1600u);
+  EXPECT_DOUBLE_EQ(f.duration_ms(), 100.0);
+  EXPECT_DOUBLE_EQ(f.duration_seconds(), 0.1);
+  EXPECT_EQ(f.samples[1599], 0.25f);
+  EXPECT_EQ(f.samples[1600], 0.0f);
+}
+
+TEST(AudioFrame, StereoSamplesAreInterleaved) {
+  const std::vector<float> lr{0.1f, -0.1f, 0.2f, -0.2f, 0.3f, -0.3f};
+  const AudioFrame f = AudioFrame::stereo(48000, lr);
+  EXPECT_EQ(f.channels, 2u);
+  EXPECT_EQ(f.frame_count(), 3u);
+  EXPECT_EQ(f.sample_at(0, 0), 0.1f);
+  EXPECT_EQ(f.sample_at(0, 1), -0.1f);
+  EXPECT_EQ(f.sample_at(2, 1), -0.3f);
+  EXPECT_EQ(f.sample_at(3, 0), std::nullopt);
+  EXPECT_EQ(f.sample_at(0, 2), std::nullopt);
+  EXPECT_DOUBLE_EQ(f.duration_ms(), 3.0 / 48.0);
+  const AudioFrame four = AudioFrame::make(16000, 4, std::vector<float>(64, 0.0f));
+  EXPECT_EQ(four.frame_count(), 16u);
+}
+
+TEST(AudioFrame, HoldsExactly4800SamplesAndRefusesMore) {
+  EXPECT_EQ(AudioFrame::kMaxSamples, 4800u);
+  static_assert(std::tuple_size_v<decltype(AudioFrame::samples)> == 4800);
+  const std::vector<float> full(4800, 0.5f);
+  EXPECT_EQ(AudioFrame::mono(48000, full).num_samples, 4800u);
+  const std::vector<float> over(4801, 0.5f);
+  const auto f = AudioFrame::create(48000, 1, over);
+  ASSERT_FALSE(f.has_value());
+  EXPECT_TRUE(contains(f.error(), "4800")) << f.error();
+  EXPECT_TRUE(contains(f.error(), "4801")) << f.error();
+  EXPECT_THROW((void)AudioFrame::mono(48000, over), std::invalid_argument);
+}
+
+TEST(AudioFrame, RefusesZeroRateZeroChannelsAndPartialFrames) {
+  const std::vector<float> three(3, 0.0f);
+  EXPECT_FALSE(AudioFrame::create(0, 1, three).has_value());
+  EXPECT_FALSE(AudioFrame::create(16000, 0, three).has_value());
+  const auto odd = AudioFrame::create(16000, 2, three);
+  ASSERT_FALSE(odd.has_value());
+  EXPECT_TRUE(contains(odd.error(), "not a multiple")) << odd.error();
+  EXPECT_THROW((void)AudioFrame::stereo(16000, three), std::invalid_argument);
+  EXPECT_TRUE(AudioFrame::create(16000, 3, three).has_value());
+}
+
+TEST(AudioFrame, ZeroFrameAndCorruptCountsAreSafe) {
+  AudioFrame f{};
+  EXPECT_EQ(f.duration_ms(), 0.0);
+  EXPECT_EQ(f.frame_count(), 0u);
+  EXPECT_TRUE(f.valid_samples().empty());
+  f.num_samples = 1'000'000;
+  f.channels = 1;
+  f.sample_rate = 48000;
+  EXPECT_EQ(f.valid_samples().size(), 4800u);
+  EXPECT_EQ(f.frame_count(), 4800u);
+  EXPECT_DOUBLE_EQ(f.duration_ms(), 100.0);
+}
+
+TEST(AudioFrame, BuildersSetFrameIdAndTimestamp) {
+  const AudioFrame f = AudioFrame::mono(16000, std::vector<float>{0.0f}).with_frame_id("mic_left").with_timestamp(99);
+  EXPECT_EQ(f.frame_id_str(), "mic_left");
+  EXPECT_EQ(f.timestamp_ns, 99u);
+  EXPECT_THROW((void)f.with_frame_id(std::string(32, 'm')), std::invalid_argument);
+  AudioFrame g = f;
+  g.set_encoding(AudioEncoding::I16);
+  EXPECT_EQ(g.encoding, 1u);
+}
+
+TEST(AudioFrame, LogSummaryHasUnits) {
+  const AudioFrame f = AudioFrame::stereo(48000, std::vector<float>(960, 0.0f)).with_frame_id("mic_array");
+  EXPECT_EQ(f.log_summary(), "AudioFrame(2 ch, 48000 Hz, 960 samples, 10.0 ms, F32, mic_array)");
+  AudioFrame odd = AudioFrame::mono(8000, std::vector<float>(80, 0.0f));
+  odd.encoding = 7;
+  EXPECT_EQ(odd.log_summary(), "AudioFrame(1 ch, 8000 Hz, 80 samples, 10.0 ms, encoding 7)");
+}
+
+TEST(AudioFrame, LayoutMatchesHorus) {
+  EXPECT_EQ(offsetof(AudioFrame, num_samples), 19200u);
+  EXPECT_EQ(offsetof(AudioFrame, channels), 19208u);
+  EXPECT_EQ(offsetof(AudioFrame, timestamp_ns), 19216u);
+  EXPECT_EQ(offsetof(AudioFrame, frame_id), 19224u);
+  EXPECT_EQ(sizeof(AudioFrame), 19256u);
+}
+
+// ===========================================================================
+// GenericMessage
+
+TEST(GenericMessage, TwoHundredFiftySixBytesStayInline) {
+  const auto bytes = bytes_of(256);
+  const auto m = GenericMessage::make(bytes);
+  ASSERT_TRUE(m.has_value()) << m.error();
+  EXPECT_TRUE(m->is_inline());
+  EXPECT_EQ(m->size(), 256u);
+  EXPECT_EQ(m->data(), bytes);
+  EXPECT_EQ(horus::to_json(*m)["inline_len"], 256);
+  EXPECT_EQ(horus::to_json(*m)["overflow_len"], 0);
+}
+
+TEST(GenericMessage, TwoHundredFiftySevenBytesUseTheOverflowBuffer) {
+  const auto bytes = bytes_of(257);
+  const auto m = GenericMessage::make(bytes);
+  ASSERT_TRUE(m.has_value()) << m.error();
+  EXPECT_FALSE(m->is_inline());
+  EXPECT_EQ(m->size(), 257u);
+  EXPECT_EQ(m->data(), bytes);
+  const nlohmann::json j = horus::to_json(*m);
+  EXPECT_EQ(j["inline_len"], 256);
+  EXPECT_EQ(j["overflow_len"], 1);
+  EXPECT_EQ(j["overflow_data"][0], bytes[256]);
+}
+
+TEST(GenericMessage, ExactlyFourKilobytesFitAndOneMoreIsRefused) {
+  const auto max = bytes_of(4096);
+  const auto m = GenericMessage::make(max);
+  ASSERT_TRUE(m.has_value()) << m.error();
+  EXPECT_EQ(m->size(), 4096u);
+  EXPECT_EQ(m->data(), max);
+
+  const auto over = GenericMessage::make(bytes_of(4097));
+  ASSERT_FALSE(over.has_value());
+  EXPECT_TRUE(contains(over.error(), "4097")) << over.error();
+  EXPECT_TRUE(contains(over.error(), "4096")) << over.error();
+}
+
+TEST(GenericMessage, EmptyPayloadIsAllowedAndEqualsTheDefault) {
+  const auto m = GenericMessage::make({});
+  ASSERT_TRUE(m.has_value());
+  EXPECT_TRUE(m->empty());
+  EXPECT_EQ(*m, GenericMessage{});
+  EXPECT_EQ(m->metadata(), std::nullopt);
+}
+
+TEST(GenericMessage, MetadataUpTo255BytesOfUtf8) {
+  const auto bytes = bytes_of(10);
+  const auto m = GenericMessage::with_metadata(bytes, "imu/raw");
+  ASSERT_TRUE(m.has_value()) << m.error();
+  EXPECT_EQ(m->metadata(), "imu/raw");
+  EXPECT_EQ(m->data(), bytes);
+
+  const std::string max(255, 'm');
+  EXPECT_EQ(GenericMessage::with_metadata(bytes, max)->metadata(), max);
+  const auto too_long = GenericMessage::with_metadata(bytes, std::string(256, 'm'));
+  ASSERT_FALSE(too_long.has_value());
+  EXPECT_TRUE(contains(too_long.error(), "256")) << too_long.error();
+  EXPECT_TRUE(contains(too_long.error(), "255")) << too_long.error();
+
+  EXPECT_FALSE(GenericMessage::with_metadata(bytes, std::string("a\0b", 3)).has_value());
+  EXPECT_FALSE(GenericMessage::with_metadata(bytes, "bad \xC3(").has_value());
+  EXPECT_FALSE(GenericMessage::with_metadata(bytes, "cut \xE2\x82").has_value());
+  EXPECT_FALSE(GenericMessage::with_metadata(bytes, "surrogate \xED\xA0\x80").has_value());
+  EXPECT_FALSE(GenericMessage::with_metadata(bytes, "overlong \xC0\xAF").has_value());
+  EXPECT_FALSE(GenericMessage::with_metadata(bytes, "too high \xF4\x90\x80\x80").has_value());
+  const auto not_utf8 = GenericMessage::with_metadata(bytes, "ab\xFF");
+  ASSERT_FALSE(not_utf8.has_value());
+  EXPECT_TRUE(contains(not_utf8.error(), "UTF-8 (at byte 2)")) << not_utf8.error();
+  const std::string_view utf8 = "caf\xC3\xA9 \xF0\x9F\xA4\x96";  // 2- and 4-byte characters
+  EXPECT_EQ(GenericMessage::with_metadata(bytes, utf8)->metadata(), utf8);
+  // The payload limit applies too.
+  const auto big = GenericMessage::with_metadata(bytes_of(5000), "ok");
+  ASSERT_FALSE(big.has_value());
+  EXPECT_TRUE(contains(big.error(), "5000")) << big.error();
+}
+
+TEST(GenericMessage, SetMetadataRefusesBadTextAndEmptyClears) {
+  GenericMessage m = *GenericMessage::with_metadata(bytes_of(3), "first");
+  EXPECT_FALSE(m.set_metadata(std::string(256, 'x')));
+  EXPECT_EQ(m.metadata(), "first");
+  EXPECT_TRUE(m.set_metadata("second"));
+  EXPECT_EQ(m.metadata(), "second");
+  EXPECT_TRUE(m.set_metadata(""));
+  EXPECT_EQ(m.metadata(), std::nullopt);
+  EXPECT_EQ(m, *GenericMessage::make(bytes_of(3)));
+}
+
+TEST(GenericMessage, FromValueRoundTripsBuiltInTypes) {
+  const auto i = GenericMessage::from_value(-123456789);
+  ASSERT_TRUE(i.has_value());
+  EXPECT_EQ(i->to_value<int>(), -123456789);
+
+  const auto s = GenericMessage::from_value(std::string("hello"));
+  ASSERT_TRUE(s.has_value());
+  EXPECT_EQ(s->to_value<std::string>(), "hello");
+  EXPECT_EQ(s->data(), (std::vector<std::uint8_t>{0xA5, 'h', 'e', 'l', 'l', 'o'}));  // fixstr, as any MessagePack peer
+
+  const std::vector<double> v{1.5, -2.25, 1e300};
+  EXPECT_EQ(GenericMessage::from_value(v)->to_value<std::vector<double>>(), v);
+
+  const std::map<std::string, double> map{{"x", 1.0}, {"y", 2.0}};
+  const auto mm = GenericMessage::from_value(map);
+  ASSERT_TRUE(mm.has_value());
+  EXPECT_EQ((mm->to_value<std::map<std::string, double>>()), map);
+}
+
+TEST(GenericMessage, UserStructWithMsgpackDefineRoundTrips) {
+  const app::SensorReading r{22.5, 60.0, "greenhouse", {1, 2, 3}};
+  const auto m = GenericMessage::from_value(r);
+  ASSERT_TRUE(m.has_value()) << m.error();
+  const auto back = m->to_value<app::SensorReading>();
+  ASSERT_TRUE(back.has_value()) << back.error();
+  EXPECT_EQ(*back, r);
+}
+
+TEST(GenericMessage, FromValueRefusesEncodingsOverFourKilobytes) {
+  // str16 header (3 bytes) + 4093 characters = 4096 bytes: fits exactly.
+  const auto exact = GenericMessage::from_value(std::string(4093, 's'));
+  ASSERT_TRUE(exact.has_value()) << exact.error();
+  EXPECT_EQ(exact->size(), 4096u);
+  EXPECT_EQ(exact->to_value<std::string>(), std::string(4093, 's'));
+
+  const auto over = GenericMessage::from_value(std::string(4094, 's'));
+  ASSERT_FALSE(over.has_value());
+  EXPECT_TRUE(contains(over.error(), "4097 bytes")) << over.error();
+  EXPECT_TRUE(contains(over.error(), "4096")) << over.error();
+}
+
+TEST(GenericMessage, ToValueIntoTheWrongTypeIsAnError) {
+  const auto m = GenericMessage::from_value(42);
+  ASSERT_TRUE(m.has_value());
+  const auto as_string = m->to_value<std::string>();
+  ASSERT_FALSE(as_string.has_value());
+  EXPECT_TRUE(contains(as_string.error(), "positive integer")) << as_string.error();
+  EXPECT_TRUE(contains(as_string.error(), "to_value<")) << as_string.error();
+
+  // An integer out of the target's range is an error too, not a wrap-around.
+  EXPECT_FALSE(GenericMessage::from_value(300)->to_value<std::uint8_t>().has_value());
+  EXPECT_EQ(GenericMessage::from_value(200)->to_value<std::uint8_t>(), 200);
+  // A map is not a vector.
+  EXPECT_FALSE(GenericMessage::from_value(std::map<std::string, int>{{"a", 1}})->to_value<std::vector<int>>());
+  // A struct's fields must have the right types: a text where temperature should be.
+  const auto wrong_field = GenericMessage::from_value(std::vector<std::string>{"warm", "humid"});
+  ASSERT_TRUE(wrong_field.has_value());
+  EXPECT_FALSE(wrong_field->to_value<app::SensorReading>().has_value());
+}
+
+TEST(GenericMessage, ToValueOfEmptyInvalidOrTrailingBytesIsAnError) {
+  const auto empty = GenericMessage{}.to_value<int>();
+  ASSERT_FALSE(empty.has_value());
+  EXPECT_TRUE(contains(empty.error(), "empty")) << empty.error();
+
+  const std::vector<std::uint8_t> never_used{0xC1};  // a byte MessagePack never uses
+  const auto invalid = GenericMessage::make(never_used)->to_value<int>();
+  ASSERT_FALSE(invalid.has_value());
+  EXPECT_TRUE(contains(invalid.error(), "not valid MessagePack")) << invalid.error();
+
+  const std::vector<std::uint8_t> truncated{0xA5, 'h', 'e'};  // fixstr of 5, only 2 bytes
+  EXPECT_FALSE(GenericMessage::make(truncated)->to_value<std::string>().has_value());
+
+  const std::vector<std::uint8_t> two_values{0x01, 0x02};
+  const auto trailing = GenericMessage::make(two_values)->to_value<int>();
+  ASSERT_FALSE(trailing.has_value());
+  EXPECT_TRUE(contains(trailing.error(), "1 bytes follow")) << trailing.error();
+}
+
+TEST(GenericMessage, LogSummaryGivesSizeMetadataAndValue) {
+  const std::map<std::string, int> map{{"x", 1}, {"y", 2}};
+  auto m = *GenericMessage::from_value(map);
+  EXPECT_EQ(m.log_summary(), fmt::format("GenericMessage({} B msgpack, value {{\"x\":1,\"y\":2}})", m.size()));
+  ASSERT_TRUE(m.set_metadata("pose"));
+  EXPECT_EQ(m.log_summary(),
+            fmt::format("GenericMessage({} B msgpack, meta \"pose\", value {{\"x\":1,\"y\":2}})", m.size()));
+
+  EXPECT_EQ(GenericMessage{}.log_summary(), "GenericMessage(0 B, empty)");
+  const std::vector<std::uint8_t> never_used{0xC1, 0xC1};
+  EXPECT_EQ(GenericMessage::make(never_used)->log_summary(), "GenericMessage(2 B, not MessagePack)");
+
+  const auto payload = GenericMessage::from_value(std::vector<int>(1000, 7));
+  ASSERT_TRUE(payload.has_value());
+  const GenericMessage big = *GenericMessage::with_metadata(payload->data(), std::string(255, 'm'));
+  const std::string line = big.log_summary();
+  EXPECT_LT(line.size(), 200u) << line;
+  EXPECT_TRUE(line.starts_with(fmt::format("GenericMessage({} B msgpack, meta \"", big.size()))) << line;
+  EXPECT_TRUE(contains(line, "...\", value [7,7,7")) << line;
+}
+
+TEST(GenericMessage, LayoutMatchesHorusAndCopiesByMemcpy) {
+  EXPECT_EQ(sizeof(GenericMessage), 4364u);
+  static_assert(std::is_trivially_copyable_v<GenericMessage>);
+  static_assert(std::is_standard_layout_v<GenericMessage>);
+  const GenericMessage original = *GenericMessage::with_metadata(bytes_of(1000), "copy");
+  GenericMessage copy{};
+  std::memcpy(&copy, &original, sizeof copy);
+  EXPECT_EQ(copy.data(), bytes_of(1000));
+  EXPECT_EQ(copy.metadata(), "copy");
+  EXPECT_EQ(copy, original);
+}
+
+TEST(GenericMessage, CorruptLengthsAreClampedToTheBuffers) {
+  GenericMessage m = *GenericMessage::make(bytes_of(10));
+  nlohmann::json j = horus::to_json(m);
+  j["inline_len"] = 60000;
+  j["overflow_len"] = 4000000000u;
+  j["metadata_len"] = 9999;
+  const GenericMessage bad = horus::from_json<GenericMessage>(j);
+  EXPECT_EQ(bad.size(), 4096u);
+  EXPECT_EQ(bad.data().size(), 4096u);
+  ASSERT_TRUE(bad.metadata().has_value());
+  EXPECT_EQ(bad.metadata()->size(), 255u);
+  EXPECT_LT(bad.log_summary().size(), 200u);
+}
+
+// ===========================================================================
+// Properties of every message added here
+
+template <class T>
+T sample();
+
+template <>
+NodeHeartbeat sample<NodeHeartbeat>() {
+  NodeHeartbeat hb = NodeHeartbeat::make(NodeState::Running, HealthStatus::Warning, 1'700'000'000);
+  hb.tick_count = 4'000'000'000u;
+  hb.target_rate = 100.0f;
+  hb.actual_rate = 99.5f;
+  hb.error_count = 3;
+  hb.last_tick_timestamp = 1'699'999'999;
+  return hb;
+}
+template <>
+Status sample<Status>() {
+  Status s = Status::warn(404, "sensor \"lidar\" timed out").with_component("lidar_driver");
+  s.timestamp_ns = 18'446'744'073'709'551'615ULL;
+  return s;
+}
+template <>
+DiagnosticStatus sample<DiagnosticStatus>() {
+  DiagnosticStatus s = DiagnosticStatus::fatal(500, "watchdog expired").with_component("supervisor");
+  s.timestamp_ns = 11;
+  return s;
+}
+template <>
+EmergencyStop sample<EmergencyStop>() {
+  EmergencyStop e = EmergencyStop::engage("bumper pressed").with_source("bumper_front");
+  e.auto_reset = 1;
+  e.timestamp_ns = 12;
+  return e;
+}
+template <>
+SafetyStatus sample<SafetyStatus>() {
+  SafetyStatus s = SafetyStatus::make();
+  s.estop_engaged = 1;
+  s.set_fault(77);
+  s.timestamp_ns = 13;
+  return s;
+}
+template <>
+ResourceUsage sample<ResourceUsage>() {
+  return ResourceUsage{12.5f, 1ULL << 33, 40.0f, 5ULL << 40, 71.25f, 123456, 654321, 55.5f, 24, 14};
+}
+template <>
+DiagnosticValue sample<DiagnosticValue>() { return *DiagnosticValue::from_float("temp_c", -3.25); }
+template <>
+DiagnosticReport sample<DiagnosticReport>() {
+  DiagnosticReport r = DiagnosticReport::make("motor_left");
+  r.add_float("temp_c", 45.5);
+  r.add_int("rpm", -1200);
+  r.add_bool("ok", false);
+  r.add_string("mode", "torque");
+  r.set_level(StatusLevel::Error);
+  r.timestamp_ns = 15;
+  return r;
+}
+template <>
+WrenchStamped sample<WrenchStamped>() {
+  WrenchStamped w = WrenchStamped::make(Vector3::make(1, -2, 3.5), Vector3::make(0.1, 0.2, -0.3)).with_frame_id("ft");
+  w.point_of_application = Point3::make(0, 0, 0.05);
+  w.timestamp_ns = 16;
+  return w;
+}
+template <>
+ImpedanceParameters sample<ImpedanceParameters>() {
+  ImpedanceParameters p = ImpedanceParameters::compliant();
+  p.enable();
+  p.timestamp_ns = 17;
+  return p;
+}
+template <>
+ForceCommand sample<ForceCommand>() {
+  ForceCommand c = ForceCommand::hybrid({0, 0, 1, 1, 0, 0}, Vector3::make(0, 0, -5), Vector3::make(0.4, 0.1, 0.2))
+                       .with_timeout(1.5)
+                       .with_frame_id("tool0");
+  c.target_torque = Vector3::make(0, 0.5, 0);
+  c.orientation_setpoint = Vector3::make(0, 3.0, 0.1);
+  c.gains[3] = 0.5;
+  c.timestamp_ns = 18;
+  return c;
+}
+template <>
+ContactInfo sample<ContactInfo>() {
+  ContactInfo c = ContactInfo::make(ContactState::Sliding, 4.5);
+  c.contact_point = Point3::make(0.1, 0.2, 0.3);
+  c.stiffness = 2000.0;
+  c.damping = 10.0;
+  c.confidence = 0.875f;
+  c.contact_start_time = 1000;
+  c.set_frame_id("finger_tip");
+  c.timestamp_ns = 2000;
+  return c;
+}
+template <>
+HapticFeedback sample<HapticFeedback>() {
+  HapticFeedback h = HapticFeedback::pulse(0.75f, 150.0f, 0.5f);
+  h.force_feedback = Vector3::make(1, 0, -1);
+  h.timestamp_ns = 19;
+  return h;
+}
+template <>
+AudioFrame sample<AudioFrame>() {
+  std::vector<float> pcm(4800);
+  for (std::size_t i = 0; i < pcm.size(); ++i) pcm[i] = static_cast<float>(i % 200) / 200.0f - 0.5f;
+  AudioFrame f = AudioFrame::stereo(48000, pcm).with_frame_id("mic_array").with_timestamp(20);
+  f.set_encoding(AudioEncoding::I16);
+  return f;
+}
+template <>
+GenericMessage sample<GenericMessage>() {
+  const app::SensorReading r{22.5, 60.0, std::string(300, 'g'), {1, 2, 3}};
+  const auto packed = GenericMessage::from_value(r);
+  return *GenericMessage::with_metadata(packed->data(), "sensor.generic \xE2\x9C\x93");
+}
+
+template <class T>
+class EveryNewMessage : public ::testing::Test {};
+using NewMessages =
+    ::testing::Types<NodeHeartbeat, Status, DiagnosticStatus, EmergencyStop, SafetyStatus, ResourceUsage,
+                     DiagnosticValue, DiagnosticReport, WrenchStamped, ImpedanceParameters, ForceCommand, ContactInfo,
+                     HapticFeedback, AudioFrame, GenericMessage>;
+TYPED_TEST_SUITE(EveryNewMessage, NewMessages);
+
+TYPED_TEST(EveryNewMessage, IsFixedSizeAndCopiesByMemcpy) {
+  static_assert(horus::reflect::is_fixed_size<TypeParam>);
+  const TypeParam original = sample<TypeParam>();
+  TypeParam copy{};
+  std::memcpy(&copy, &original, sizeof(TypeParam));
+  EXPECT_EQ(copy, original);
+}
+
+TYPED_TEST(EveryNewMessage, DefaultValueIsAllZeros) {
+  const auto zero = std::bit_cast<TypeParam>(std::array<unsigned char, sizeof(TypeParam)>{});
+  EXPECT_EQ(TypeParam{}, zero);
+}
+
+TYPED_TEST(EveryNewMessage, JsonRoundTripGivesAnEqualMessage) {
+  const TypeParam original = sample<TypeParam>();
+  ASSERT_NE(original, TypeParam{}) << "the sample should exercise non-default values";
+  const nlohmann::json j = horus::to_json(original);
+  EXPECT_EQ(horus::from_json<TypeParam>(j), original);
+  EXPECT_EQ(horus::from_json<TypeParam>(nlohmann::json::parse(j.dump())), original);
+}
+
+TYPED_TEST(EveryNewMessage, FormatsWithItsShortTypeNameAndFields) {
+  const std::string text = fmt::format("{}", sample<TypeParam>());
+  const std::string_view qualified = horus::type_name<TypeParam>();
+  const std::string short_name(qualified.substr(qualified.rfind("::") + 2));
+  EXPECT_EQ(text.rfind(short_name + " { ", 0), 0u) << text.substr(0, 200);
+  EXPECT_EQ(text, horus::to_string(sample<TypeParam>()));
+  EXPECT_TRUE(contains(text, "timestamp_ns: ") || contains(text, "heartbeat_timestamp: ") ||
+              contains(text, "value_type: ") || contains(text, "metadata: "))
+      << text.substr(0, 200);
+}
+
+TYPED_TEST(EveryNewMessage, LivesInHorusMsgNamespace) {
+  EXPECT_EQ(horus::type_name<TypeParam>().rfind("horus::msg::", 0), 0u) << horus::type_name<TypeParam>();
+}
+
+// Field-level JSON and fmt checks for a few types where the text matters.
+
+TEST(Formatting, StatusPrintsItsTextFields) {
+  EXPECT_EQ(fmt::format("{}", Status::warn(7, "hot").with_component("motor")),
+            "Status { level: 1, code: 7, message: \"hot\", component: \"motor\", timestamp_ns: 0 }");
+}
+
+TEST(Formatting, DiagnosticValueAndEStopPrintReadably) {
+  EXPECT_EQ(fmt::format("{}", *DiagnosticValue::from_bool("ok", true)),
+            "DiagnosticValue { key: \"ok\", value: \"true\", value_type: 3 }");
+  EXPECT_EQ(fmt::format("{}", EmergencyStop::engage("stop")),
+            "EmergencyStop { engaged: 1, reason: \"stop\", source: \"\", auto_reset: 0, timestamp_ns: 0 }");
+}
+
+TEST(Formatting, GenericMessageJsonUsesHorusFieldNames) {
+  const nlohmann::json j = horus::to_json(sample<GenericMessage>());
+  for (const char* key :
+       {"inline_data", "inline_len", "overflow_data", "overflow_len", "metadata", "metadata_len", "_padding"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_EQ(j["metadata"], "sensor.generic \xE2\x9C\x93");
+  EXPECT_EQ(j.size(), 7u);
+}
+
+TEST(Formatting, LogSummaryFallsBackToTheFullFormatForSmallMessages) {
+  EXPECT_EQ(horus::log_summary(SafetyStatus::make()), horus::to_string(SafetyStatus::make()));
+  EXPECT_EQ(horus::log_summary(sample<AudioFrame>()), sample<AudioFrame>().log_summary());
+}
+
+}  // namespace
