@@ -125,12 +125,14 @@ class Reader {
  public:
   explicit Reader(std::span<const std::byte> in) noexcept : p_(in.data()), end_(in.data() + in.size()) {}
   std::size_t remaining() const noexcept { return static_cast<std::size_t>(end_ - p_); }
+  const std::byte* position() const noexcept { return p_; }
   bool raw(void* dst, std::size_t n) noexcept {
     if (n > remaining()) return false;
     if (n != 0) std::memcpy(dst, p_, n);
     p_ += n;
     return true;
   }
+  void skip(std::size_t n) noexcept { p_ += n; }
   // Set on the first failure; later reads are skipped.
   std::string error;
 
@@ -139,15 +141,25 @@ class Reader {
   const std::byte* end_;
 };
 
-inline std::string join(const std::string& path, std::string_view field) {
-  return path + "." + std::string(field);
-}
+// Where a value sits in the message ("horus::msg::OccupancyGrid.data[3]"): a chain of frames
+// on the stack, turned into text only when decoding fails (so success builds no strings).
+struct Path {
+  const Path* parent = nullptr;
+  std::string_view name;           // a field name, or the type name at the root
+  std::size_t index = ~std::size_t{0};  // an element index instead of a name
+
+  std::string text() const {
+    std::string head = parent ? parent->text() : std::string();
+    if (index != ~std::size_t{0}) return head + "[" + std::to_string(index) + "]";
+    return parent ? head + "." + std::string(name) : std::string(name);
+  }
+};
 
 template <class V>
-bool get(Reader& r, V& v, const std::string& path) {
+bool get(Reader& r, V& v, const Path& path) {
   if constexpr (is_raw<V>) {
     if (!r.raw(&v, sizeof(V))) {
-      r.error = path + ": needs " + std::to_string(sizeof(V)) + " bytes, " + std::to_string(r.remaining()) +
+      r.error = path.text() + ": needs " + std::to_string(sizeof(V)) + " bytes, " + std::to_string(r.remaining()) +
                 " remain (truncated message)";
       return false;
     }
@@ -156,32 +168,39 @@ bool get(Reader& r, V& v, const std::string& path) {
     using E = typename V::value_type;
     std::uint32_t count = 0;
     if (!r.raw(&count, 4)) {
-      r.error = path + ": the element count is cut off (truncated message)";
+      r.error = path.text() + ": the element count is cut off (truncated message)";
       return false;
     }
     constexpr std::size_t kMin = min_size<E>();
     if (kMin != 0 && count > r.remaining() / kMin) {
-      r.error = path + ": count " + std::to_string(count) + " needs at least " +
+      r.error = path.text() + ": count " + std::to_string(count) + " needs at least " +
                 std::to_string(static_cast<std::uint64_t>(count) * kMin) + " bytes, " +
                 std::to_string(r.remaining()) + " remain (corrupt or truncated message)";
       return false;
     }
-    v.resize(count);
-    if constexpr (is_raw<E>) {
+    if constexpr (is_raw<E> && sizeof(E) == 1) {
+      // Bytes (images, grids, text): one copy, no zero-fill first.
+      const auto* p = reinterpret_cast<const unsigned char*>(r.position());
+      v.assign(reinterpret_cast<const E*>(p), reinterpret_cast<const E*>(p) + count);
+      r.skip(count);
+      return true;
+    } else if constexpr (is_raw<E>) {
+      v.resize(count);
       return r.raw(v.data(), static_cast<std::size_t>(count) * sizeof(E));  // checked above
     } else {
+      v.resize(count);
       for (std::uint32_t i = 0; i < count; ++i)
-        if (!get(r, v[i], path + "[" + std::to_string(i) + "]")) return false;
+        if (!get(r, v[i], Path{&path, {}, i})) return false;
       return true;
     }
   } else if constexpr (is_std_array<V>::value) {
     for (std::size_t i = 0; i < v.size(); ++i)
-      if (!get(r, v[i], path + "[" + std::to_string(i) + "]")) return false;
+      if (!get(r, v[i], Path{&path, {}, i})) return false;
     return true;
   } else {
     bool ok = true;
     reflect::for_each_field(v, [&](std::string_view name, auto& f) {
-      if (ok) ok = get(r, f, join(path, name));
+      if (ok) ok = get(r, f, Path{&path, name});
     });
     return ok;
   }
@@ -216,7 +235,7 @@ template <Reflected T>
 std::expected<T, std::string> decode(std::span<const std::byte> in) {
   T msg{};
   detail::Reader r(in);
-  if (!detail::get(r, msg, std::string(type_name<T>()))) return std::unexpected(std::move(r.error));
+  if (!detail::get(r, msg, detail::Path{nullptr, type_name<T>()})) return std::unexpected(std::move(r.error));
   if (r.remaining() != 0)
     return std::unexpected(std::string(type_name<T>()) + ": " + std::to_string(r.remaining()) +
                            " bytes left over after the message (corrupt message or wrong type)");

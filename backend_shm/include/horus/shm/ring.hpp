@@ -141,6 +141,64 @@ inline std::uint64_t load_seq(const std::byte* slot, std::memory_order mo) noexc
 }
 }  // namespace detail
 
+// Bulk copies into and out of a slot that another thread may be writing. A seqlock reader
+// may copy bytes while they change and then throws the copy away (the sequence moved), so
+// these copies race by design. With ThreadSanitizer they are word-by-word atomics, so the
+// race detector checks the protocol; otherwise they are memcpy ordered by fences, as in
+// rigtorp::Seqlock and the Linux kernel's seqcount: word atomics cannot be vectorised and
+// cost 5x a memcpy on a 32 KiB message (bench/bench_messages.cpp).
+#if defined(__SANITIZE_THREAD__)
+#define HORUS_SHM_ATOMIC_BULK_COPY 1
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+#define HORUS_SHM_ATOMIC_BULK_COPY 1
+#endif
+#endif
+
+namespace detail {
+/// Copies n bytes into slot memory (dst 8-byte aligned); the caller has stored an odd sequence.
+inline void copy_to_slot(std::byte* dst, const std::byte* src, std::size_t n) noexcept {
+#ifdef HORUS_SHM_ATOMIC_BULK_COPY
+  const std::size_t full = n / 8;
+  for (std::size_t i = 0; i < full; ++i) {
+    std::uint64_t w;
+    std::memcpy(&w, src + i * 8, 8);
+    store_word(dst + i * 8, w);
+  }
+  if (n % 8 != 0) {
+    std::uint64_t w = 0;
+    std::memcpy(&w, src + full * 8, n % 8);
+    store_word(dst + full * 8, w);
+  }
+#else
+  std::atomic_thread_fence(std::memory_order_release);  // the odd sequence is visible before any byte
+  std::memcpy(dst, src, n);
+#endif
+}
+
+/// Copies n bytes out of slot memory (src 8-byte aligned); the caller then re-checks the sequence.
+inline void copy_from_slot(std::byte* dst, const std::byte* src, std::size_t n) noexcept {
+#ifdef HORUS_SHM_ATOMIC_BULK_COPY
+  const std::size_t full = n / 8;
+  for (std::size_t i = 0; i < full; ++i) {
+    const std::uint64_t w = load_word(src + i * 8);
+    std::memcpy(dst + i * 8, &w, 8);
+  }
+  if (n % 8 != 0) {
+    const std::uint64_t w = load_word(src + full * 8);
+    std::memcpy(dst + full * 8, &w, n % 8);
+  }
+#else
+  std::memcpy(dst, src, n);
+  std::atomic_thread_fence(std::memory_order_acquire);  // every byte is read before the sequence re-check
+#endif
+}
+}  // namespace detail
+
+/// Fixed-size messages above this size are copied with copy_to_slot / copy_from_slot (memcpy);
+/// smaller ones word by word, which is faster for a few words.
+inline constexpr std::size_t kBulkCopyBytes = 256;
+
 /// Writes message number `seq` of a lane into its slot (single writer per lane).
 template <class T>
 [[gnu::always_inline]] inline void write_slot(std::byte* slot, std::uint64_t seq, const T& msg) noexcept {
@@ -151,6 +209,11 @@ template <class T>
   sq.store(2 * seq + 1, std::memory_order_relaxed);
   std::byte* dst = slot + 8;
   const auto* src = reinterpret_cast<const std::byte*>(&msg);
+  if constexpr (sizeof(T) > kBulkCopyBytes) {
+    detail::copy_to_slot(dst, src, sizeof(T));
+    sq.store(2 * seq + 2, std::memory_order_release);
+    return;
+  }
   for (std::size_t i = 0; i < kFull; ++i) {
     std::uint64_t w;
     std::memcpy(&w, src + i * 8, 8);
@@ -164,7 +227,8 @@ template <class T>
   sq.store(2 * seq + 2, std::memory_order_release);
 }
 
-/// Reads message number `seq` of a lane from its slot into `out` (never torn).
+/// Reads message number `seq` of a lane from its slot into `out` (never torn: when the result
+/// is not Ok, a large `out` may hold a discarded partial copy and must not be used).
 template <class T>
 [[gnu::always_inline]] inline ReadStatus read_slot(const std::byte* slot, std::uint64_t seq, T& out) noexcept {
   static_assert(std::is_trivially_copyable_v<T>, "ring slots carry trivially copyable messages");
@@ -172,6 +236,10 @@ template <class T>
   const std::uint64_t want = 2 * seq + 2;
   const std::uint64_t v1 = detail::load_seq(slot, std::memory_order_acquire);
   if (v1 != want) return v1 < want ? ReadStatus::Empty : ReadStatus::Lost;
+  if constexpr (sizeof(T) > kBulkCopyBytes) {
+    detail::copy_from_slot(reinterpret_cast<std::byte*>(&out), slot + 8, sizeof(T));
+    return detail::load_seq(slot, std::memory_order_relaxed) == want ? ReadStatus::Ok : ReadStatus::Lost;
+  }
   alignas(T) std::byte buf[kWords * 8];
   const std::byte* src = slot + 8;
   for (std::size_t i = 0; i < kWords; ++i) {
@@ -204,19 +272,7 @@ inline void write_slot(std::byte* slot, std::uint64_t seq, std::span<const std::
   auto sq = detail::seq_of(slot);
   sq.store(2 * seq + 1, std::memory_order_relaxed);
   detail::store_word(slot + 8, msg.size());
-  std::byte* dst = slot + 16;
-  const std::size_t full = msg.size() / 8;
-  const std::size_t tail = msg.size() % 8;
-  for (std::size_t i = 0; i < full; ++i) {
-    std::uint64_t w;
-    std::memcpy(&w, msg.data() + i * 8, 8);
-    detail::store_word(dst + i * 8, w);
-  }
-  if (tail != 0) {
-    std::uint64_t w = 0;
-    std::memcpy(&w, msg.data() + full * 8, tail);
-    detail::store_word(dst + full * 8, w);
-  }
+  detail::copy_to_slot(slot + 16, msg.data(), msg.size());
   sq.store(2 * seq + 2, std::memory_order_release);
 }
 
@@ -228,17 +284,7 @@ inline ReadStatus read_slot(const std::byte* slot, std::uint64_t seq, ByteMessag
   if (v1 != want) return v1 < want ? ReadStatus::Empty : ReadStatus::Lost;
   const std::uint64_t len = detail::load_word(slot + 8);
   if (len > out.bytes.size()) return ReadStatus::Lost;
-  const std::byte* src = slot + 16;
-  const std::size_t words = (len + 7) / 8;
-  const std::size_t full = len / 8;
-  for (std::size_t i = 0; i < full; ++i) {
-    const std::uint64_t w = detail::load_word(src + i * 8);
-    std::memcpy(out.bytes.data() + i * 8, &w, 8);
-  }
-  if (words != full) {
-    const std::uint64_t w = detail::load_word(src + full * 8);
-    std::memcpy(out.bytes.data() + full * 8, &w, len - full * 8);
-  }
+  detail::copy_from_slot(out.bytes.data(), slot + 16, static_cast<std::size_t>(len));
   if (detail::load_seq(slot, std::memory_order_relaxed) != want) return ReadStatus::Lost;
   out.size = static_cast<std::uint32_t>(len);
   return ReadStatus::Ok;
