@@ -2,6 +2,7 @@
 
 #include <atomic>
 #include <map>
+#include <limits>
 #include <mutex>
 
 #include "horus/topic.hpp"
@@ -91,10 +92,6 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
                                              std::optional<std::uint32_t> capacity,
                                              std::optional<std::size_t> slot_size) {
   if (auto ok = validate_topic_name(name); !ok) return std::unexpected(std::move(ok.error()));
-  if (capacity) {
-    if (auto err = shm::Ring::check_config({*capacity, type.size, type.hash}))
-      return fail(Errc::InvalidArgument, fmt::format("topic '{}': {}", name, *err));
-  }
   // The ring payload: sizeof(T), or for a serialized type a length word and the encoded bytes.
   std::uint32_t payload = type.size;
   if (type.serialized) {
@@ -110,10 +107,15 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
       if (auto err = shm::Ring::check_config({*capacity, payload, type.hash}))
         return fail(Errc::InvalidArgument, fmt::format("topic '{}': {}", name, *err));
     }
-  } else if (slot_size && *slot_size < type.size) {
-    return fail(Errc::InvalidArgument,
-                fmt::format("topic '{}': slot_size {} is smaller than a {} message ({} bytes); expected at least {}",
-                            name, *slot_size, type.name, type.size, type.size));
+  } else {
+    if (capacity) {
+      if (auto err = shm::Ring::check_config({*capacity, payload, type.hash}))
+        return fail(Errc::InvalidArgument, fmt::format("topic '{}': {}", name, *err));
+    }
+    if (slot_size && *slot_size < type.size)
+      return fail(Errc::InvalidArgument,
+                  fmt::format("topic '{}': slot_size {} is smaller than a {} message ({} bytes); expected at least {}",
+                              name, *slot_size, type.name, type.size, type.size));
   }
 
   auto& reg = registry();
@@ -176,13 +178,20 @@ void report_no_lane(const TopicCore& core) {
               core.name, shm::kMaxPublishers);
 }
 
+namespace {
+std::string encoded_size_text(std::size_t size) {
+  if (size == std::numeric_limits<std::size_t>::max()) return "more than the format allows (a sequence over 2^32 - 1 elements)";
+  return fmt::format("{} bytes", size);
+}
+}  // namespace
+
 void report_too_large(const TopicCore& core, std::size_t size, std::uint64_t count) {
   // Every refusal is counted in send_failures(); the log says the first and then every 1024th.
   if (count == 1 || count % 1024 == 0)
-    log().error("topic '{}': a {} message encodes to {} bytes, over the topic's slot size of {} bytes; refused "
+    log().error("topic '{}': a {} message encodes to {}, over the topic's slot size of {} bytes; refused "
                 "({} so far). Open the topic with Topic::with_capacity(name, capacity, slot_size) and a larger "
                 "slot_size.",
-                core.name, core.type_name, size, shm::max_serialized_size(core.payload_size), count);
+                core.name, core.type_name, encoded_size_text(size), shm::max_serialized_size(core.payload_size), count);
 }
 
 void report_decode_failure(const TopicCore& core, const std::string& what, std::uint64_t count) {
@@ -193,9 +202,9 @@ void report_decode_failure(const TopicCore& core, const std::string& what, std::
 
 Error too_large_error(const TopicCore& core, std::size_t size) {
   return Error(Errc::MessageTooLarge,
-               fmt::format("topic '{}': a {} message encodes to {} bytes, over the topic's slot size of {} bytes; "
+               fmt::format("topic '{}': a {} message encodes to {}, over the topic's slot size of {} bytes; "
                            "expected at most {} (open the topic with a larger slot_size)",
-                           core.name, core.type_name, size, shm::max_serialized_size(core.payload_size),
+                           core.name, core.type_name, encoded_size_text(size), shm::max_serialized_size(core.payload_size),
                            shm::max_serialized_size(core.payload_size)));
 }
 

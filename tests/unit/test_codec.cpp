@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstring>
 #include <string>
+#include <stdexcept>
 #include <vector>
 
 #include "horus/codec.hpp"
@@ -27,6 +28,14 @@ struct Named {
   friend bool operator==(const Named&, const Named&) = default;
 };
 HORUS_REFLECT(Named, name, points)
+
+/// Trivially copyable, but holds a bool: encoded field by field (5 bytes, no padding).
+struct Flagged {
+  std::uint32_t id{};
+  bool on{};
+  friend bool operator==(const Flagged&, const Flagged&) = default;
+};
+HORUS_REFLECT(Flagged, id, on)
 
 struct Everything {
   std::uint8_t u8{};
@@ -145,8 +154,6 @@ TEST(Codec, RandomCorruptionNeverCrashesOrReadsPastTheEnd) {
     x ^= x >> 7;
     x ^= x << 17;
     bytes[x % bytes.size()] = static_cast<std::byte>(x >> 56);
-    // Keep bool and enum bytes valid: their corruption is a value, not a length, question.
-    bytes[1 + 8 + 8] = std::byte{1};
     auto r = codec::decode<Everything>(bytes);
     if (!r) {
       ++failures;
@@ -154,6 +161,65 @@ TEST(Codec, RandomCorruptionNeverCrashesOrReadsPastTheEnd) {
     }
   }
   EXPECT_GT(failures, 0);  // some flips hit lengths and must be caught
+}
+
+TEST(Codec, ABoolByteOtherThanZeroOrOneIsAnErrorNamingTheField) {
+  auto bytes = codec::encode(sample());
+  bytes[1 + 8 + 8] = std::byte{2};  // u8, i64, f64, then flag
+  auto r = codec::decode<Everything>(bytes);
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().find("codec_test::Everything.flag: bool byte 2, expected 0 or 1"), std::string::npos)
+      << r.error();
+}
+
+TEST(Codec, ACorruptCountOfStringsFailsWithoutAllocatingBeyondTheBuffer) {
+  // 1000 empty strings encode as 4 bytes each; a count claiming them all then fails at the end.
+  Everything e;
+  e.words.assign(1000, std::string());
+  auto bytes = codec::encode(e);
+  const std::size_t count_at = bytes.size() - (4 + 1000 * 4);
+  const std::uint32_t claimed = 1001;
+  std::memcpy(bytes.data() + count_at, &claimed, 4);
+  auto r = codec::decode<Everything>(bytes);
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().find("codec_test::Everything.words: count 1001"), std::string::npos) << r.error();
+}
+
+TEST(Codec, ErrorsNameTheElementInsideNestedSequences) {
+  Everything e = sample();
+  auto bytes = codec::encode(e);
+  // Cut inside groups[2].points (the last group's single point).
+  const std::size_t tail = codec::detail::size_of(e.pair) + codec::detail::size_of(e.nested) + codec::detail::size_of(e.words);
+  auto r = codec::decode<Everything>(std::span<const std::byte>(bytes.data(), bytes.size() - tail - 3));
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().find("codec_test::Everything.groups[2].points: count 1 needs at least 8 bytes, 5 remain"),
+            std::string::npos)
+      << r.error();
+}
+
+TEST(Codec, EncodingIntoATooSmallBufferThrowsAndWritesNothingPastIt) {
+  const Everything e = sample();
+  std::vector<std::byte> out(codec::encoded_size(e) + 16, std::byte{0x5a});
+  EXPECT_THROW(codec::encode(e, std::span<std::byte>(out.data(), out.size() - 17)), std::length_error);
+  for (std::size_t i = out.size() - 17; i < out.size(); ++i) EXPECT_EQ(out[i], std::byte{0x5a}) << i;
+}
+
+TEST(Codec, APodMessageWithABoolIsEncodedFieldByFieldAndRoundTrips) {
+  const codec_test::Flagged f{7, true};
+  const auto bytes = codec::encode(f);
+  EXPECT_EQ(bytes.size(), 5u);
+  EXPECT_EQ(bytes[4], std::byte{1});
+  auto back = codec::decode<codec_test::Flagged>(bytes);
+  ASSERT_TRUE(back) << back.error();
+  EXPECT_EQ(*back, f);
+}
+
+TEST(Codec, EnumValuesWithoutANameRoundTrip) {
+  Everything e;
+  e.kind = static_cast<codec_test::Kind>(42);
+  auto back = codec::decode<Everything>(codec::encode(e));
+  ASSERT_TRUE(back) << back.error();
+  EXPECT_EQ(static_cast<int>(back->kind), 42);
 }
 
 }  // namespace

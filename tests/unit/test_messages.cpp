@@ -367,6 +367,28 @@ TEST(Imu, HasOrientationIsFalseWhenCovarianceStartsWithMinusOne) {
   EXPECT_TRUE(imu.is_valid());
 }
 
+TEST(Imu, HasOrientationNeedsANonNegativeFirstCovariance) {
+  Imu imu = Imu::make();
+  imu.orientation_covariance[0] = 0.0;
+  EXPECT_TRUE(imu.has_orientation());
+  imu.orientation_covariance[0] = 0.02;
+  EXPECT_TRUE(imu.has_orientation());
+  imu.orientation_covariance[0] = -1.0;  // the ROS sentinel
+  EXPECT_FALSE(imu.has_orientation());
+  imu.orientation_covariance[0] = -2.0;  // any other negative sentinel
+  EXPECT_FALSE(imu.has_orientation());
+  imu.orientation_covariance[0] = -1e-300;
+  EXPECT_FALSE(imu.has_orientation());
+  imu.orientation_covariance[0] = kNaN;
+  EXPECT_FALSE(imu.has_orientation());
+  imu.orientation_covariance[0] = -kInf;
+  EXPECT_FALSE(imu.has_orientation());
+  // Only the first element decides.
+  imu.orientation_covariance = {};
+  imu.orientation_covariance[4] = -1.0;
+  EXPECT_TRUE(imu.has_orientation());
+}
+
 TEST(Imu, IsValidRejectsAnyNonFiniteNumber) {
   Imu a = Imu::make();
   a.linear_acceleration[2] = kNaN;
@@ -391,6 +413,14 @@ TEST(LaserScan, MakeCoversAFullTurnAtOneDegree) {
   EXPECT_FLOAT_EQ(s.range_max, 30.0f);
   EXPECT_EQ(s.ranges.size(), 360u);
   EXPECT_EQ(s.valid_count(), 0u);
+}
+
+TEST(LaserScan, MakeHasHorusScanTimeOfATenthOfASecond) {
+  const LaserScan s = LaserScan::make();
+  EXPECT_EQ(s.scan_time, 0.1f);
+  EXPECT_EQ(s.time_increment, 0.0f);
+  EXPECT_EQ(s.timestamp_ns, 0u);
+  EXPECT_NE(s, LaserScan{});
 }
 
 TEST(LaserScan, AngleAtStartsAtAngleMinAndStepsByIncrement) {
@@ -515,6 +545,52 @@ TEST(Odometry, UpdateReplacesPoseAndTwist) {
   odom.update(Pose2D::make(3, 4, 0), Twist::stop(), 77);
   EXPECT_EQ(odom.pose.x, 3.0);
   EXPECT_EQ(odom.timestamp_ns, 77u);
+}
+
+TEST(Odometry, MakeIsAtTheOriginAtRestWithNoFrames) {
+  constexpr Odometry odom = Odometry::make();
+  static_assert(odom.pose == Pose2D::origin());
+  EXPECT_EQ(odom.pose, Pose2D::origin());
+  EXPECT_EQ(odom.twist, Twist::stop());
+  EXPECT_EQ(odom.pose_covariance, (std::array<double, 36>{}));
+  EXPECT_EQ(odom.twist_covariance, (std::array<double, 36>{}));
+  EXPECT_EQ(odom.frame_id_str(), "");
+  EXPECT_EQ(odom.child_frame_id_str(), "");
+  EXPECT_EQ(odom.timestamp_ns, 0u);
+  EXPECT_EQ(odom, Odometry{});
+  EXPECT_TRUE(odom.is_valid());
+}
+
+TEST(Odometry, IsValidNeedsFinitePoseTwistAndCovariances) {
+  Odometry odom = Odometry::make();
+  odom.update(Pose2D::make(1e6, -2.0, 3.0), Twist::new_2d(-0.5, 0.2));
+  odom.pose_covariance[0] = 0.01;
+  odom.twist_covariance[35] = 0.02;
+  EXPECT_TRUE(odom.is_valid());
+
+  Odometry a = odom;
+  a.pose.x = kNaN;
+  EXPECT_FALSE(a.is_valid());
+  Odometry b = odom;
+  b.pose.theta = kInf;
+  EXPECT_FALSE(b.is_valid());
+  Odometry c = odom;
+  c.twist.linear[1] = kNaN;
+  EXPECT_FALSE(c.is_valid());
+  Odometry d = odom;
+  d.twist.angular[2] = -kInf;
+  EXPECT_FALSE(d.is_valid());
+  Odometry e = odom;
+  e.pose_covariance[35] = kNaN;
+  EXPECT_FALSE(e.is_valid());
+  Odometry f = odom;
+  f.twist_covariance[0] = kInf;
+  EXPECT_FALSE(f.is_valid());
+  // Timestamps are not checked.
+  Odometry g = odom;
+  g.timestamp_ns = ~0ULL;
+  g.pose.timestamp_ns = ~0ULL;
+  EXPECT_TRUE(g.is_valid());
 }
 
 TEST(Odometry, LogSummaryNamesFramesWithUnits) {
@@ -758,7 +834,7 @@ LaserScan sample<LaserScan>() {
   LaserScan s = LaserScan::make();
   for (std::size_t i = 0; i < s.ranges.size(); ++i) s.ranges[i] = 0.1f * static_cast<float>(i % 50);
   s.time_increment = 1e-4f;
-  s.scan_time = 0.1f;
+  s.scan_time = 0.125f;  // not make()'s 0.1 s
   s.timestamp_ns = 1000;
   return s;
 }

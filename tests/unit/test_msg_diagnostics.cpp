@@ -509,6 +509,44 @@ TEST(DiagnosticReport, LogSummaryIsShortAndNamesLevelAndValues) {
   EXPECT_TRUE(contains(line, "more)")) << line;
 }
 
+TEST(DiagnosticReport, LogSummaryCutsLongValuesAtACharacterBoundary) {
+  // "a" then 20 euro signs (3 bytes each): byte 24 falls inside the 8th one.
+  std::string euros = "a";
+  for (int i = 0; i < 20; ++i) euros += "\xE2\x82\xAC";
+  // "ab" then 15 robots (4 bytes each): byte 24 falls inside the 6th one.
+  std::string robots = "ab";
+  for (int i = 0; i < 15; ++i) robots += "\xF0\x9F\xA4\x96";
+  // Exactly 24 bytes of 2-byte characters: shown whole, no "...".
+  std::string accents;
+  for (int i = 0; i < 12; ++i) accents += "\xC3\xA9";
+
+  DiagnosticReport r = DiagnosticReport::make("c");
+  ASSERT_TRUE(r.add_string("euro", euros));
+  ASSERT_TRUE(r.add_string("bot", robots));
+  ASSERT_TRUE(r.add_string("e", accents));
+  const std::string line = r.log_summary();
+  EXPECT_EQ(detail::generic_utf8_error(line), std::string_view::npos) << "not valid UTF-8: " << line;
+  std::string euros7 = "a";
+  for (int i = 0; i < 7; ++i) euros7 += "\xE2\x82\xAC";
+  std::string robots5 = "ab";
+  for (int i = 0; i < 5; ++i) robots5 += "\xF0\x9F\xA4\x96";
+  EXPECT_EQ(line, "DiagnosticReport(c, Ok, 3 values: euro=" + euros7 + "..., bot=" + robots5 + "..., e=" + accents + ")");
+}
+
+TEST(DiagnosticReport, Utf8PrefixNeverSplitsACharacter) {
+  const std::string_view text = "x\xC3\xA9\xE2\x82\xAC";  // x, e-acute (2 bytes), euro (3 bytes)
+  EXPECT_EQ(detail::diag_utf8_prefix(text, 100), text);
+  EXPECT_EQ(detail::diag_utf8_prefix(text, 6), text);
+  EXPECT_EQ(detail::diag_utf8_prefix(text, 5), "x\xC3\xA9");
+  EXPECT_EQ(detail::diag_utf8_prefix(text, 4), "x\xC3\xA9");
+  EXPECT_EQ(detail::diag_utf8_prefix(text, 3), "x\xC3\xA9");
+  EXPECT_EQ(detail::diag_utf8_prefix(text, 2), "x");
+  EXPECT_EQ(detail::diag_utf8_prefix(text, 1), "x");
+  EXPECT_EQ(detail::diag_utf8_prefix(text, 0), "");
+  EXPECT_EQ(detail::diag_utf8_prefix("", 0), "");
+  EXPECT_EQ(detail::diag_utf8_prefix("plain ascii", 5), "plain");
+}
+
 TEST(DiagnosticReport, LayoutMatchesHorus) {
   EXPECT_EQ(sizeof(DiagnosticReport), 1600u);
   EXPECT_EQ(offsetof(DiagnosticReport, values), 32u);
@@ -1040,7 +1078,7 @@ TEST(GenericMessage, LayoutMatchesHorusAndCopiesByMemcpy) {
 }
 
 TEST(GenericMessage, CorruptLengthsAreClampedToTheBuffers) {
-  GenericMessage m = *GenericMessage::make(bytes_of(10));
+  GenericMessage m = *GenericMessage::with_metadata(bytes_of(10), std::string(255, 'm'));
   nlohmann::json j = horus::to_json(m);
   j["inline_len"] = 60000;
   j["overflow_len"] = 4000000000u;
@@ -1048,9 +1086,57 @@ TEST(GenericMessage, CorruptLengthsAreClampedToTheBuffers) {
   const GenericMessage bad = horus::from_json<GenericMessage>(j);
   EXPECT_EQ(bad.size(), 4096u);
   EXPECT_EQ(bad.data().size(), 4096u);
-  ASSERT_TRUE(bad.metadata().has_value());
-  EXPECT_EQ(bad.metadata()->size(), 255u);
+  EXPECT_EQ(bad.metadata(), std::string(255, 'm'));
   EXPECT_LT(bad.log_summary().size(), 200u);
+}
+
+// A received message is not validated: metadata() checks the stored bytes.
+TEST(GenericMessage, ReceivedMetadataThatIsNotUtf8IsNullopt) {
+  const GenericMessage good = *GenericMessage::with_metadata(bytes_of(3), "imu");
+  nlohmann::json j = horus::to_json(good);
+  j["metadata"] = std::string("ab\xFF");  // a byte UTF-8 never uses
+  j["metadata_len"] = 3;
+  const GenericMessage bad = horus::from_json<GenericMessage>(j);
+  EXPECT_EQ(bad.metadata(), std::nullopt);
+  EXPECT_EQ(bad.data(), bytes_of(3));  // the payload is still readable
+
+  j["metadata"] = std::string("caf\xC3");  // a 2-byte character cut off
+  j["metadata_len"] = 4;
+  EXPECT_EQ(horus::from_json<GenericMessage>(j).metadata(), std::nullopt);
+  j["metadata"] = std::string("surrogate \xED\xA0\x80");
+  j["metadata_len"] = 13;
+  EXPECT_EQ(horus::from_json<GenericMessage>(j).metadata(), std::nullopt);
+
+  // A length that cuts a valid text inside a character.
+  j["metadata"] = std::string("caf\xC3\xA9");
+  j["metadata_len"] = 4;
+  EXPECT_EQ(horus::from_json<GenericMessage>(j).metadata(), std::nullopt);
+  j["metadata_len"] = 5;
+  EXPECT_EQ(horus::from_json<GenericMessage>(j).metadata(), "caf\xC3\xA9");
+}
+
+TEST(GenericMessage, ReceivedMetadataHoldingANulIsNullopt) {
+  const GenericMessage good = *GenericMessage::with_metadata(bytes_of(3), "imu");
+  nlohmann::json j = horus::to_json(good);
+  j["metadata_len"] = 5;  // "imu" then two of the NUL padding bytes
+  const GenericMessage bad = horus::from_json<GenericMessage>(j);
+  EXPECT_EQ(bad.metadata(), std::nullopt);
+  j["metadata_len"] = 3;
+  EXPECT_EQ(horus::from_json<GenericMessage>(j).metadata(), "imu");
+  // All-NUL metadata of any length is not text either.
+  j["metadata"] = "";
+  j["metadata_len"] = 9999;
+  EXPECT_EQ(horus::from_json<GenericMessage>(j).metadata(), std::nullopt);
+}
+
+TEST(GenericMessage, LogSummaryLeavesOutMetadataThatIsNotText) {
+  const GenericMessage good = *GenericMessage::from_value(7);
+  nlohmann::json j = horus::to_json(good);
+  j["metadata"] = std::string("ab\xFF\xFE");
+  j["metadata_len"] = 4;
+  const std::string line = horus::from_json<GenericMessage>(j).log_summary();
+  EXPECT_EQ(line, "GenericMessage(1 B msgpack, meta not UTF-8 text (4 B), value 7)");
+  EXPECT_EQ(detail::generic_utf8_error(line), std::string_view::npos);
 }
 
 // ===========================================================================

@@ -7,6 +7,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -56,6 +57,27 @@ std::uint8_t cost_at(const CostMap& m, std::uint32_t gx, std::uint32_t gy) {
 TEST(Goal, NavGoalIsTheSameTypeAsGoal) {
   static_assert(std::is_same_v<NavGoal, Goal>);
   EXPECT_EQ(horus::type_name<NavGoal>(), "horus::msg::Goal");
+}
+
+TEST(Goal, DesignatedInitialiserNavGoalSetsTheTimestamp) {
+  // The page's example, written with designated initialisers: fields not named
+  // (priority, goal_id) stay zero and the stamp lands in timestamp_ns.
+  const NavGoal goal{.target_pose = Pose2D::make(5.0, 3.0, 0.0),
+                     .tolerance_position = 0.1,
+                     .tolerance_angle = 0.05,
+                     .timeout_seconds = 30.0,
+                     .timestamp_ns = 1'700'000'000'000'000'123ULL};
+  EXPECT_EQ(goal.timestamp_ns, 1'700'000'000'000'000'123ULL);
+  EXPECT_EQ(goal.target_pose, Pose2D::make(5.0, 3.0, 0.0));
+  EXPECT_EQ(goal.tolerance_position, 0.1);
+  EXPECT_EQ(goal.tolerance_angle, 0.05);
+  EXPECT_EQ(goal.timeout_seconds, 30.0);
+  EXPECT_EQ(goal.priority, 0);
+  EXPECT_EQ(goal.goal_id, 0u);
+  // Goal's 7 fields, priority and goal_id before timestamp_ns.
+  static_assert(horus::reflect::field_count<NavGoal> == 7);
+  EXPECT_LT(offsetof(NavGoal, priority), offsetof(NavGoal, timestamp_ns));
+  EXPECT_LT(offsetof(NavGoal, goal_id), offsetof(NavGoal, timestamp_ns));
 }
 
 TEST(Goal, HasTheRustLayout) {
@@ -237,6 +259,45 @@ TEST(Waypoint, WithStopRequiresAStopAndZeroesTheVelocity) {
   EXPECT_EQ(w.velocity, Twist::stop());
   EXPECT_EQ(w.pose, moving.pose);
   EXPECT_EQ(moving.stop_required, 0);  // copy, not in place
+}
+
+TEST(Waypoint, XYThetaReadThePose) {
+  constexpr Waypoint w = Waypoint::make(Pose2D::make(1.5, -2.25, 0.75));
+  static_assert(w.x() == 1.5 && w.y() == -2.25 && w.theta() == 0.75);
+  EXPECT_EQ(w.x(), 1.5);
+  EXPECT_EQ(w.y(), -2.25);
+  EXPECT_EQ(w.theta(), 0.75);
+  Waypoint moved = w;
+  moved.pose.x = 4.0;
+  EXPECT_EQ(moved.x(), 4.0);
+  EXPECT_EQ(Waypoint{}.x(), 0.0);
+}
+
+TEST(Waypoint, SpeedIsTheMagnitudeOfTheLinearVelocity) {
+  const Waypoint w = Waypoint::make(Pose2D::origin());
+  EXPECT_EQ(w.speed(), 0.0);
+  EXPECT_EQ(w.with_velocity(Twist::new_2d(0.5, 1.0)).speed(), 0.5);      // angular part ignored
+  EXPECT_EQ(w.with_velocity(Twist::new_2d(-0.75, 0.0)).speed(), 0.75);   // reversing: still a speed
+  EXPECT_DOUBLE_EQ(w.with_velocity(Twist::make({3.0, 4.0, 0.0}, {})).speed(), 5.0);
+  EXPECT_DOUBLE_EQ(w.with_velocity(Twist::make({2.0, 3.0, 6.0}, {})).speed(), 7.0);
+  EXPECT_EQ(w.with_velocity(Twist::make({0.0, 0.0, 0.0}, {0.0, 0.0, 2.0})).speed(), 0.0);
+  EXPECT_TRUE(std::isnan(w.with_velocity(Twist::make({kNaN, 0.0, 0.0}, {})).speed()));
+  EXPECT_EQ(w.with_velocity(Twist::make({0.0, -kInf, 0.0}, {})).speed(), kInf);
+  EXPECT_EQ(w.with_velocity(Twist::make({kNaN, 0.0, kInf}, {})).speed(), kInf);
+  EXPECT_DOUBLE_EQ(w.with_velocity(Twist::make({3e200, 4e200, 0.0}, {})).speed(), 5e200);  // no overflow
+  EXPECT_EQ(w.with_velocity(Twist::new_2d(0.5, 0.0)).with_stop().speed(), 0.0);
+}
+
+TEST(Waypoint, NavPathPageExampleReadsPositionHeadingAndSpeed) {
+  NavPath path{};
+  ASSERT_TRUE(path.add_waypoint(Waypoint::make(Pose2D::make(1.0, 2.0, 0.5)).with_velocity(Twist::new_2d(0.8, 0.1))));
+  ASSERT_TRUE(path.add_waypoint(Waypoint::make(Pose2D::make(3.0, 2.0, 0.0)).with_stop()));
+  std::vector<std::array<double, 4>> seen;
+  for (std::size_t i = 0; i < path.waypoint_count; ++i) {
+    const Waypoint& wp = path.waypoints[i];
+    seen.push_back({wp.x(), wp.y(), wp.theta(), wp.speed()});
+  }
+  EXPECT_EQ(seen, (std::vector<std::array<double, 4>>{{1.0, 2.0, 0.5, 0.8}, {3.0, 2.0, 0.0, 0.0}}));
 }
 
 // ===========================================================================

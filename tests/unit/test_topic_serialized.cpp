@@ -1,13 +1,16 @@
 // Topic<T> for variable-size messages (vectors, strings): serialized into slots.
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
+#include <cstring>
 #include <cstdint>
 #include <ostream>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "horus/msg/image.hpp"
 #include "horus/topic.hpp"
 #include "test_support.hpp"
 
@@ -178,6 +181,157 @@ TEST(SerializedTopic, ConcurrentPublishersDeliverIntactMessages) {
   t2.join();
   EXPECT_EQ(received, 2 * kPerPublisher);
   EXPECT_EQ(sub->dropped_count(), 0u);
+}
+
+TEST(SerializedTopic, MessagesUpToExactlyTheSlotSizeArriveIntactWhateverTheirLengthModuloEight) {
+  const auto name = unique_name("serial");
+  auto pub = Topic<Blob>::with_capacity(name, 16, 256);
+  ASSERT_TRUE(pub);
+  Topic<Blob> sub(name);
+  // Encoded size = (4 + label) + (4 + 4n) + 8: with n = 58 and labels of 0 to 8 characters,
+  // 248 to 256 bytes, every remainder modulo 8.
+  std::vector<Blob> sent;
+  for (std::size_t len = 0; len <= 8; ++len) {
+    Blob b = make_blob(len, 58);
+    b.label = std::string(len, 'x');
+    ASSERT_EQ(horus::codec::encoded_size(b), 248 + len);
+    pub->send(b);
+    sent.push_back(b);
+  }
+  Blob over = make_blob(99, 58);
+  over.label = std::string(9, 'x');  // 257 bytes
+  pub->send(over);
+  EXPECT_EQ(pub->metrics().send_failures(), 1u);
+  for (const auto& b : sent) {
+    auto m = sub.recv();
+    ASSERT_TRUE(m);
+    EXPECT_EQ(*m, b);
+  }
+  EXPECT_FALSE(sub.recv());
+}
+
+// A slot written with bytes that do not decode as the topic's type (what a damaged shared
+// segment could hold): skipped, counted, and later messages still arrive.
+TEST(SerializedTopic, AMessageThatDoesNotDecodeIsSkippedCountedAndLaterOnesArrive) {
+  const auto name = unique_name("serial");
+  Topic<Blob> sub(name);
+  const horus::detail::TypeInfo type{horus::type_name<Blob>(), horus::type_hash<Blob>, 64 * 1024, true};
+  auto core = horus::detail::open_core(name, type, std::nullopt, std::nullopt);
+  ASSERT_TRUE(core) << core.error().message();
+  horus::shm::RingWriter<horus::shm::ByteMessage> raw((*core)->ring, horus::detail::next_token());
+  ASSERT_TRUE(raw.ensure_lane());
+  const std::byte garbage[5] = {std::byte{0xff}, std::byte{0xff}, std::byte{0xff}, std::byte{0xff}, std::byte{1}};
+  raw.write_bytes(garbage);
+  Topic<Blob> pub(name);
+  pub.send(make_blob(7, 3));
+  auto m = sub.recv();
+  ASSERT_TRUE(m);
+  EXPECT_EQ(*m, make_blob(7, 3));
+  EXPECT_EQ(sub.metrics().decode_failures(), 1u);
+  EXPECT_EQ(sub.metrics().messages_received(), 1u);
+  EXPECT_FALSE(sub.recv());
+}
+
+TEST(SerializedTopic, ASlotWhoseLengthExceedsTheLimitIsSkippedAsCorruptNotReturned) {
+  const auto name = unique_name("serial");
+  auto pub = Topic<Blob>::with_capacity(name, 4, 1024);
+  ASSERT_TRUE(pub);
+  Topic<Blob> sub(name);
+  pub->send(make_blob(1, 2));
+  // The first publisher writes lane 0, slot 0: [seq][length][bytes]. Damage the length.
+  auto core = horus::detail::open_core(name, {horus::type_name<Blob>(), horus::type_hash<Blob>, 1024, true},
+                                       std::nullopt, std::nullopt);
+  ASSERT_TRUE(core);
+  const std::uint64_t bad = 1024 + 64;
+  std::memcpy((*core)->ring.lane_slots(0) + 8, &bad, 8);
+  EXPECT_FALSE(sub.read_latest());
+  pub->send(make_blob(2, 2));
+  auto m = sub.recv();
+  ASSERT_TRUE(m);
+  EXPECT_EQ(m->seq, 2u);
+  EXPECT_EQ(sub.metrics().decode_failures(), 1u);
+  EXPECT_EQ(sub.metrics().messages_received(), 1u);
+  EXPECT_EQ(sub.dropped_count(), 0u);
+}
+
+TEST(SerializedTopic, OverwritingSendsUnderLoadDeliverIntactMessagesAndCountEveryLoss) {
+  const auto name = unique_name("serial");
+  auto sub = Topic<Blob>::with_capacity(name, 2, 4096);
+  ASSERT_TRUE(sub);
+  constexpr std::uint64_t kSent = 20000;
+  std::atomic<bool> done{false};
+  std::thread publisher([&] {
+    Topic<Blob> pub(name);
+    for (std::uint64_t i = 0; i < kSent; ++i) pub.send(make_blob(i, i % 200));
+    done.store(true);
+  });
+  std::uint64_t received = 0, last = 0;
+  bool first = true;
+  const horus_test::Deadline deadline(std::chrono::seconds(60));
+  for (;;) {
+    const bool finished = done.load();
+    while (auto m = sub->recv()) {
+      ASSERT_EQ(*m, make_blob(m->seq, m->seq % 200));
+      if (!first) {
+        ASSERT_GT(m->seq, last);
+      }
+      first = false;
+      last = m->seq;
+      ++received;
+    }
+    if (finished || deadline.expired()) break;
+    std::this_thread::yield();
+  }
+  publisher.join();
+  EXPECT_GT(received, 0u);
+  EXPECT_EQ(received + sub->dropped_count(), kSent);
+  EXPECT_EQ(sub->metrics().messages_received(), received);
+}
+
+TEST(SerializedTopic, AMovedHandleKeepsItsSubscriptionLaneAndCounters) {
+  const auto name = unique_name("serial");
+  Topic<Blob> a(name);
+  Topic<Blob> pub(name);
+  pub.send(make_blob(1, 1));
+  ASSERT_TRUE(a.recv());
+  Topic<Blob> b(unique_name("serial"));
+  b = std::move(a);
+  pub.send(make_blob(2, 1));
+  auto m = b.recv();
+  ASSERT_TRUE(m);
+  EXPECT_EQ(m->seq, 2u);
+  EXPECT_EQ(b.metrics().messages_received(), 2u);
+  Topic<Blob> c(std::move(pub));
+  c.send(make_blob(3, 1));
+  ASSERT_TRUE(b.recv());
+  EXPECT_EQ(c.metrics().messages_sent(), 3u);  // two before the move, one after
+}
+
+TEST(SerializedTopic, AFullHdRgbaImageTravelsThroughADefaultImageTopic) {
+  const auto name = unique_name("serial");
+  horus::Topic<horus::msg::Image> pub(name), sub(name);
+  horus::msg::Image img(1080, 1920, horus::msg::ImageEncoding::Rgba8);
+  auto px = img.data_mut();
+  for (std::size_t i = 0; i < px.size(); ++i) px[i] = static_cast<std::uint8_t>(i * 7);
+  ASSERT_TRUE(img.set_frame_id("camera_front"));
+  pub.send(img);
+  auto m = sub.recv();
+  ASSERT_TRUE(m);
+  EXPECT_EQ(*m, img);
+  EXPECT_EQ(pub.metrics().send_failures(), 0u);
+}
+
+TEST(SerializedTopic, CapacityMismatchAndOversizedSlotsAreRejected) {
+  const auto name = unique_name("serial");
+  auto a = Topic<Blob>::with_capacity(name, 8, 1000);
+  ASSERT_TRUE(a);
+  auto b = Topic<Blob>::with_capacity(name, 16, 1000);
+  ASSERT_FALSE(b);
+  EXPECT_EQ(b.error().code(), Errc::ConfigMismatch);
+  auto big = Topic<Blob>::with_capacity(unique_name("serial"), 4, (std::size_t{1} << 30));
+  ASSERT_FALSE(big);
+  EXPECT_EQ(big.error().code(), Errc::InvalidArgument);
+  EXPECT_NE(big.error().message().find("out of range"), std::string::npos) << big.error().message();
 }
 
 }  // namespace

@@ -70,8 +70,13 @@ concept HasDefaultSlotBytes = requires { { T::kDefaultSlotBytes } -> std::conver
 /// T::kDefaultSlotBytes when T declares it (Image: a 1920x1080 RGBA frame), else 64 KiB.
 template <class T>
 inline constexpr std::size_t default_slot_bytes = [] {
-  if constexpr (detail::HasDefaultSlotBytes<T>) return static_cast<std::size_t>(T::kDefaultSlotBytes);
-  else return std::size_t{64 * 1024};
+  if constexpr (detail::HasDefaultSlotBytes<T>) {
+    static_assert(T::kDefaultSlotBytes >= 1 && T::kDefaultSlotBytes <= (std::size_t{1} << 30) - 8,
+                  "T::kDefaultSlotBytes must be 1 byte to 1 GiB - 8");
+    return static_cast<std::size_t>(T::kDefaultSlotBytes);
+  } else {
+    return std::size_t{64 * 1024};
+  }
 }();
 
 namespace detail {
@@ -132,10 +137,13 @@ class Topic {
   static Result<Topic> open(std::string_view name) { return make(name, std::nullopt, std::nullopt); }
 
   /// Opens (or creates) the topic with `capacity` slots per publisher (a power of two).
-  /// `slot_size`: for a fixed-size T, at least sizeof(T) (which is what a slot holds); for a
-  /// serialized T, the largest encoded message the topic accepts (default_slot_bytes<T> when not
-  /// given). Opening an existing topic with a different capacity or slot size is an error
-  /// (Errc::ConfigMismatch).
+  /// `slot_size` matters for a serialized T only: the largest encoded message the topic accepts
+  /// (default_slot_bytes<T> when not given); opening an existing serialized topic with another
+  /// slot size is Errc::ConfigMismatch. For a fixed-size T a slot holds sizeof(T), and a
+  /// `slot_size` is only checked to be at least that. Opening an existing topic with a
+  /// different capacity is Errc::ConfigMismatch. Default capacity: 16 to 1024 slots by message
+  /// size; 4 for serialized topics whose slots are 1 MiB or more (images: the ring is virtual
+  /// memory, touched only as messages are written, but 16 x 8 MiB per publisher is a lot).
   static Result<Topic> with_capacity(std::string_view name, std::uint32_t capacity,
                                      std::optional<std::size_t> slot_size = std::nullopt) {
     return make(name, capacity, slot_size);
@@ -210,24 +218,24 @@ class Topic {
                                           " publisher lanes are in use; message not sent");
     }
     if constexpr (kSerialized) {
-      if (!encode(msg)) {
+      if (!encode(msg)) {  // once: the retries below send these bytes
         ++send_failures_;
-        return std::unexpected(detail::too_large_error(*core_, codec::encoded_size(msg)));
+        return std::unexpected(detail::too_large_error(*core_, encoded_size_));
       }
     }
-    if (try_write(msg)) return {};
+    if (try_commit(msg)) return {};
     const auto deadline = clock::now() + timeout;
     for (int i = 0; i < 256; ++i) {
       shm::cpu_relax();
-      if (try_write(msg)) return {};
+      if (try_commit(msg)) return {};
     }
     for (int i = 0; i < 8; ++i) {
       std::this_thread::yield();
-      if (try_write(msg)) return {};
+      if (try_commit(msg)) return {};
     }
     for (auto now = clock::now(); now < deadline; now = clock::now()) {
       std::this_thread::sleep_for(std::min<clock::duration>(std::chrono::microseconds(100), deadline - now));
-      if (try_write(msg)) return {};
+      if (try_commit(msg)) return {};
     }
     ++send_failures_;
     return fail(Errc::Timeout, "topic '" + core_->name + "': ring stayed full for " +
@@ -240,6 +248,7 @@ class Topic {
 
   /// Takes the next unread message (FIFO per publisher), or nothing. A serialized message that
   /// does not decode (a corrupt slot) is skipped, counted in metrics().decode_failures() and logged.
+  /// (has_message() and pending_count() count such a message until recv() skips it.)
   [[gnu::always_inline]] std::optional<T> recv() {
     if (!reader_.subscribed()) [[unlikely]] {
       if (!resubscribe()) {
@@ -269,6 +278,9 @@ class Topic {
   /// overwritten still count as dropped), so a following recv() returns only newer messages.
   /// With capacity 1 and a publisher that never pauses, the only slot is nearly always being
   /// rewritten and this may return nothing: use a capacity of 2 or more for "latest" topics.
+  /// For a serialized T (the spec limits read_latest to Copy types; horus allows it, for latched
+  /// maps) every call copies and decodes the newest message again; a newest message that does
+  /// not decode gives nothing.
   std::optional<T> read_latest() {
     received_ = true;
     if constexpr (kSerialized) {
@@ -308,7 +320,7 @@ class Topic {
   std::uint32_t sub_count() const noexcept { return core_->ring.subscriber_count(); }
   TopicMetrics metrics() const noexcept {
     return TopicMetrics(writer_.sent(), reader_.delivered() - undelivered_, send_failures_, recv_failures_,
-                        dropped_count(), core_->ring.total_sent(), decode_failures_);
+                        dropped_count(), core_->ring.total_sent(), decode_failures_ + reader_.corrupt());
   }
   /// Slots per publisher lane.
   std::uint32_t capacity() const noexcept { return core_->ring.capacity(); }
@@ -355,9 +367,16 @@ class Topic {
 
   bool try_write(const T& msg) {
     if (!writer_.has_lane() && !become_publisher()) return false;
+    if constexpr (kSerialized) {
+      if (!encode(msg)) return false;  // a message too large is refused (and logged) before any wait
+    }
+    return try_commit(msg);
+  }
+
+  // Writes msg (for a serialized T: the bytes encode() left in scratch_) if there is space.
+  bool try_commit(const T& msg) {
     if (!writer_.has_space(reader_.token())) return false;
     if constexpr (kSerialized) {
-      if (!encode(msg)) return false;
       writer_.write_bytes(encoded());
     } else {
       writer_.write(msg);
@@ -368,23 +387,21 @@ class Topic {
   // Serialized messages: encode into scratch_ (false, logged, when too large; the caller counts it).
   bool encode(const T& msg) {
     const std::size_t n = codec::encoded_size(msg);
+    encoded_size_ = n;
     if (n > writer_.max_bytes()) [[unlikely]] {
       ++too_large_;
       detail::report_too_large(*core_, n, too_large_);
       return false;
     }
-    if (scratch_.size() < n) scratch_.resize(std::max(n, scratch_.size() * 2));
+    if (scratch_.size() < n) scratch_.resize(std::min<std::size_t>(std::max(n, scratch_.size() * 2), writer_.max_bytes()));
     encoded_size_ = codec::encode(msg, std::span<std::byte>(scratch_));
     return true;
   }
   std::span<const std::byte> encoded() const noexcept { return {scratch_.data(), encoded_size_}; }
 
-  void prepare_inbox() {
-    const std::size_t max = shm::max_serialized_size(core_->payload_size);
-    if (inbox_.bytes.size() != max) [[unlikely]] inbox_.bytes.resize(max);
-  }
+  void prepare_inbox() { inbox_.reserve(shm::max_serialized_size(core_->payload_size)); }
   std::optional<T> decode_inbox() {
-    auto m = codec::decode<T>(std::span<const std::byte>(inbox_.bytes.data(), inbox_.size));
+    auto m = codec::decode<T>(inbox_.view());
     if (m) return std::move(*m);
     ++decode_failures_;
     detail::report_decode_failure(*core_, m.error(), decode_failures_);

@@ -247,6 +247,8 @@ constexpr bool is_supported_field_type() {
   if constexpr (detail::is_scalar_field<T> || std::is_enum_v<T> || Reflected<T> ||
                 std::is_same_v<T, std::string>) {
     return true;
+  } else if constexpr (std::is_same_v<T, std::vector<bool>>) {
+    return false;  // not a container of bools (no data()); use std::vector<std::uint8_t>
   } else if constexpr (detail::is_std_array<T>::value || detail::is_std_vector<T>::value) {
     return is_supported_field_type<typename T::value_type>();
   } else {
@@ -274,8 +276,9 @@ constexpr void describe_type(Sink& sink) {
         sink.put(v.name);
         sink.put("=");
         const auto raw = static_cast<std::underlying_type_t<T>>(v.value);
+        const auto mag = static_cast<std::uint64_t>(raw);
         if (raw < 0) sink.put("-");
-        detail::put_number(sink, static_cast<std::size_t>(raw < 0 ? -static_cast<long long>(raw) : static_cast<long long>(raw)));
+        detail::put_number(sink, static_cast<std::size_t>(raw < 0 ? 0 - mag : mag));
         sink.put(";");
       }
       sink.put("}");

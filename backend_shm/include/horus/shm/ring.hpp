@@ -38,6 +38,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -106,7 +107,9 @@ inline void cpu_relax() noexcept {
 }
 
 /// What reading one slot found.
-enum class ReadStatus { Ok, Empty, Lost };
+/// Corrupt: a committed serialized slot whose length exceeds the topic's limit (only a
+/// damaged shared segment can hold one); the reader skips it and counts it.
+enum class ReadStatus { Ok, Empty, Lost, Corrupt };
 
 /// Bytes between consecutive slots for a payload of the given size.
 constexpr std::uint32_t slot_stride_for(std::uint32_t payload_size) noexcept {
@@ -256,10 +259,19 @@ template <class T>
 // encoded bytes:  slot = [ seq : u64 ][ length : u64 ][ bytes, padded to 8 ]
 // payload_size is 8 + the largest encoded message the topic accepts.
 
-/// A serialized message as read from a slot. Topic sizes `bytes` to max_size before reading.
+/// A serialized message as read from a slot, into a buffer of `capacity` bytes (Topic sizes
+/// it to the topic's limit; it is not zero-filled, so untouched pages cost no memory).
 struct ByteMessage {
-  std::vector<std::byte> bytes;  // max_size bytes once prepared
-  std::uint32_t size = 0;        // bytes of the message just read
+  std::unique_ptr<std::byte[]> bytes;
+  std::size_t capacity = 0;
+  std::uint32_t size = 0;  // bytes of the message just read
+
+  void reserve(std::size_t n) {
+    if (capacity == n) return;
+    bytes.reset(new std::byte[n]);
+    capacity = n;
+  }
+  std::span<const std::byte> view() const noexcept { return {bytes.get(), size}; }
 };
 
 /// Largest encoded message a ring with this payload size carries.
@@ -276,15 +288,18 @@ inline void write_slot(std::byte* slot, std::uint64_t seq, std::span<const std::
   sq.store(2 * seq + 2, std::memory_order_release);
 }
 
-/// Reads the encoded message number `seq`. A committed length larger than out.bytes (a
-/// corrupt slot) reads as Lost, so the message is skipped and counted, never returned.
+/// Reads the encoded message number `seq`. A committed length larger than out.capacity (a
+/// corrupt slot) reads as Corrupt, so the message is skipped and counted, never returned.
 inline ReadStatus read_slot(const std::byte* slot, std::uint64_t seq, ByteMessage& out) noexcept {
   const std::uint64_t want = 2 * seq + 2;
   const std::uint64_t v1 = detail::load_seq(slot, std::memory_order_acquire);
   if (v1 != want) return v1 < want ? ReadStatus::Empty : ReadStatus::Lost;
   const std::uint64_t len = detail::load_word(slot + 8);
-  if (len > out.bytes.size()) return ReadStatus::Lost;
-  detail::copy_from_slot(out.bytes.data(), slot + 16, static_cast<std::size_t>(len));
+  if (len > out.capacity) {
+    // Overwritten since v1 (then Lost), or damaged (then Corrupt).
+    return detail::load_seq(slot, std::memory_order_acquire) == want ? ReadStatus::Corrupt : ReadStatus::Lost;
+  }
+  detail::copy_from_slot(out.bytes.get(), slot + 16, static_cast<std::size_t>(len));
   if (detail::load_seq(slot, std::memory_order_relaxed) != want) return ReadStatus::Lost;
   out.size = static_cast<std::uint32_t>(len);
   return ReadStatus::Ok;
@@ -514,6 +529,8 @@ class RingReader {
       lost_before_ = o.lost_before_;
       skipped_ = o.skipped_;
       delivered_before_ = o.delivered_before_;
+      corrupt_ = o.corrupt_;
+      corrupt_before_ = o.corrupt_before_;
       std::copy(std::begin(o.cursor_), std::end(o.cursor_), std::begin(cursor_));
       std::copy(std::begin(o.start_), std::end(o.start_), std::begin(start_));
       o.entry_ = kNone;
@@ -534,7 +551,8 @@ class RingReader {
     for (std::uint32_t l = 0; l < kMaxPublishers; ++l)
       start_[l] = cursor_[l] = shared_cursor_[l].load(std::memory_order_relaxed);
     lost_before_ += lost_;
-    skipped_ = lost_ = 0;
+    corrupt_before_ += corrupt_;
+    skipped_ = lost_ = corrupt_ = 0;
     return true;
   }
   void unsubscribe() noexcept {
@@ -554,7 +572,7 @@ class RingReader {
     if (!subscribed()) return delivered_before_;
     std::uint64_t advanced = 0;
     for (std::uint32_t l = 0; l < kMaxPublishers; ++l) advanced += cursor_[l] - start_[l];
-    return delivered_before_ + advanced - lost_ - skipped_;
+    return delivered_before_ + advanced - lost_ - skipped_ - corrupt_;
   }
 
   /// Takes the next unread message (round-robin over publishers, FIFO within each).
@@ -590,6 +608,9 @@ class RingReader {
     return n;
   }
 
+  /// Corrupt slots read() skipped (serialized messages only; see ReadStatus::Corrupt).
+  std::uint64_t corrupt() const noexcept { return corrupt_before_ + corrupt_; }
+
   /// Messages this subscriber lost to overwrites, including ones not yet noticed by read().
   std::uint64_t lost() const noexcept {
     // The shared cursors mirror cursor_ (published on every advance).
@@ -615,7 +636,9 @@ class RingReader {
       }
       // Never go back behind a message this handle already received.
       const std::uint64_t pos = subscribed() ? std::max(heads[lane], cursor_[lane]) : heads[lane];
-      if (read_slot(slot_of(lane, pos - 1), pos - 1, out) != ReadStatus::Ok) {
+      const ReadStatus st = read_slot(slot_of(lane, pos - 1), pos - 1, out);
+      if (st == ReadStatus::Corrupt) return false;  // the newest message is unreadable (read() counts it)
+      if (st != ReadStatus::Ok) {
         cpu_relax();
         continue;
       }
@@ -648,6 +671,11 @@ class RingReader {
           return false;
         case ReadStatus::Lost:
           skip_lost(lane);
+          break;
+        case ReadStatus::Corrupt:
+          ++corrupt_;
+          cursor_[lane] = c + 1;
+          shared_cursor_[lane].store(c + 1, std::memory_order_relaxed);
           break;
       }
     }
@@ -704,6 +732,8 @@ class RingReader {
   std::uint64_t lost_before_ = 0;       // the same, for earlier subscriptions of this handle
   std::uint64_t skipped_ = 0;           // passed over by read_latest (this subscription)
   std::uint64_t delivered_before_ = 0;  // returned by read() in earlier subscriptions
+  std::uint64_t corrupt_ = 0;           // skipped by read() as corrupt (this subscription)
+  std::uint64_t corrupt_before_ = 0;    // the same, for earlier subscriptions
   std::uint64_t start_[kMaxPublishers]{};
 };
 

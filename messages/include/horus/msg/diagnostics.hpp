@@ -87,6 +87,19 @@ void diag_set_text_or_throw(std::array<char, N>& field, std::string_view text, s
                                 " fit (and no NUL)");
 }
 
+/// The longest prefix of text of at most max_bytes bytes that does not split a
+/// UTF-8 character: text itself when it is short enough, else cut before the
+/// character that would straddle the limit (a cut lands only where the next
+/// byte is not a continuation byte 10xxxxxx). A well-formed UTF-8 text thus
+/// gives a well-formed prefix, at most 3 bytes shorter than max_bytes; it is
+/// empty when max_bytes is 0. The bytes are not otherwise validated.
+constexpr std::string_view diag_utf8_prefix(std::string_view text, std::size_t max_bytes) noexcept {
+  if (text.size() <= max_bytes) return text;
+  std::size_t len = max_bytes;
+  while (len > 0 && (static_cast<unsigned char>(text[len]) & 0xC0u) == 0x80u) --len;
+  return text.substr(0, len);
+}
+
 /// Stores text that must always go out (an emergency stop's reason): as is when
 /// it fits, else its longest prefix that fits with "..." after it, visibly
 /// marked as shortened. The prefix ends before any NUL and never splits a
@@ -95,11 +108,8 @@ template <std::size_t N>
 constexpr void diag_set_text_marked(std::array<char, N>& field, std::string_view text) noexcept {
   static_assert(N > 4, "field too small for a marked text");
   if (set_fixed_str(field, text)) return;
-  std::string_view head = text.substr(0, text.find('\0'));
-  std::size_t len = std::min(head.size(), N - 4);
-  // Back off to the start of a UTF-8 sequence (continuation bytes are 10xxxxxx).
-  if (len < head.size())
-    while (len > 0 && (static_cast<unsigned char>(head[len]) & 0xC0u) == 0x80u) --len;
+  const std::string_view head = diag_utf8_prefix(text.substr(0, text.find('\0')), N - 4);
+  const std::size_t len = head.size();
   field.fill('\0');
   std::copy(head.begin(), head.begin() + static_cast<std::ptrdiff_t>(len), field.begin());
   field[len] = '.';
@@ -566,15 +576,17 @@ struct DiagnosticReport {
 
   /// "DiagnosticReport(motor_left, Warn, 3 values: temp_c=45.500, rpm=1200, ok=true)".
   /// Lists as many values as fit in about 170 characters, then "+N more": the
-  /// line always stays under 200 characters (long values are shortened with "...").
+  /// line always stays under 200 characters (values over 24 bytes are cut to
+  /// at most 24 bytes, at a UTF-8 character boundary, and marked with "...").
   std::string log_summary() const {
     std::string out = fmt::format("DiagnosticReport({}, {}, {} values", component_str(),
                                   detail::diag_enum_text(level_enum()), count());
     std::size_t shown = 0;
     for (; shown < count(); ++shown) {
-      std::string_view v = values[shown].value_str();
-      std::string entry = fmt::format("{}={}", values[shown].key_str(), v.substr(0, 24));
-      if (v.size() > 24) entry += "...";
+      const std::string_view v = values[shown].value_str();
+      const std::string_view head = detail::diag_utf8_prefix(v, 24);
+      std::string entry = fmt::format("{}={}", values[shown].key_str(), head);
+      if (head.size() < v.size()) entry += "...";
       if (out.size() + entry.size() + 2 > 170) break;
       out += shown == 0 ? ": " : ", ";
       out += entry;

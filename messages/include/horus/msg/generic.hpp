@@ -205,11 +205,18 @@ class GenericMessage {
   /// True when the whole payload sits in the inline buffer (at most 256 bytes).
   constexpr bool is_inline() const noexcept { return overflow_size() == 0; }
 
-  /// The metadata text, or nullopt when none is set.
+  /// The metadata text, or nullopt when none is set or the stored bytes are not
+  /// text. A received message is not validated (metadata_len may be anything,
+  /// the bytes may be anything), so the first metadata_len bytes (clamped to
+  /// 255) are checked here: nullopt when they are not well-formed UTF-8 (as
+  /// HORUS, whose metadata() gives None then) or hold a NUL byte (which
+  /// set_metadata() never stores; HORUS would pass it through).
   constexpr std::optional<std::string_view> metadata() const noexcept {
-    const std::size_t n = std::min<std::size_t>(metadata_len_, kMaxMetadata);
-    if (n == 0) return std::nullopt;
-    return std::string_view(metadata_.data(), n);
+    const std::string_view raw = metadata_bytes();
+    if (raw.empty() || raw.find('\0') != std::string_view::npos ||
+        detail::generic_utf8_error(raw) != std::string_view::npos)
+      return std::nullopt;
+    return raw;
   }
   /// Sets (or, with "", clears) the metadata; returns false, changing nothing,
   /// when it is over 255 bytes, holds a NUL or is not UTF-8.
@@ -221,7 +228,9 @@ class GenericMessage {
 
   /// `GenericMessage(24 B msgpack, meta "imu", value {"x":1.5,"y":2})`: size,
   /// metadata (first 60 bytes) and the decoded value (first 80 characters).
-  /// "not MessagePack" when the bytes do not decode, "empty" for no payload.
+  /// "not MessagePack" when the bytes do not decode, "empty" for no payload;
+  /// metadata that is set but not text (see metadata()) shows as
+  /// "meta not UTF-8 text (N B)" and its bytes are left out.
   std::string log_summary() const {
     std::string out = fmt::format("GenericMessage({} B", size());
     std::string value;
@@ -246,6 +255,8 @@ class GenericMessage {
     if (const auto meta = metadata()) {
       const std::string_view shown = detail::generic_utf8_prefix(*meta, 60);
       out += fmt::format(", meta \"{}{}\"", shown, shown.size() < meta->size() ? "..." : "");
+    } else if (const std::size_t n = metadata_bytes().size(); n > 0) {
+      out += fmt::format(", meta not UTF-8 text ({} B)", n);
     }
     if (valid) {
       const std::string_view shown = detail::generic_utf8_prefix(value, 80);
@@ -261,6 +272,10 @@ class GenericMessage {
   constexpr std::size_t inline_size() const noexcept { return std::min<std::size_t>(inline_len_, kInlineCapacity); }
   constexpr std::size_t overflow_size() const noexcept {
     return std::min<std::size_t>(overflow_len_, kOverflowCapacity);
+  }
+  /// The stored metadata bytes as they are: metadata_len (clamped to 255) bytes, unchecked.
+  constexpr std::string_view metadata_bytes() const noexcept {
+    return std::string_view(metadata_.data(), std::min<std::size_t>(metadata_len_, kMaxMetadata));
   }
 
   static std::optional<std::string> metadata_problem(std::string_view meta) {

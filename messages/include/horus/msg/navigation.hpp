@@ -109,7 +109,19 @@ struct Goal {
 };
 HORUS_REFLECT(Goal, target_pose, tolerance_position, tolerance_angle, timeout_seconds, priority, goal_id, timestamp_ns)
 
-/// The navigation-messages page's name for Goal (same type, same fields).
+/// The navigation-messages page's name for Goal: the same type, so a NavGoal
+/// has all 7 of Goal's fields, in Goal's order: target_pose,
+/// tolerance_position, tolerance_angle, timeout_seconds, priority, goal_id,
+/// timestamp_ns. The page's table omits priority and goal_id, which come
+/// before timestamp_ns; so positional aggregate initialisation copied from the
+/// page's example (`NavGoal{pose, 0.1, 0.05, 30.0, stamp}`) would put the
+/// stamp into priority. Use designated initialisers, which name each field and
+/// leave the others zero:
+///
+///   const NavGoal goal{.target_pose = Pose2D::make(5.0, 3.0, 0.0), .tolerance_position = 0.1,
+///                      .tolerance_angle = 0.05, .timeout_seconds = 30.0, .timestamp_ns = stamp};
+///
+/// or Goal::make(pose, position_tol, angle_tol) (priority 1, as HORUS).
 using NavGoal = Goal;
 
 // ---------------------------------------------------------------------------
@@ -172,6 +184,28 @@ struct Waypoint {
     w.stop_required = 1;
     w.velocity = Twist::stop();
     return w;
+  }
+
+  // The navigation page reads a waypoint as `wp.x, wp.y, wp.theta, wp.velocity`
+  // (velocity as a speed); the fields themselves are pose and velocity (a
+  // Twist), so these give the C++ equivalent: wp.x(), wp.y(), wp.theta(),
+  // wp.speed().
+  /// pose.x, in m.
+  constexpr double x() const noexcept { return pose.x; }
+  /// pose.y, in m.
+  constexpr double y() const noexcept { return pose.y; }
+  /// pose.theta (heading), in rad.
+  constexpr double theta() const noexcept { return pose.theta; }
+  /// The desired linear speed in m/s: the magnitude |velocity.linear| of the
+  /// linear velocity vector (x, y, z), so never negative (a reversing waypoint,
+  /// linear x = -0.5, gives 0.5). The angular part is ignored. An infinite
+  /// linear component gives +inf (even beside a NaN, as IEEE hypot); otherwise
+  /// NaN in any of them gives NaN.
+  double speed() const noexcept {
+    const auto& v = velocity.linear;
+    // libstdc++'s three-argument std::hypot gives NaN for an infinity: handle it first.
+    if (std::isinf(v[0]) || std::isinf(v[1]) || std::isinf(v[2])) return std::numeric_limits<double>::infinity();
+    return std::hypot(v[0], v[1], v[2]);
   }
 
   friend constexpr bool operator==(const Waypoint&, const Waypoint&) = default;

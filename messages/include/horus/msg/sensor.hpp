@@ -35,7 +35,8 @@ bool all_finite(const std::array<double, N>& a) noexcept {
 
 // ---------------------------------------------------------------------------
 /// Inertial measurement. As in ROS, orientation_covariance[0] == -1 means the
-/// sensor gives no orientation (has_orientation() is then false).
+/// sensor gives no orientation (has_orientation() is then false; so does any
+/// other negative or NaN first element).
 struct Imu {
   std::array<double, 4> orientation{};                     ///< quaternion [x, y, z, w]
   std::array<double, 9> orientation_covariance{};          ///< 3x3, row-major
@@ -58,8 +59,10 @@ struct Imu {
     orientation = {q.x, q.y, q.z, q.w};
   }
 
-  /// False when the sensor reports no orientation (orientation_covariance[0] == -1).
-  constexpr bool has_orientation() const noexcept { return orientation_covariance[0] != -1.0; }
+  /// True when orientation_covariance[0] >= 0 (as HORUS). The ROS sentinel -1
+  /// means "no orientation"; so does any other negative value and NaN (a
+  /// variance is never negative, and NaN compares false).
+  constexpr bool has_orientation() const noexcept { return orientation_covariance[0] >= 0.0; }
 
   /// Every number (data and covariances) finite.
   bool is_valid() const noexcept {
@@ -90,8 +93,9 @@ struct LaserScan {
   float scan_time{};                       ///< s for a whole scan
   std::uint64_t timestamp_ns{};
 
-  /// The spec's LaserScan::new(): a full turn [-pi, pi] at 1 degree steps,
-  /// valid ranges 0.1 m to 30 m, all ranges 0 (no return).
+  /// The spec's LaserScan::new() with HORUS's defaults: a full turn [-pi, pi]
+  /// at 1 degree steps, valid ranges 0.1 m to 30 m, scan_time 0.1 s (10 Hz),
+  /// time_increment 0, all ranges 0 (no return); the timestamp is left 0.
   static constexpr LaserScan make() noexcept {
     LaserScan s{};
     s.angle_min = -std::numbers::pi_v<float>;
@@ -99,6 +103,7 @@ struct LaserScan {
     s.angle_increment = 2.0f * std::numbers::pi_v<float> / static_cast<float>(kMaxRanges);
     s.range_min = 0.1f;
     s.range_max = 30.0f;
+    s.scan_time = 0.1f;
     return s;
   }
 
@@ -155,6 +160,16 @@ struct Odometry {
   std::array<char, 32> child_frame_id{};      ///< NUL-terminated, at most 31 characters
   std::uint64_t timestamp_ns{};
 
+  /// The spec's Odometry::new(): pose at the origin, zero twist, zero
+  /// covariances, no frame names; the timestamp is left 0 (HORUS reads the
+  /// clock; stamp it yourself). Equal to Odometry{}.
+  static constexpr Odometry make() noexcept {
+    Odometry o{};
+    o.pose = Pose2D::origin();
+    o.twist = Twist::stop();
+    return o;
+  }
+
   /// Sets both frame names. Returns false and changes nothing when either
   /// does not fit (at most 31 characters, no NUL).
   bool set_frames(std::string_view frame, std::string_view child_frame) noexcept {
@@ -175,6 +190,15 @@ struct Odometry {
   void update(const Pose2D& new_pose, const Twist& new_twist, std::uint64_t stamp_ns) noexcept {
     update(new_pose, new_twist);
     timestamp_ns = stamp_ns;
+  }
+
+  /// Pose (x, y, theta) and twist (all six components) finite, and every
+  /// entry of both covariance matrices finite. NaN or an infinity anywhere
+  /// there gives false. HORUS checks only pose and twist; the covariances are
+  /// checked here too. Timestamps and frame names are not consulted.
+  bool is_valid() const noexcept {
+    return pose.is_valid() && twist.is_valid() && detail::all_finite(pose_covariance) &&
+           detail::all_finite(twist_covariance);
   }
 
   /// "Odometry(odom -> base_link, x 1.00 m, y 2.00 m, theta 0.50 rad, v 0.50 m/s, w 0.20 rad/s)".
