@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Sets up everything, builds, and runs every test: the default build (all tests), then the
-# concurrency tests again under ThreadSanitizer. HORUS_TEST_TSAN=0 skips the TSan pass.
+# concurrency tests again under ThreadSanitizer, and the decoders of untrusted bytes (the
+# codec, serialized topics) under AddressSanitizer + UBSan. HORUS_TEST_TSAN=0 / HORUS_TEST_ASAN=0
+# skip those passes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
@@ -17,4 +19,10 @@ if [ "${HORUS_TEST_TSAN:-1}" != "0" ]; then
   run=()
   if command -v setarch >/dev/null; then run=(setarch "$(uname -m)" -R); fi
   "${run[@]}" ctest --preset tsan -L concurrency
+fi
+
+if [ "${HORUS_TEST_ASAN:-1}" != "0" ]; then
+  cmake --preset asan
+  cmake --build --preset asan -j "$jobs" --target test_codec test_topic_serialized
+  ctest --preset asan -R '^(Codec|SerializedTopic)\.'
 fi
