@@ -1,5 +1,7 @@
 #include <fmt/format.h>
 
+#include <unistd.h>
+
 #include <atomic>
 #include <map>
 #include <limits>
@@ -168,8 +170,11 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
 }
 
 std::uint64_t next_token() noexcept {
-  static std::atomic<std::uint64_t> counter{0};
-  return counter.fetch_add(1, std::memory_order_relaxed) + 1;
+  // (pid << 32) | counter: unique across the processes sharing a segment, and the pid tells
+  // whose lane or subscriber entry it is when the owner has died (shm_segment.hpp).
+  static std::atomic<std::uint32_t> counter{0};
+  const std::uint32_t n = counter.fetch_add(1, std::memory_order_relaxed) + 1;
+  return (static_cast<std::uint64_t>(::getpid()) << 32) | n;
 }
 
 void report_no_lane(const TopicCore& core) {

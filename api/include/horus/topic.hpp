@@ -103,7 +103,7 @@ struct TopicCore {
 Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeInfo& type,
                                              std::optional<std::uint32_t> capacity,
                                              std::optional<std::size_t> slot_size);
-/// A process-unique, non-zero identity for a handle's lane and subscriber entry.
+/// A host-unique, non-zero identity for a handle's lane and subscriber entry: (pid << 32) | n.
 std::uint64_t next_token() noexcept;
 /// Logs (once per handle) that a send found no free lane / a receive no free subscriber entry.
 void report_no_lane(const TopicCore& core);

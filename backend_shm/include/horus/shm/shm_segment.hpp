@@ -1,0 +1,144 @@
+// A topic's ring in a POSIX shared-memory segment, shared by every process that opens the
+// topic on this host: no broker, no daemon.
+//
+//   /dev/shm/horus.<namespace>.<topic>
+//
+//   offset 0       SegmentHeader   magic, layout version, the message type (name, hash, size,
+//                                  serialized or not), capacity, and the participant table
+//                                  (pid + process start time of every process attached)
+//   ring_offset    the ring (ring.hpp), exactly as in process-local memory
+//
+// Membership changes (create, attach, detach, reclaim) happen under flock() on the segment's
+// file descriptor. The kernel drops that lock when its holder dies, so a process killed while
+// creating a segment never blocks the others: the next opener finds the header unfinished
+// and formats it again. Participants whose process is gone (no such pid, or a pid reused by a
+// process that started later) are reaped at every open and close, along with the ring lanes
+// and subscriber entries they held (ring tokens carry the owner's pid in their high 32 bits),
+// so a killed subscriber never holds a publisher back. When the last participant detaches,
+// the segment is unlinked; a segment whose participants are all dead is reclaimed (formatted
+// afresh) by the next open.
+#pragma once
+
+#include <sys/types.h>
+
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <expected>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "horus/shm/ring.hpp"
+
+namespace horus::shm {
+
+inline constexpr std::uint64_t kSegmentMagic = 0x3147'4553'5355'524FULL;  // "ORUSSEG1"
+inline constexpr std::uint32_t kSegmentVersion = 1;
+/// Processes that can attach to one topic at once.
+inline constexpr std::uint32_t kMaxParticipants = 64;
+inline constexpr std::size_t kMaxTypeName = 255;
+
+struct alignas(kCacheLine) Participant {
+  std::atomic<std::uint32_t> pid;         // 0: free
+  std::atomic<std::uint64_t> start_time;  // the process's start time (clock ticks after boot)
+};
+
+struct alignas(kCacheLine) SegmentHeader {
+  std::uint64_t magic;
+  std::uint32_t layout_version;
+  std::atomic<std::uint32_t> ready;  // 1 once formatted (written last, under the lock)
+  char type_name[kMaxTypeName + 1];
+  std::uint64_t type_hash;
+  std::uint32_t payload_size;  // the ring's payload: sizeof(T), or 8 + largest encoded message
+  std::uint32_t serialized;    // 1: slots hold [length][encoded bytes]
+  std::uint32_t capacity;
+  std::uint32_t creator_pid;
+  std::uint64_t ring_offset;
+  std::uint64_t total_size;
+  std::uint64_t created_unix_ns;
+  Participant participants[kMaxParticipants];
+};
+static_assert(std::is_standard_layout_v<SegmentHeader>, "the segment header has a fixed layout");
+
+/// What a segment must carry.
+struct SegmentSpec {
+  std::string_view type_name;
+  std::uint64_t type_hash = 0;
+  std::uint32_t payload_size = 0;
+  bool serialized = false;
+  std::uint32_t capacity = 0;          // slots per lane used when creating the segment
+  bool capacity_required = false;      // true: an existing segment with another capacity is an error
+  bool payload_required = true;        // false (serialized, no slot size given): accept the existing one
+  mode_t mode = 0600;                  // permissions of a created segment
+};
+
+struct SegmentError {
+  enum class Kind { TypeMismatch, ConfigMismatch, Permission, LimitReached, Io, InvalidName };
+  Kind kind;
+  std::string message;
+};
+
+/// The shared-memory namespace: HORUS_NAMESPACE, else "u<uid>" (one per user, so two users
+/// on one host never share or collide). Letters, digits, '_' and '-', 1 to 64 characters.
+std::expected<std::string, SegmentError> shm_namespace();
+/// "/horus.<namespace>.<topic>": the name given to shm_open (the file is /dev/shm/horus....).
+std::string segment_name(std::string_view ns, std::string_view topic);
+
+/// Start time of a process (field 22 of /proc/<pid>/stat), or 0 when it does not exist.
+std::uint64_t process_start_time(pid_t pid) noexcept;
+/// True when `pid` runs and, if start_time != 0, started at start_time (not a reused pid).
+bool process_alive(pid_t pid, std::uint64_t start_time) noexcept;
+/// The pid a ring token belongs to (tokens are (pid << 32) | per-process counter).
+constexpr pid_t token_pid(std::uint64_t token) noexcept { return static_cast<pid_t>(token >> 32); }
+
+/// One process's attachment to a topic's segment. Move-only; detaching is the destructor.
+class ShmSegment {
+ public:
+  /// Opens the segment of `topic` in namespace `ns`, creating it if needed, and attaches.
+  static std::expected<ShmSegment, SegmentError> open(std::string_view ns, std::string_view topic,
+                                                      const SegmentSpec& spec);
+
+  ShmSegment() = default;
+  ShmSegment(ShmSegment&& o) noexcept;
+  ShmSegment& operator=(ShmSegment&& o) noexcept;
+  ShmSegment(const ShmSegment&) = delete;
+  ShmSegment& operator=(const ShmSegment&) = delete;
+  ~ShmSegment();
+
+  Ring ring() const noexcept { return ring_; }
+  const SegmentHeader& header() const noexcept { return *header_; }
+  const std::string& name() const noexcept { return name_; }
+  /// Processes attached now (after reaping dead ones).
+  std::uint32_t live_participants() const;
+  /// Releases ring lanes and subscriber entries held by processes that are gone, and their
+  /// participant entries. Returns how many processes were reaped.
+  std::uint32_t reap_dead() const;
+
+ private:
+  void detach() noexcept;
+  int fd_ = -1;
+  void* base_ = nullptr;
+  std::size_t size_ = 0;
+  SegmentHeader* header_ = nullptr;
+  Ring ring_;
+  std::string name_;
+  std::uint32_t slot_ = kMaxParticipants;  // our participant entry
+};
+
+/// A segment found in /dev/shm, for tools (`horus topic list`, `horus clean`).
+struct SegmentInfo {
+  std::string name;   // shm name without the leading '/'
+  std::string topic;
+  std::uint64_t size = 0;
+  bool readable = false;  // header read and valid
+  std::string type_name;
+  std::vector<std::pair<pid_t, bool>> participants;  // pid, alive
+};
+/// Every segment of namespace `ns`.
+std::vector<SegmentInfo> list_segments(std::string_view ns);
+/// Removes segments of `ns` whose participants are all dead (or whose header is unfinished
+/// and unlocked); returns the names removed.
+std::vector<std::string> clean_stale_segments(std::string_view ns);
+
+}  // namespace horus::shm

@@ -1,0 +1,436 @@
+#include "horus/shm/shm_segment.hpp"
+
+#include <dirent.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/file.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <new>
+#include <set>
+#include <sstream>
+#include <thread>
+#include <utility>
+
+namespace horus::shm {
+
+namespace {
+
+constexpr std::uint64_t kPage = 4096;
+constexpr auto kLockTimeout = std::chrono::seconds(5);
+
+std::uint64_t align_up(std::uint64_t v, std::uint64_t a) { return (v + a - 1) / a * a; }
+
+std::string errno_text(int err) { return std::strerror(err); }
+
+SegmentError io_error(const std::string& what, const std::string& name, int err) {
+  return {SegmentError::Kind::Io, what + " shared-memory segment /dev/shm" + name + ": " + errno_text(err)};
+}
+
+// flock with a deadline: a holder that died has released the lock; a live one holds it only
+// while it changes membership, so waiting seconds means something is wrong.
+bool lock_with_deadline(int fd) {
+  const auto deadline = std::chrono::steady_clock::now() + kLockTimeout;
+  for (;;) {
+    if (::flock(fd, LOCK_EX | LOCK_NB) == 0) return true;
+    if (errno != EWOULDBLOCK && errno != EINTR) return false;
+    if (std::chrono::steady_clock::now() >= deadline) return false;
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+}
+
+struct FdLock {
+  int fd;
+  ~FdLock() { ::flock(fd, LOCK_UN); }
+};
+
+SegmentHeader* header_at(void* base) { return std::launder(reinterpret_cast<SegmentHeader*>(base)); }
+
+bool valid_namespace_char(char c) {
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+}
+
+std::uint64_t now_unix_ns() {
+  return static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+          .count());
+}
+
+std::string describe_type(std::string_view name, std::uint64_t hash, std::uint32_t payload, bool serialized) {
+  char buf[64];
+  std::snprintf(buf, sizeof(buf), "%016llx", static_cast<unsigned long long>(hash));
+  return std::string(name) + " (layout hash " + buf + ", " +
+         (serialized ? "serialized, slots of " + std::to_string(max_serialized_size(payload)) + " bytes"
+                     : std::to_string(payload) + " bytes") +
+         ")";
+}
+
+}  // namespace
+
+std::expected<std::string, SegmentError> shm_namespace() {
+  const char* env = std::getenv("HORUS_NAMESPACE");
+  if (env == nullptr || *env == '\0') return "u" + std::to_string(::getuid());
+  const std::string_view ns(env);
+  if (ns.size() > 64)
+    return std::unexpected(SegmentError{SegmentError::Kind::InvalidName,
+                                        "HORUS_NAMESPACE '" + std::string(ns) + "' has " + std::to_string(ns.size()) +
+                                            " characters; expected 1 to 64 letters, digits, '_' or '-'"});
+  for (char c : ns)
+    if (!valid_namespace_char(c))
+      return std::unexpected(SegmentError{SegmentError::Kind::InvalidName,
+                                          "HORUS_NAMESPACE '" + std::string(ns) + "' contains '" + std::string(1, c) +
+                                              "'; expected 1 to 64 letters, digits, '_' or '-'"});
+  return std::string(ns);
+}
+
+std::string segment_name(std::string_view ns, std::string_view topic) {
+  return "/horus." + std::string(ns) + "." + std::string(topic);
+}
+
+std::uint64_t process_start_time(pid_t pid) noexcept {
+  try {
+    std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
+    if (!in) return 0;
+    std::string line;
+    std::getline(in, line);
+    // The command name (field 2) may hold spaces and ')': fields resume after the last ')'.
+    const auto close = line.rfind(')');
+    if (close == std::string::npos) return 0;
+    std::istringstream rest(line.substr(close + 2));
+    std::string field;
+    // Field 3 is the state; the start time is field 22, i.e. the 20th after ')'.
+    for (int i = 3; i < 22; ++i)
+      if (!(rest >> field)) return 0;
+    std::uint64_t start = 0;
+    rest >> start;
+    return start;
+  } catch (...) {
+    return 0;
+  }
+}
+
+bool process_alive(pid_t pid, std::uint64_t start_time) noexcept {
+  if (pid <= 0) return false;
+  if (::kill(pid, 0) != 0 && errno == ESRCH) return false;
+  if (start_time == 0) return true;
+  return process_start_time(pid) == start_time;
+}
+
+// ---------------------------------------------------------------------------
+
+ShmSegment::ShmSegment(ShmSegment&& o) noexcept { *this = std::move(o); }
+
+ShmSegment& ShmSegment::operator=(ShmSegment&& o) noexcept {
+  if (this != &o) {
+    detach();
+    fd_ = std::exchange(o.fd_, -1);
+    base_ = std::exchange(o.base_, nullptr);
+    size_ = std::exchange(o.size_, 0);
+    header_ = std::exchange(o.header_, nullptr);
+    ring_ = o.ring_;
+    name_ = std::move(o.name_);
+    slot_ = std::exchange(o.slot_, kMaxParticipants);
+  }
+  return *this;
+}
+
+ShmSegment::~ShmSegment() { detach(); }
+
+std::expected<ShmSegment, SegmentError> ShmSegment::open(std::string_view ns, std::string_view topic,
+                                                         const SegmentSpec& spec) {
+  if (topic.empty() || topic.find('/') != std::string_view::npos)
+    return std::unexpected(SegmentError{SegmentError::Kind::InvalidName,
+                                        "topic name '" + std::string(topic) + "' cannot name a shared-memory segment"});
+  if (spec.type_name.size() > kMaxTypeName)
+    return std::unexpected(SegmentError{SegmentError::Kind::InvalidName,
+                                        "type name '" + std::string(spec.type_name) + "' is longer than " +
+                                            std::to_string(kMaxTypeName) + " characters"});
+  const RingConfig cfg{spec.capacity, spec.payload_size, spec.type_hash};
+  if (auto err = Ring::check_config(cfg)) return std::unexpected(SegmentError{SegmentError::Kind::ConfigMismatch, *err});
+  const std::string name = segment_name(ns, topic);
+  const std::uint64_t ring_offset = align_up(sizeof(SegmentHeader), kPage);
+  const std::uint64_t total = ring_offset + Ring::required_size(cfg);
+  const pid_t self = ::getpid();
+  const std::uint64_t self_start = process_start_time(self);
+
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    int fd = ::shm_open(name.c_str(), O_RDWR | O_CREAT | O_EXCL, spec.mode);
+    if (fd >= 0) {
+      ::fchmod(fd, spec.mode);  // exactly the mode asked for, whatever the umask
+    } else if (errno == EEXIST) {
+      fd = ::shm_open(name.c_str(), O_RDWR, 0);
+      if (fd < 0 && errno == ENOENT) continue;  // unlinked meanwhile: start again
+    }
+    if (fd < 0) {
+      const int err = errno;
+      if (err == EACCES)
+        return std::unexpected(SegmentError{
+            SegmentError::Kind::Permission,
+            "cannot open shared-memory segment /dev/shm" + name +
+                ": permission denied (it belongs to another user, or its mode does not admit you; use another "
+                "HORUS_NAMESPACE, or have its owner widen the mode)"});
+      return std::unexpected(io_error("cannot open", name, err));
+    }
+    ShmSegment seg;
+    seg.fd_ = fd;
+    seg.name_ = name;
+    if (!lock_with_deadline(fd))
+      return std::unexpected(SegmentError{SegmentError::Kind::Io,
+                                          "shared-memory segment /dev/shm" + name +
+                                              " stayed locked by another process for 5 s (is it stopped?)"});
+    FdLock lock{fd};
+    struct stat st{};
+    if (::fstat(fd, &st) != 0) return std::unexpected(io_error("cannot stat", name, errno));
+    if (st.st_nlink == 0) continue;  // unlinked by its last user after we opened it: start again
+
+    bool format = st.st_size == 0;
+    if (!format) {
+      const auto size = static_cast<std::size_t>(st.st_size);
+      if (size < sizeof(SegmentHeader)) {
+        format = true;  // a creator died before sizing it (we hold the lock: nobody is mid-way)
+      } else {
+        void* p = ::mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+        if (p == MAP_FAILED) return std::unexpected(io_error("cannot map", name, errno));
+        seg.base_ = p;
+        seg.size_ = size;
+        seg.header_ = header_at(p);
+        const SegmentHeader& h = *seg.header_;
+        if (h.magic == kSegmentMagic && h.layout_version != 0 && h.layout_version != kSegmentVersion) {
+          return std::unexpected(SegmentError{
+              SegmentError::Kind::TypeMismatch,
+              "shared-memory segment /dev/shm" + name + " has layout version " + std::to_string(h.layout_version) +
+                  "; this horus uses version " + std::to_string(kSegmentVersion) + " (stop the older processes)"});
+        } else if (h.magic != kSegmentMagic || h.ready.load(std::memory_order_acquire) != 1) {
+          format = true;  // unfinished: its creator died while formatting it (we hold the lock)
+        } else {
+          seg.ring_ = Ring::attach(static_cast<std::byte*>(p) + h.ring_offset);
+          seg.reap_dead();
+          if (seg.live_participants() == 0) {
+            format = true;  // every user is gone: reclaim it
+          } else {
+            const bool serialized = h.serialized != 0;
+            if (std::string_view(h.type_name) != spec.type_name || h.type_hash != spec.type_hash ||
+                serialized != spec.serialized || (!spec.serialized && h.payload_size != spec.payload_size))
+              return std::unexpected(SegmentError{
+                  SegmentError::Kind::TypeMismatch,
+                  "topic '" + std::string(topic) + "' carries " +
+                      describe_type(h.type_name, h.type_hash, h.payload_size, serialized) + "; cannot open it as " +
+                      describe_type(spec.type_name, spec.type_hash, spec.payload_size, spec.serialized)});
+            if (spec.serialized && spec.payload_required && h.payload_size != spec.payload_size)
+              return std::unexpected(SegmentError{
+                  SegmentError::Kind::ConfigMismatch,
+                  "topic '" + std::string(topic) + "' exists with slot_size " +
+                      std::to_string(max_serialized_size(h.payload_size)) + "; cannot open it with slot_size " +
+                      std::to_string(max_serialized_size(spec.payload_size))});
+            if (spec.capacity_required && h.capacity != spec.capacity)
+              return std::unexpected(SegmentError{
+                  SegmentError::Kind::ConfigMismatch,
+                  "topic '" + std::string(topic) + "' exists with capacity " + std::to_string(h.capacity) +
+                      "; cannot open it with capacity " + std::to_string(spec.capacity)});
+            if (auto err = Ring::validate(static_cast<std::byte*>(p) + h.ring_offset, size - h.ring_offset))
+              return std::unexpected(SegmentError{SegmentError::Kind::Io,
+                                                  "shared-memory segment /dev/shm" + name + ": " + *err});
+          }
+        }
+        if (format) {
+          ::munmap(p, size);
+          seg.base_ = nullptr;
+          seg.header_ = nullptr;
+          seg.ring_ = Ring();
+        }
+      }
+    }
+
+    if (format) {
+      // Zero everything (a shrink to 0 discards old contents), then size and fill it.
+      if (::ftruncate(fd, 0) != 0 || ::ftruncate(fd, static_cast<off_t>(total)) != 0)
+        return std::unexpected(io_error("cannot size", name, errno));
+      void* p = ::mmap(nullptr, total, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+      if (p == MAP_FAILED) return std::unexpected(io_error("cannot map", name, errno));
+      seg.base_ = p;
+      seg.size_ = total;
+      auto* h = new (p) SegmentHeader{};
+      seg.header_ = h;
+      h->magic = kSegmentMagic;
+      h->layout_version = kSegmentVersion;
+      std::memcpy(h->type_name, spec.type_name.data(), spec.type_name.size());
+      h->type_hash = spec.type_hash;
+      h->payload_size = spec.payload_size;
+      h->serialized = spec.serialized ? 1 : 0;
+      h->capacity = spec.capacity;
+      h->creator_pid = static_cast<std::uint32_t>(self);
+      h->ring_offset = ring_offset;
+      h->total_size = total;
+      h->created_unix_ns = now_unix_ns();
+      seg.ring_ = Ring::format(static_cast<std::byte*>(p) + ring_offset, cfg);
+      h->ready.store(1, std::memory_order_release);
+    }
+
+    // Join the participant table.
+    for (std::uint32_t i = 0; i < kMaxParticipants; ++i) {
+      Participant& e = seg.header_->participants[i];
+      if (e.pid.load(std::memory_order_acquire) != 0) continue;
+      e.start_time.store(self_start, std::memory_order_relaxed);
+      e.pid.store(static_cast<std::uint32_t>(self), std::memory_order_release);
+      seg.slot_ = i;
+      return seg;
+    }
+    seg.slot_ = kMaxParticipants;
+    return std::unexpected(SegmentError{SegmentError::Kind::LimitReached,
+                                        "topic '" + std::string(topic) + "' already has " +
+                                            std::to_string(kMaxParticipants) + " processes attached"});
+  }
+  return std::unexpected(SegmentError{SegmentError::Kind::Io,
+                                      "shared-memory segment /dev/shm" + name +
+                                          " kept disappearing while opening it (100 attempts)"});
+}
+
+std::uint32_t ShmSegment::live_participants() const {
+  std::uint32_t n = 0;
+  for (const auto& e : header_->participants)
+    if (e.pid.load(std::memory_order_acquire) != 0) ++n;
+  return n;
+}
+
+std::uint32_t ShmSegment::reap_dead() const {
+  if (header_ == nullptr) return 0;
+  std::uint32_t reaped = 0;
+  std::set<pid_t> live;
+  for (auto& e : header_->participants) {
+    const auto pid = static_cast<pid_t>(e.pid.load(std::memory_order_acquire));
+    if (pid == 0) continue;
+    if (process_alive(pid, e.start_time.load(std::memory_order_relaxed))) {
+      live.insert(pid);
+    } else {
+      e.pid.store(0, std::memory_order_release);
+      ++reaped;
+    }
+  }
+  if (!ring_) return reaped;
+  // Lanes and subscriber entries whose owner process is no longer attached.
+  for (std::uint32_t l = 0; l < kMaxPublishers; ++l) {
+    const std::uint64_t owner = ring_.lane(l).owner.load(std::memory_order_acquire);
+    if (owner != 0 && !live.contains(token_pid(owner))) ring_.release_lane(l, owner);
+  }
+  for (std::uint32_t i = 0; i < kMaxSubscribers; ++i) {
+    auto& s = ring_.subscriber(i);
+    const std::uint64_t owner = s.owner.load(std::memory_order_acquire);
+    if (s.state.load(std::memory_order_acquire) == SubscriberEntry::kActive && owner != 0 &&
+        !live.contains(token_pid(owner)))
+      ring_.remove_subscriber(i, owner);
+  }
+  return reaped;
+}
+
+void ShmSegment::detach() noexcept {
+  if (fd_ < 0) return;
+  if (header_ != nullptr && lock_with_deadline(fd_)) {
+    if (slot_ < kMaxParticipants) header_->participants[slot_].pid.store(0, std::memory_order_release);
+    try {
+      reap_dead();
+    } catch (...) {
+    }
+    if (live_participants() == 0) ::shm_unlink(name_.c_str());
+    ::flock(fd_, LOCK_UN);
+  }
+  if (base_ != nullptr) ::munmap(base_, size_);
+  ::close(fd_);
+  fd_ = -1;
+  base_ = nullptr;
+  header_ = nullptr;
+  ring_ = Ring();
+  slot_ = kMaxParticipants;
+}
+
+// ---------------------------------------------------------------------------
+
+namespace {
+template <class F>
+void for_each_segment_file(std::string_view ns, F&& f) {
+  const std::string prefix = "horus." + std::string(ns) + ".";
+  DIR* dir = ::opendir("/dev/shm");
+  if (dir == nullptr) return;
+  while (dirent* ent = ::readdir(dir)) {
+    const std::string_view file(ent->d_name);
+    if (file.starts_with(prefix)) f(std::string(file), std::string(file.substr(prefix.size())));
+  }
+  ::closedir(dir);
+}
+}  // namespace
+
+std::vector<SegmentInfo> list_segments(std::string_view ns) {
+  std::vector<SegmentInfo> out;
+  for_each_segment_file(ns, [&](const std::string& file, const std::string& topic) {
+    SegmentInfo info;
+    info.name = file;
+    info.topic = topic;
+    const int fd = ::shm_open(("/" + file).c_str(), O_RDONLY, 0);
+    if (fd >= 0) {
+      struct stat st{};
+      if (::fstat(fd, &st) == 0) {
+        info.size = static_cast<std::uint64_t>(st.st_size);
+        if (info.size >= sizeof(SegmentHeader)) {
+          void* p = ::mmap(nullptr, sizeof(SegmentHeader), PROT_READ, MAP_SHARED, fd, 0);
+          if (p != MAP_FAILED) {
+            const auto* h = static_cast<const SegmentHeader*>(p);
+            if (h->magic == kSegmentMagic && h->layout_version == kSegmentVersion &&
+                h->ready.load(std::memory_order_acquire) == 1) {
+              info.readable = true;
+              info.type_name = std::string(h->type_name, strnlen(h->type_name, kMaxTypeName));
+              for (const auto& e : h->participants) {
+                const auto pid = static_cast<pid_t>(e.pid.load(std::memory_order_acquire));
+                if (pid != 0)
+                  info.participants.emplace_back(pid, process_alive(pid, e.start_time.load(std::memory_order_relaxed)));
+              }
+            }
+            ::munmap(p, sizeof(SegmentHeader));
+          }
+        }
+      }
+      ::close(fd);
+    }
+    out.push_back(std::move(info));
+  });
+  return out;
+}
+
+std::vector<std::string> clean_stale_segments(std::string_view ns) {
+  std::vector<std::string> removed;
+  for_each_segment_file(ns, [&](const std::string& file, const std::string&) {
+    const std::string name = "/" + file;
+    const int fd = ::shm_open(name.c_str(), O_RDWR, 0);
+    if (fd < 0) return;
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {  // someone is changing it right now: alive
+      ::close(fd);
+      return;
+    }
+    bool stale = true;
+    struct stat st{};
+    if (::fstat(fd, &st) == 0 && static_cast<std::size_t>(st.st_size) >= sizeof(SegmentHeader)) {
+      void* p = ::mmap(nullptr, sizeof(SegmentHeader), PROT_READ, MAP_SHARED, fd, 0);
+      if (p != MAP_FAILED) {
+        const auto* h = static_cast<const SegmentHeader*>(p);
+        if (h->magic == kSegmentMagic && h->ready.load(std::memory_order_acquire) == 1) {
+          for (const auto& e : h->participants) {
+            const auto pid = static_cast<pid_t>(e.pid.load(std::memory_order_acquire));
+            if (pid != 0 && process_alive(pid, e.start_time.load(std::memory_order_relaxed))) stale = false;
+          }
+        }
+        ::munmap(p, sizeof(SegmentHeader));
+      }
+    }
+    if (stale && ::shm_unlink(name.c_str()) == 0) removed.push_back(file);
+    ::flock(fd, LOCK_UN);
+    ::close(fd);
+  });
+  return removed;
+}
+
+}  // namespace horus::shm
