@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cstdlib>
 #include <map>
 #include <limits>
 #include <mutex>
@@ -30,6 +31,7 @@ std::string_view to_string(Errc code) noexcept {
 std::string_view to_string(Backend b) noexcept {
   switch (b) {
     case Backend::InProcess: return "inproc";
+    case Backend::SharedMemory: return "shm";
   }
   return "unknown";
 }
@@ -72,9 +74,34 @@ Result<void> validate_topic_name(std::string_view name) {
   return {};
 }
 
+Result<Backend> backend_from_environment() {
+  const char* env = std::getenv("HORUS_BACKEND");
+  if (env == nullptr || *env == '\0') return Backend::SharedMemory;
+  const std::string_view v(env);
+  if (v == "auto" || v == "shm") return Backend::SharedMemory;
+  if (v == "inproc") return Backend::InProcess;
+  if (v == "cyclonedds" || v == "fastdds" || v == "lcm")
+    return fail(Errc::Config, fmt::format("HORUS_BACKEND={}: this build has no {} backend yet; expected auto, shm "
+                                          "or inproc",
+                                          v, v));
+  return fail(Errc::Config, fmt::format("HORUS_BACKEND={}: unknown backend; expected auto, shm or inproc", v));
+}
+
 namespace detail {
 
 namespace {
+Errc segment_errc(shm::SegmentError::Kind k) {
+  switch (k) {
+    case shm::SegmentError::Kind::TypeMismatch: return Errc::TypeMismatch;
+    case shm::SegmentError::Kind::ConfigMismatch: return Errc::ConfigMismatch;
+    case shm::SegmentError::Kind::LimitReached: return Errc::LimitReached;
+    case shm::SegmentError::Kind::InvalidName: return Errc::InvalidName;
+    case shm::SegmentError::Kind::Permission:
+    case shm::SegmentError::Kind::Io: return Errc::Io;
+  }
+  return Errc::Io;
+}
+
 struct Registry {
   std::mutex mutex;
   std::map<std::string, std::weak_ptr<TopicCore>, std::less<>> topics;
@@ -91,8 +118,9 @@ std::string describe(std::string_view type_name, std::uint64_t hash, std::uint32
 }  // namespace
 
 Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeInfo& type,
-                                             std::optional<std::uint32_t> capacity,
-                                             std::optional<std::size_t> slot_size) {
+                                             const TopicOptions& options) {
+  const auto& capacity = options.capacity;
+  const auto& slot_size = options.slot_size;
   if (auto ok = validate_topic_name(name); !ok) return std::unexpected(std::move(ok.error()));
   // The ring payload: sizeof(T), or for a serialized type a length word and the encoded bytes.
   std::uint32_t payload = type.size;
@@ -120,10 +148,24 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
                               name, *slot_size, type.name, type.size, type.size));
   }
 
+  Backend backend = Backend::SharedMemory;
+  if (options.backend) {
+    backend = *options.backend;
+  } else {
+    auto env = backend_from_environment();
+    if (!env) return std::unexpected(std::move(env.error()));
+    backend = *env;
+  }
+
   auto& reg = registry();
   std::lock_guard lock(reg.mutex);
   if (auto it = reg.topics.find(name); it != reg.topics.end()) {
     if (auto core = it->second.lock()) {
+      if (core->backend != backend)
+        return fail(Errc::ConfigMismatch,
+                    fmt::format("topic '{}' is open in this process on backend '{}'; cannot open it on '{}' (one "
+                                "backend per topic and process)",
+                                name, to_string(core->backend), to_string(backend)));
       if (core->type_hash != type.hash || core->type_name != type.name || core->serialized != type.serialized ||
           (!type.serialized && core->payload_size != type.size))
         return fail(Errc::TypeMismatch,
@@ -156,13 +198,32 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
   core->type_hash = type.hash;
   core->payload_size = payload;
   core->serialized = type.serialized;
-  try {
-    core->region = shm::HeapRegion(shm::Ring::required_size(cfg));
-  } catch (const std::bad_alloc&) {
-    return fail(Errc::Io, fmt::format("topic '{}': cannot map {} bytes for its ring", name,
-                                      shm::Ring::required_size(cfg)));
+  core->backend = backend;
+  if (backend == Backend::SharedMemory) {
+    auto ns = shm::shm_namespace();
+    if (!ns) return fail(Errc::Config, ns.error().message);
+    shm::SegmentSpec spec;
+    spec.type_name = type.name;
+    spec.type_hash = type.hash;
+    spec.payload_size = payload;
+    spec.serialized = type.serialized;
+    spec.capacity = cfg.capacity;
+    spec.capacity_required = capacity.has_value();
+    spec.payload_required = !type.serialized || slot_size.has_value();
+    auto seg = shm::ShmSegment::open(*ns, name, spec);
+    if (!seg) return fail(segment_errc(seg.error().kind), seg.error().message);
+    core->ring = seg->ring();
+    core->payload_size = seg->header().payload_size;  // a serialized topic may have another slot size
+    core->segment.emplace(std::move(*seg));
+  } else {
+    try {
+      core->region = shm::HeapRegion(shm::Ring::required_size(cfg));
+    } catch (const std::bad_alloc&) {
+      return fail(Errc::Io, fmt::format("topic '{}': cannot map {} bytes for its ring", name,
+                                        shm::Ring::required_size(cfg)));
+    }
+    core->ring = shm::Ring::format(core->region.data(), cfg);
   }
-  core->ring = shm::Ring::format(core->region.data(), cfg);
   // Drop entries of topics that were closed, so the map does not grow without bound.
   std::erase_if(reg.topics, [](const auto& kv) { return kv.second.expired(); });
   reg.topics.emplace(core->name, core);

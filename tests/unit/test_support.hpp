@@ -1,6 +1,8 @@
 // Shared helpers of the unit tests: a checkable test message and deadlines.
 #pragma once
 
+#include <unistd.h>
+
 #include <array>
 #include <atomic>
 #include <chrono>
@@ -57,7 +59,9 @@ HORUS_REFLECT(Other, value)
 /// A per-test unique topic name, so tests never share rings by accident.
 inline std::string unique_name(const std::string& base) {
   static std::atomic<int> n{0};
-  return "test." + base + "." + std::to_string(n.fetch_add(1));
+  // The pid keeps names apart between test processes running at once: shared-memory topics
+  // are visible to every process of the host.
+  return "test." + base + "." + std::to_string(::getpid()) + "." + std::to_string(n.fetch_add(1));
 }
 
 /// Deadline for loops in tests: they never spin forever.

@@ -99,7 +99,7 @@ TEST(Topic, TwoHandlesWithTheSameNameAreConnected) {
   Topic<Stamp> pub(name);
   Topic<Stamp> sub(name);
   EXPECT_EQ(pub.name(), name);
-  EXPECT_EQ(pub.backend(), horus::Backend::InProcess);
+  EXPECT_EQ(pub.backend(), horus::Backend::SharedMemory);  // the default
   pub.send(Stamp::make(1, 42));
   auto m = sub.recv();
   ASSERT_TRUE(m);

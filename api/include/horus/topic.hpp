@@ -37,12 +37,27 @@
 #include "horus/reflect.hpp"
 #include "horus/shm/heap_region.hpp"
 #include "horus/shm/ring.hpp"
+#include "horus/shm/shm_segment.hpp"
 
 namespace horus {
 
 /// Where a topic's messages travel.
-enum class Backend { InProcess };
+///   InProcess     a ring in this process's memory (HORUS_BACKEND=inproc, or per topic in code)
+///   SharedMemory  a ring in a POSIX shared-memory segment that every process of this host
+///                 (and HORUS_NAMESPACE) opening the name attaches to; the default
+enum class Backend { InProcess, SharedMemory };
 std::string_view to_string(Backend b) noexcept;
+
+/// Per-topic choices made in code (they take precedence over the environment).
+struct TopicOptions {
+  std::optional<Backend> backend;         // default: HORUS_BACKEND, else shared memory
+  std::optional<std::uint32_t> capacity;  // slots per publisher, a power of two
+  std::optional<std::size_t> slot_size;   // serialized messages: the largest encoded message
+};
+
+/// The backend HORUS_BACKEND selects (auto|shm|inproc; unset means auto = shm); an error
+/// names a bad value and lists the valid ones.
+Result<Backend> backend_from_environment();
 
 /// Longest topic name accepted.
 inline constexpr std::size_t kMaxTopicNameLength = 128;
@@ -95,14 +110,15 @@ struct TopicCore {
   std::uint64_t type_hash = 0;
   std::uint32_t payload_size = 0;  // ring payload: sizeof(T), or 8 + largest encoded message
   bool serialized = false;
-  shm::HeapRegion region;
+  Backend backend = Backend::InProcess;
+  shm::HeapRegion region;                  // InProcess
+  std::optional<shm::ShmSegment> segment;  // SharedMemory
   shm::Ring ring;
 };
 
 /// Finds or creates the topic `name` for a message type; checks name, type and configuration.
 Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeInfo& type,
-                                             std::optional<std::uint32_t> capacity,
-                                             std::optional<std::size_t> slot_size);
+                                             const TopicOptions& options);
 /// A host-unique, non-zero identity for a handle's lane and subscriber entry: (pid << 32) | n.
 std::uint64_t next_token() noexcept;
 /// Logs (once per handle) that a send found no free lane / a receive no free subscriber entry.
@@ -134,7 +150,10 @@ class Topic {
   explicit Topic(std::string_view name) : Topic(value_or_throw(open(name))) {}
 
   /// Opens (or creates) the topic with the default capacity (16 to 1024 slots by message size).
-  static Result<Topic> open(std::string_view name) { return make(name, std::nullopt, std::nullopt); }
+  static Result<Topic> open(std::string_view name) { return make(name, TopicOptions{}); }
+
+  /// Opens (or creates) the topic with choices made in code (backend, capacity, slot size).
+  static Result<Topic> open(std::string_view name, const TopicOptions& options) { return make(name, options); }
 
   /// Opens (or creates) the topic with `capacity` slots per publisher (a power of two).
   /// `slot_size` matters for a serialized T only: the largest encoded message the topic accepts
@@ -146,7 +165,7 @@ class Topic {
   /// memory, touched only as messages are written, but 16 x 8 MiB per publisher is a lot).
   static Result<Topic> with_capacity(std::string_view name, std::uint32_t capacity,
                                      std::optional<std::size_t> slot_size = std::nullopt) {
-    return make(name, capacity, slot_size);
+    return make(name, TopicOptions{std::nullopt, capacity, slot_size});
   }
 
   Topic(Topic&&) noexcept = default;
@@ -328,7 +347,8 @@ class Topic {
   std::size_t max_message_size() const noexcept {
     return kSerialized ? shm::max_serialized_size(core_->payload_size) : sizeof(T);
   }
-  Backend backend() const noexcept { return Backend::InProcess; }
+  /// Where this topic's messages travel (see Backend).
+  Backend backend() const noexcept { return core_->backend; }
   /// The qualified message type name ("horus::msg::CmdVel").
   static constexpr std::string_view type_name() noexcept { return horus::type_name<T>(); }
 
@@ -344,12 +364,11 @@ class Topic {
         writer_(core_->ring, detail::next_token()),
         reader_(core_->ring, detail::next_token()) {}
 
-  static Result<Topic> make(std::string_view name, std::optional<std::uint32_t> capacity,
-                            std::optional<std::size_t> slot_size) {
+  static Result<Topic> make(std::string_view name, const TopicOptions& options) {
     const detail::TypeInfo type{horus::type_name<T>(), horus::type_hash<T>,
                                 static_cast<std::uint32_t>(kSerialized ? default_slot_bytes<T> : sizeof(T)),
                                 kSerialized};
-    auto core = detail::open_core(name, type, capacity, slot_size);
+    auto core = detail::open_core(name, type, options);
     if (!core) return std::unexpected(std::move(core.error()));
     Topic topic(std::move(*core));
     if (!topic.reader_.subscribe()) {
