@@ -160,7 +160,9 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
   auto& reg = registry();
   std::lock_guard lock(reg.mutex);
   if (auto it = reg.topics.find(name); it != reg.topics.end()) {
-    if (auto core = it->second.lock()) {
+    auto core = it->second.lock();
+    if (core && core->pid != ::getpid()) core.reset();  // inherited through fork(): attach anew
+    if (core) {
       if (core->backend != backend)
         return fail(Errc::ConfigMismatch,
                     fmt::format("topic '{}' is open in this process on backend '{}'; cannot open it on '{}' (one "
@@ -199,6 +201,7 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
   core->payload_size = payload;
   core->serialized = type.serialized;
   core->backend = backend;
+  core->pid = ::getpid();
   if (backend == Backend::SharedMemory) {
     auto ns = shm::shm_namespace();
     if (!ns) return fail(Errc::Config, ns.error().message);

@@ -137,6 +137,7 @@ ShmSegment& ShmSegment::operator=(ShmSegment&& o) noexcept {
     ring_ = o.ring_;
     name_ = std::move(o.name_);
     slot_ = std::exchange(o.slot_, kMaxParticipants);
+    owner_ = std::exchange(o.owner_, 0);
   }
   return *this;
 }
@@ -181,6 +182,7 @@ std::expected<ShmSegment, SegmentError> ShmSegment::open(std::string_view ns, st
     ShmSegment seg;
     seg.fd_ = fd;
     seg.name_ = name;
+    seg.owner_ = self;
     if (!lock_with_deadline(fd))
       return std::unexpected(SegmentError{SegmentError::Kind::Io,
                                           "shared-memory segment /dev/shm" + name +
@@ -331,7 +333,7 @@ std::uint32_t ShmSegment::reap_dead() const {
 
 void ShmSegment::detach() noexcept {
   if (fd_ < 0) return;
-  if (header_ != nullptr && lock_with_deadline(fd_)) {
+  if (header_ != nullptr && owner_ == ::getpid() && lock_with_deadline(fd_)) {
     if (slot_ < kMaxParticipants) header_->participants[slot_].pid.store(0, std::memory_order_release);
     try {
       reap_dead();

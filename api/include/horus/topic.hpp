@@ -111,6 +111,7 @@ struct TopicCore {
   std::uint32_t payload_size = 0;  // ring payload: sizeof(T), or 8 + largest encoded message
   bool serialized = false;
   Backend backend = Backend::InProcess;
+  int pid = 0;                             // the process that opened it (a forked child opens its own)
   shm::HeapRegion region;                  // InProcess
   std::optional<shm::ShmSegment> segment;  // SharedMemory
   shm::Ring ring;

@@ -124,6 +124,7 @@ class ShmSegment {
   Ring ring_;
   std::string name_;
   std::uint32_t slot_ = kMaxParticipants;  // our participant entry
+  pid_t owner_ = 0;  // the process that attached (a forked child only unmaps its copy)
 };
 
 /// A segment found in /dev/shm, for tools (`horus topic list`, `horus clean`).

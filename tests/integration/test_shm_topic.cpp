@@ -1,0 +1,244 @@
+// Topic<T> between real processes (fork()): delivery, late joiners, serialized messages,
+// type mismatch, backend choice, and publishers killed in the middle of sending.
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "horus/shm/shm_segment.hpp"
+#include "horus/topic.hpp"
+#include "test_support.hpp"
+
+namespace shm_topic_test {
+struct Blob {
+  std::string label;
+  std::vector<std::uint32_t> values;
+  friend bool operator==(const Blob&, const Blob&) = default;
+};
+HORUS_REFLECT(Blob, label, values)
+}  // namespace shm_topic_test
+
+namespace {
+
+using horus::Topic;
+using horus_test::Stamp;
+using shm_topic_test::Blob;
+
+template <class F>
+pid_t spawn(F&& f) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    int rc = 1;
+    try {
+      rc = f();
+    } catch (...) {
+      rc = 2;
+    }
+    ::_exit(rc);
+  }
+  return pid;
+}
+
+int wait_for(pid_t pid) {
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  return -1;
+}
+
+struct Pipe {
+  int fd[2]{-1, -1};
+  Pipe() { EXPECT_EQ(::pipe(fd), 0); }
+  ~Pipe() {
+    ::close(fd[0]);
+    ::close(fd[1]);
+  }
+  void signal() const { (void)!::write(fd[1], "x", 1); }
+  bool wait(std::chrono::seconds timeout = std::chrono::seconds(20)) const {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    ::fcntl(fd[0], F_SETFL, O_NONBLOCK);
+    char c;
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (::read(fd[0], &c, 1) == 1) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    return false;
+  }
+};
+
+class ShmTopic : public ::testing::Test {
+ protected:
+  void SetUp() override { ::unsetenv("HORUS_BACKEND"); }
+  void TearDown() override {
+    // Every segment this test made is gone once its handles (and its children) are.
+    const auto ns = horus::shm::shm_namespace();
+    ASSERT_TRUE(ns);
+    const std::string mine = "test." + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name());
+    for (const auto& s : horus::shm::list_segments(*ns))
+      if (s.topic.find("." + std::to_string(::getpid()) + ".") != std::string::npos)
+        ADD_FAILURE() << "left in /dev/shm: " << s.name << " (" << mine << ")";
+  }
+};
+
+TEST_F(ShmTopic, AnotherProcessReceivesEveryMessageOnceInOrder) {
+  const auto name = horus_test::unique_name("xproc");
+  auto sub = Topic<Stamp>::with_capacity(name, 1024);
+  ASSERT_TRUE(sub) << sub.error().message();
+  EXPECT_EQ(sub->backend(), horus::Backend::SharedMemory);
+  constexpr std::uint64_t kCount = 5000;
+  const pid_t child = spawn([&] {
+    Topic<Stamp> pub(name);
+    for (std::uint64_t i = 0; i < kCount; ++i) {
+      while (!pub.try_send(Stamp::make(3, i))) std::this_thread::yield();
+    }
+    return 0;
+  });
+  std::uint64_t next = 0;
+  const horus_test::Deadline deadline(std::chrono::seconds(30));
+  while (next < kCount && !deadline.expired()) {
+    if (auto m = sub->recv()) {
+      ASSERT_TRUE(m->intact());
+      ASSERT_EQ(m->seq, next);
+      ++next;
+    } else {
+      std::this_thread::yield();
+    }
+  }
+  EXPECT_EQ(wait_for(child), 0);
+  EXPECT_EQ(next, kCount);
+  EXPECT_EQ(sub->dropped_count(), 0u);
+}
+
+TEST_F(ShmTopic, ALateJoiningProcessGetsOnlyLaterMessagesAndReadLatestTheNewest) {
+  const auto name = horus_test::unique_name("late");
+  Topic<Stamp> pub(name);
+  pub.send(Stamp::make(1, 1));
+  pub.send(Stamp::make(1, 2));
+  Pipe joined, sent;
+  const pid_t child = spawn([&] {
+    Topic<Stamp> sub(name);
+    auto latest = sub.read_latest();
+    if (!latest || latest->seq != 2) return 10;
+    joined.signal();
+    if (!sent.wait()) return 11;
+    auto m = sub.recv();
+    if (!m || m->seq != 3 || !m->intact()) return 12;
+    return sub.recv() ? 13 : 0;
+  });
+  ASSERT_TRUE(joined.wait());
+  pub.send(Stamp::make(1, 3));
+  sent.signal();
+  EXPECT_EQ(wait_for(child), 0);
+}
+
+TEST_F(ShmTopic, SerializedMessagesCrossProcesses) {
+  const auto name = horus_test::unique_name("blob");
+  Topic<Blob> sub(name);
+  const pid_t child = spawn([&] {
+    Topic<Blob> pub(name);
+    for (std::uint32_t i = 0; i < 10; ++i) pub.send(Blob{"blob" + std::to_string(i), std::vector<std::uint32_t>(i * 100, i)});
+    return 0;
+  });
+  EXPECT_EQ(wait_for(child), 0);
+  for (std::uint32_t i = 0; i < 10; ++i) {
+    auto m = sub.recv();
+    ASSERT_TRUE(m) << i;
+    EXPECT_EQ(*m, (Blob{"blob" + std::to_string(i), std::vector<std::uint32_t>(i * 100, i)}));
+  }
+}
+
+TEST_F(ShmTopic, AnotherProcessOpeningTheNameWithAnotherTypeGetsAnErrorNamingBoth) {
+  const auto name = horus_test::unique_name("mismatch");
+  Topic<Stamp> holder(name);
+  const pid_t child = spawn([&] {
+    auto other = Topic<horus_test::Other>::open(name);
+    if (other) return 10;
+    if (other.error().code() != horus::Errc::TypeMismatch) return 11;
+    const auto& msg = other.error().message();
+    return msg.find("horus_test::Stamp") != std::string::npos && msg.find("horus_test::Other") != std::string::npos
+               ? 0
+               : 12;
+  });
+  EXPECT_EQ(wait_for(child), 0);
+}
+
+TEST_F(ShmTopic, AnInProcessTopicIsInvisibleToOtherProcesses) {
+  const auto name = horus_test::unique_name("inproc");
+  auto local = Topic<Stamp>::open(name, horus::TopicOptions{horus::Backend::InProcess, {}, {}});
+  ASSERT_TRUE(local);
+  EXPECT_EQ(local->backend(), horus::Backend::InProcess);
+  const pid_t child = spawn([&] {
+    auto other = Topic<horus_test::Other>::open(name);  // no conflict: the name is not on this host's shm
+    return other && other->backend() == horus::Backend::SharedMemory ? 0 : 10;
+  });
+  EXPECT_EQ(wait_for(child), 0);
+  auto clash = Topic<Stamp>::open(name, horus::TopicOptions{horus::Backend::SharedMemory, {}, {}});
+  ASSERT_FALSE(clash);
+  EXPECT_EQ(clash.error().code(), horus::Errc::ConfigMismatch);
+}
+
+TEST_F(ShmTopic, HorusBackendSelectsTheBackendAndABadValueIsNamed) {
+  ::setenv("HORUS_BACKEND", "inproc", 1);
+  Topic<Stamp> a(horus_test::unique_name("env"));
+  EXPECT_EQ(a.backend(), horus::Backend::InProcess);
+  ::setenv("HORUS_BACKEND", "carrier-pigeon", 1);
+  auto bad = Topic<Stamp>::open(horus_test::unique_name("env"));
+  ASSERT_FALSE(bad);
+  EXPECT_EQ(bad.error().code(), horus::Errc::Config);
+  EXPECT_NE(bad.error().message().find("HORUS_BACKEND=carrier-pigeon"), std::string::npos);
+  EXPECT_NE(bad.error().message().find("expected auto, shm or inproc"), std::string::npos);
+  ::unsetenv("HORUS_BACKEND");
+}
+
+// A publisher killed at a random point of a stream of sends, many times over: the subscriber
+// never returns a torn message, and the next publisher continues the topic.
+TEST_F(ShmTopic, APublisherKilledWhileSendingNeverDeliversATornMessage) {
+  const auto name = horus_test::unique_name("kill");
+  auto sub = Topic<Stamp>::with_capacity(name, 64);
+  ASSERT_TRUE(sub);
+  const int kills = std::getenv("HORUS_KILL_LOOPS") ? std::atoi(std::getenv("HORUS_KILL_LOOPS")) : 25;
+  std::uint64_t received = 0;
+  for (int k = 0; k < kills; ++k) {
+    Pipe started;
+    const pid_t child = spawn([&] {
+      Topic<Stamp> pub(name);
+      started.signal();
+      for (std::uint64_t i = 0;; ++i) pub.send(Stamp::make(static_cast<std::uint32_t>(k), i));
+      return 0;
+    });
+    ASSERT_TRUE(started.wait());
+    const auto until = std::chrono::steady_clock::now() + std::chrono::microseconds(200 + (k * 397) % 3000);
+    while (std::chrono::steady_clock::now() < until) {
+      if (auto m = sub->recv()) {
+        ASSERT_TRUE(m->intact()) << "torn message in round " << k;
+        ++received;
+      }
+    }
+    ::kill(child, SIGKILL);
+    ASSERT_EQ(wait_for(child), 128 + SIGKILL);
+    while (auto m = sub->recv()) {
+      ASSERT_TRUE(m->intact()) << "torn message after the kill in round " << k;
+      ++received;
+    }
+  }
+  EXPECT_GT(received, 0u);
+  // The dead publishers' lanes are reclaimed: a new publisher gets one and is heard.
+  Topic<Stamp> pub(name);
+  pub.send(Stamp::make(999, 1));
+  std::optional<Stamp> last;
+  while (auto m = sub->recv()) last = m;
+  ASSERT_TRUE(last);
+  EXPECT_EQ(last->publisher, 999u);
+}
+
+}  // namespace
