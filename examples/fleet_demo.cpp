@@ -1,13 +1,21 @@
 // The fleet demo: robots publish their heartbeat, pose and transform; a monitor prints a
-// live table of the fleet. Today robots are threads of one process on in-process topics;
-// the same code runs unchanged on shared memory and DDS/LCM as those backends land.
+// live table of the fleet. Every robot is its own process; they meet the monitor through
+// shared-memory topics, with no broker. The same code runs on DDS/LCM as those backends land.
 //
-//   fleet_demo --robots 3 --duration 5
+//   fleet_demo --robots 3 --duration 5            launch: robot processes + the monitor
+//   fleet_demo --role monitor --robots 3           only the monitor (start it before or after)
+//   fleet_demo --role robot --id 2                 only robot 2 (e.g. after killing it)
+//   fleet_demo --restart 2                         launch, and halfway kill robot 2 and start it again
 //
 // Topics, per robot i: fleet.robot_<i>.heartbeat (Heartbeat, 2 Hz), fleet.robot_<i>.pose
 // (Pose2D, --pose-rate Hz), fleet.robot_<i>.tf (TransformStamped, half the pose rate).
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
@@ -15,9 +23,12 @@
 #include <numbers>
 #include <string>
 #include <thread>
+#include <functional>
 #include <vector>
 
 #include "horus/horus.hpp"
+
+extern char** environ;
 
 namespace msg = horus::msg;
 using clock_type = std::chrono::steady_clock;
@@ -119,56 +130,117 @@ void print_table(std::vector<RobotView>& fleet, double elapsed_s, double interva
   std::fflush(stdout);
 }
 
+std::atomic<bool> g_stop{false};
+extern "C" void on_signal(int) { g_stop.store(true); }
+
+// Starts `fleet_demo --role robot --id <id> ...` as a child process.
+pid_t spawn_robot(int id, double pose_rate_hz, double duration_s) {
+  const std::string self = "/proc/self/exe";
+  std::vector<std::string> args = {"fleet_demo", "--role", "robot", "--id", std::to_string(id),
+                                   "--pose-rate", fmt::format("{}", pose_rate_hz), "--duration",
+                                   fmt::format("{}", duration_s + 5.0)};
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  pid_t pid = 0;
+  if (::posix_spawn(&pid, self.c_str(), nullptr, nullptr, argv.data(), environ) != 0) return -1;
+  return pid;
+}
+
+int run_monitor(int robots, double duration_s, double print_interval_s, const std::function<void(double)>& tick) {
+  // The monitor subscribes before the robots start (in launch mode), so it sees their first messages.
+  std::vector<RobotView> fleet;
+  fleet.reserve(static_cast<std::size_t>(robots));
+  for (int i = 1; i <= robots; ++i) fleet.emplace_back(i);
+  fmt::print("horus fleet demo: {} robots, {} backend, {:.0f} s\n", robots,
+             horus::to_string(fleet.front().pose.backend()), duration_s);
+  if (tick) tick(-1.0);  // start the robots now
+  const auto start = clock_type::now();
+  const auto interval = std::chrono::duration_cast<clock_type::duration>(std::chrono::duration<double>(print_interval_s));
+  auto next_print = start + interval;
+  const auto end = start + std::chrono::duration_cast<clock_type::duration>(std::chrono::duration<double>(duration_s));
+  while (clock_type::now() < end && !g_stop.load()) {
+    for (auto& r : fleet) r.drain();
+    if (tick) tick(std::chrono::duration<double>(clock_type::now() - start).count());
+    if (clock_type::now() >= next_print) {
+      print_table(fleet, std::chrono::duration<double>(clock_type::now() - start).count(), print_interval_s);
+      next_print += interval;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  for (auto& r : fleet) r.drain();
+  int silent = 0;
+  std::uint64_t total = 0;
+  for (const auto& r : fleet) {
+    total += r.hb_count + r.pose_count + r.tf_count;
+    if (r.pose_count == 0 || r.hb_count == 0) ++silent;
+  }
+  fmt::print("\nreceived {} messages from {} robots; {} silent\n", total, robots, silent);
+  return silent == 0 ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   int robots = 3;
+  int id = 1;
+  int restart = 0;
   double duration_s = 5.0;
   double pose_rate_hz = 20.0;
   double print_interval_s = 1.0;
-  CLI::App app{"horus fleet demo: robots publish heartbeat, pose and transform; a monitor prints the fleet"};
-  app.add_option("--robots", robots, "number of robots")->check(CLI::Range(1, 64));
+  std::string role = "launch";
+  CLI::App app{"horus fleet demo: robot processes publish heartbeat, pose and transform; a monitor prints the fleet"};
+  app.add_option("--role", role, "launch (robots + monitor), monitor, or robot")
+      ->check(CLI::IsMember({"launch", "monitor", "robot"}));
+  app.add_option("--robots", robots, "number of robots")->check(CLI::Range(1, 30));
+  app.add_option("--id", id, "robot id (--role robot)")->check(CLI::Range(1, 30));
   app.add_option("--duration", duration_s, "seconds to run")->check(CLI::Range(0.5, 86400.0));
   app.add_option("--pose-rate", pose_rate_hz, "pose messages per second per robot")->check(CLI::Range(1.0, 10000.0));
   app.add_option("--interval", print_interval_s, "seconds between tables")->check(CLI::Range(0.1, 60.0));
+  app.add_option("--restart", restart, "launch: kill this robot halfway (SIGKILL) and start it again")
+      ->check(CLI::Range(0, 30));
   CLI11_PARSE(app, argc, argv);
+  ::signal(SIGTERM, on_signal);
+  ::signal(SIGINT, on_signal);
 
   try {
-    // The monitor subscribes first, so it sees every message from the robots' first one on.
-    std::vector<RobotView> fleet;
-    fleet.reserve(static_cast<std::size_t>(robots));
-    for (int i = 1; i <= robots; ++i) fleet.emplace_back(i);
+    if (role == "robot") {
+      std::atomic<bool> stop{false};
+      std::thread timer([&] {
+        const auto end = clock_type::now() + std::chrono::duration_cast<clock_type::duration>(
+                                                 std::chrono::duration<double>(duration_s));
+        while (clock_type::now() < end && !g_stop.load()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        stop = true;
+      });
+      run_robot(id, pose_rate_hz, stop);
+      timer.join();
+      return 0;
+    }
+    if (role == "monitor") return run_monitor(robots, duration_s, print_interval_s, {});
 
-    fmt::print("horus fleet demo: {} robots, {} backend, {:.0f} s\n", robots,
-               horus::to_string(fleet.front().pose.backend()), duration_s);
-    std::atomic<bool> stop{false};
-    std::vector<std::thread> threads;
-    for (int i = 1; i <= robots; ++i) threads.emplace_back(run_robot, i, pose_rate_hz, std::cref(stop));
-
-    const auto start = clock_type::now();
-    const auto interval = std::chrono::duration_cast<clock_type::duration>(std::chrono::duration<double>(print_interval_s));
-    auto next_print = start + interval;
-    const auto end = start + std::chrono::duration_cast<clock_type::duration>(std::chrono::duration<double>(duration_s));
-    while (clock_type::now() < end) {
-      for (auto& r : fleet) r.drain();
-      if (clock_type::now() >= next_print) {
-        print_table(fleet, std::chrono::duration<double>(clock_type::now() - start).count(), print_interval_s);
-        next_print += interval;
+    // launch: the monitor here, each robot a process of its own.
+    std::vector<pid_t> pids(static_cast<std::size_t>(robots) + 1, -1);
+    bool restarted = false;
+    const int rc = run_monitor(robots, duration_s, print_interval_s, [&](double t) {
+      if (t < 0) {
+        for (int i = 1; i <= robots; ++i) pids[static_cast<std::size_t>(i)] = spawn_robot(i, pose_rate_hz, duration_s);
+      } else if (restart != 0 && restart <= robots && !restarted && t >= duration_s / 2) {
+        restarted = true;
+        const pid_t old = pids[static_cast<std::size_t>(restart)];
+        ::kill(old, SIGKILL);
+        ::waitpid(old, nullptr, 0);
+        fmt::print("\nkilled robot_{} (pid {}) with SIGKILL; starting it again\n", restart, old);
+        pids[static_cast<std::size_t>(restart)] = spawn_robot(restart, pose_rate_hz, duration_s);
       }
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    });
+    for (int i = 1; i <= robots; ++i) {
+      const pid_t pid = pids[static_cast<std::size_t>(i)];
+      if (pid > 0) {
+        ::kill(pid, SIGTERM);
+        ::waitpid(pid, nullptr, 0);
+      }
     }
-    stop = true;
-    for (auto& t : threads) t.join();
-    for (auto& r : fleet) r.drain();
-
-    int silent = 0;
-    std::uint64_t total = 0;
-    for (const auto& r : fleet) {
-      total += r.hb_count + r.pose_count + r.tf_count;
-      if (r.pose_count == 0 || r.hb_count == 0) ++silent;
-    }
-    fmt::print("\nreceived {} messages from {} robots; {} silent\n", total, robots, silent);
-    return silent == 0 ? 0 : 1;
+    return rc;
   } catch (const horus::Exception& e) {
     fmt::print(stderr, "fleet_demo: {}\n", e.what());
     return 2;
