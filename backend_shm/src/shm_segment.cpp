@@ -353,6 +353,58 @@ void ShmSegment::detach() noexcept {
 
 // ---------------------------------------------------------------------------
 
+std::expected<SegmentView, SegmentError> SegmentView::open(const std::string& name) {
+  const int fd = ::shm_open(name.c_str(), O_RDONLY, 0);
+  if (fd < 0) {
+    const int err = errno;
+    if (err == ENOENT)
+      return std::unexpected(SegmentError{SegmentError::Kind::InvalidName, "no shared-memory segment /dev/shm" + name});
+    return std::unexpected(io_error("cannot open", name, err));
+  }
+  struct stat st{};
+  if (::fstat(fd, &st) != 0 || static_cast<std::size_t>(st.st_size) < sizeof(SegmentHeader)) {
+    ::close(fd);
+    return std::unexpected(SegmentError{SegmentError::Kind::Io,
+                                        "shared-memory segment /dev/shm" + name + " is empty or being created"});
+  }
+  const auto size = static_cast<std::size_t>(st.st_size);
+  void* p = ::mmap(nullptr, size, PROT_READ, MAP_SHARED, fd, 0);
+  ::close(fd);
+  if (p == MAP_FAILED) return std::unexpected(io_error("cannot map", name, errno));
+  SegmentView v;
+  v.base_ = p;
+  v.size_ = size;
+  v.header_ = static_cast<const SegmentHeader*>(p);
+  const SegmentHeader& h = *v.header_;
+  if (h.magic != kSegmentMagic || h.layout_version != kSegmentVersion || h.ready.load(std::memory_order_acquire) != 1)
+    return std::unexpected(SegmentError{SegmentError::Kind::Io, "shared-memory segment /dev/shm" + name +
+                                                                    " is not a finished horus segment of version " +
+                                                                    std::to_string(kSegmentVersion)});
+  auto* ring_base = static_cast<std::byte*>(p) + h.ring_offset;
+  if (h.ring_offset >= size)
+    return std::unexpected(SegmentError{SegmentError::Kind::Io, "shared-memory segment /dev/shm" + name +
+                                                                    " has a corrupt header (ring past its end)"});
+  if (auto err = Ring::validate(ring_base, size - h.ring_offset))
+    return std::unexpected(SegmentError{SegmentError::Kind::Io, "shared-memory segment /dev/shm" + name + ": " + *err});
+  v.ring_ = Ring::attach(ring_base);
+  return v;
+}
+
+SegmentView& SegmentView::operator=(SegmentView&& o) noexcept {
+  if (this != &o) {
+    if (base_ != nullptr) ::munmap(base_, size_);
+    base_ = std::exchange(o.base_, nullptr);
+    size_ = std::exchange(o.size_, 0);
+    header_ = std::exchange(o.header_, nullptr);
+    ring_ = o.ring_;
+  }
+  return *this;
+}
+
+SegmentView::~SegmentView() {
+  if (base_ != nullptr) ::munmap(base_, size_);
+}
+
 namespace {
 template <class F>
 void for_each_segment_file(std::string_view ns, F&& f) {

@@ -127,6 +127,30 @@ class ShmSegment {
   pid_t owner_ = 0;  // the process that attached (a forked child only unmaps its copy)
 };
 
+/// A read-only view of a segment, for tools: maps it PROT_READ, never joins it or writes to
+/// it, so looking never disturbs a topic. Only the Ring's reading methods may be used.
+class SegmentView {
+ public:
+  /// Maps "/horus.<ns>.<topic>"-style shm name `name` (with the leading '/').
+  static std::expected<SegmentView, SegmentError> open(const std::string& name);
+  SegmentView() = default;
+  SegmentView(SegmentView&& o) noexcept { *this = std::move(o); }
+  SegmentView& operator=(SegmentView&& o) noexcept;
+  SegmentView(const SegmentView&) = delete;
+  SegmentView& operator=(const SegmentView&) = delete;
+  ~SegmentView();
+
+  const SegmentHeader& header() const noexcept { return *header_; }
+  Ring ring() const noexcept { return ring_; }
+  std::size_t size() const noexcept { return size_; }
+
+ private:
+  void* base_ = nullptr;
+  std::size_t size_ = 0;
+  const SegmentHeader* header_ = nullptr;
+  Ring ring_;
+};
+
 /// A segment found in /dev/shm, for tools (`horus topic list`, `horus clean`).
 struct SegmentInfo {
   std::string name;   // shm name without the leading '/'

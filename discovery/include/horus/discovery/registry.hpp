@@ -1,0 +1,57 @@
+// The local registry: every topic on this host, read from the shared-memory segments
+// themselves (there is no daemon and no separate registry file to go stale). Reading maps each
+// segment read-only, so it never disturbs a topic.
+//
+//   for (const auto& t : horus::discovery::list_topics(ns)) fmt::print("{} {}\n", t.topic, t.type_name);
+#pragma once
+
+#include <sys/types.h>
+
+#include <chrono>
+#include <cstdint>
+#include <expected>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace horus::discovery {
+
+/// A process attached to a topic.
+struct Process {
+  pid_t pid = 0;
+  bool alive = false;
+  std::uint32_t publishers = 0;   // publishing handles (ring lanes) it holds
+  std::uint32_t subscribers = 0;  // subscribing handles it holds
+};
+
+struct TopicEntry {
+  std::string topic;          // horus topic name
+  std::string segment;        // /dev/shm file name
+  std::string type_name;      // "horus::msg::Pose2D"
+  std::uint64_t type_hash = 0;
+  std::uint32_t message_size = 0;  // bytes (fixed-size) or the largest encoded message (serialized)
+  bool serialized = false;
+  std::uint32_t capacity = 0;      // slots per publisher
+  std::uint64_t segment_bytes = 0;
+  std::uint64_t created_unix_ns = 0;
+  std::uint32_t publishers = 0;    // handles, all processes
+  std::uint32_t subscribers = 0;
+  std::uint64_t messages_sent = 0;  // since the segment was created
+  std::uint64_t dropped = 0;        // messages subscribers lost to overwrites
+  double rate_hz = -1.0;            // messages per second over the sampling window (-1: not sampled)
+  std::vector<Process> processes;
+  bool stale = false;  // no live process: `horus clean` removes it
+};
+
+/// Every topic of shared-memory namespace `ns`. With a window > 0, sent counts are sampled
+/// twice that far apart to give rate_hz.
+std::vector<TopicEntry> list_topics(std::string_view ns, std::chrono::milliseconds window = std::chrono::milliseconds(0));
+
+/// One topic; an error text when it does not exist (naming the namespace and the topics that do).
+std::expected<TopicEntry, std::string> find_topic(std::string_view ns, std::string_view topic,
+                                                  std::chrono::milliseconds window = std::chrono::milliseconds(0));
+
+/// Removes the segments of `ns` whose processes are all gone; returns their topic names.
+std::vector<std::string> clean(std::string_view ns);
+
+}  // namespace horus::discovery

@@ -1,0 +1,179 @@
+// The local registry (discovery/) and the `horus` command line, against live topics and
+// processes that died.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cstdio>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include "horus/discovery/registry.hpp"
+#include "horus/horus.hpp"
+#include "horus/shm/shm_segment.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+using horus_test::Stamp;
+
+std::string ns() { return horus::shm::shm_namespace().value(); }
+
+// Runs a command; returns its exit status and everything it printed.
+int run(const std::string& cmd, std::string& out) {
+  out.clear();
+  FILE* p = ::popen((cmd + " 2>&1").c_str(), "r");
+  if (p == nullptr) return -1;
+  char buf[4096];
+  while (std::fgets(buf, sizeof(buf), p) != nullptr) out += buf;
+  const int status = ::pclose(p);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+TEST(Registry, ListsALiveTopicWithItsTypeCountsAndProcess) {
+  const auto name = horus_test::unique_name("registry");
+  horus::Topic<Stamp> pub(name), sub(name);
+  for (std::uint64_t i = 0; i < 7; ++i) pub.send(Stamp::make(1, i));
+  auto e = horus::discovery::find_topic(ns(), name);
+  ASSERT_TRUE(e) << e.error();
+  EXPECT_EQ(e->type_name, std::string(horus::type_name<Stamp>()));
+  EXPECT_EQ(e->type_hash, horus::type_hash<Stamp>);
+  EXPECT_EQ(e->message_size, sizeof(Stamp));
+  EXPECT_FALSE(e->serialized);
+  EXPECT_EQ(e->messages_sent, 7u);
+  EXPECT_EQ(e->publishers, 1u);
+  EXPECT_EQ(e->subscribers, 1u);
+  ASSERT_EQ(e->processes.size(), 1u);
+  EXPECT_EQ(e->processes[0].pid, ::getpid());
+  EXPECT_TRUE(e->processes[0].alive);
+  EXPECT_EQ(e->processes[0].publishers, 1u);
+  EXPECT_EQ(e->processes[0].subscribers, 1u);
+  EXPECT_FALSE(e->stale);
+}
+
+TEST(Registry, MeasuresTheRateOverAWindow) {
+  const auto name = horus_test::unique_name("rate");
+  horus::Topic<Stamp> pub(name), sub(name);
+  std::atomic<bool> stop{false};
+  std::thread t([&] {
+    for (std::uint64_t i = 0; !stop.load(); ++i) {
+      pub.send(Stamp::make(1, i));
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+  });
+  auto e = horus::discovery::find_topic(ns(), name, std::chrono::milliseconds(300));
+  stop = true;
+  t.join();
+  ASSERT_TRUE(e) << e.error();
+  EXPECT_GT(e->rate_hz, 20.0);   // ~200 Hz minus sleep overshoot on a loaded machine
+  EXPECT_LT(e->rate_hz, 250.0);
+}
+
+TEST(Registry, AnUnknownTopicIsAnErrorListingTheOnesThatExist) {
+  const auto name = horus_test::unique_name("known");
+  horus::Topic<Stamp> t(name);
+  auto e = horus::discovery::find_topic(ns(), "no.such.topic");
+  ASSERT_FALSE(e);
+  EXPECT_NE(e.error().find("no topic 'no.such.topic'"), std::string::npos) << e.error();
+  EXPECT_NE(e.error().find(name), std::string::npos) << e.error();
+}
+
+TEST(Registry, ATopicLeftByAKilledProcessIsStaleAndCleanRemovesIt) {
+  const auto name = horus_test::unique_name("stale");
+  const pid_t child = ::fork();
+  if (child == 0) {
+    horus::Topic<Stamp> pub(name);
+    pub.send(Stamp::make(1, 1));
+    ::raise(SIGKILL);
+    ::_exit(0);
+  }
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status));
+  auto e = horus::discovery::find_topic(ns(), name);
+  ASSERT_TRUE(e) << e.error();
+  EXPECT_TRUE(e->stale);
+  ASSERT_EQ(e->processes.size(), 1u);
+  EXPECT_EQ(e->processes[0].pid, child);
+  EXPECT_FALSE(e->processes[0].alive);
+  const auto removed = horus::discovery::clean(ns());
+  EXPECT_NE(std::find(removed.begin(), removed.end(), name), removed.end());
+  EXPECT_FALSE(horus::discovery::find_topic(ns(), name));
+}
+
+TEST(HorusCli, EchoPrintsMessagesOfALiveTopicAsJson) {
+  const auto name = horus_test::unique_name("cli_echo");
+  horus::Topic<horus::msg::Pose2D> pub(name);
+  std::atomic<bool> stop{false};
+  std::thread t([&] {
+    for (int i = 0; !stop.load(); ++i) {
+      pub.send(horus::msg::Pose2D::make(i, 2.0, 0.5));
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+  });
+  std::string out;
+  const int rc = run(std::string(HORUS_CLI) + " topic echo " + name + " --json -n 3 --timeout 20", out);
+  stop = true;
+  t.join();
+  ASSERT_EQ(rc, 0) << out;
+  std::istringstream lines(out);
+  std::string line;
+  int n = 0;
+  while (std::getline(lines, line)) {
+    const auto j = nlohmann::json::parse(line);
+    EXPECT_EQ(j.at("y").get<double>(), 2.0);
+    ++n;
+  }
+  EXPECT_EQ(n, 3);
+}
+
+TEST(HorusCli, ListAndInfoShowTheTopicAndUnknownNamesAreErrors) {
+  const auto name = horus_test::unique_name("cli_list");
+  horus::Topic<Stamp> pub(name);
+  pub.send(Stamp::make(1, 1));
+  std::string out;
+  ASSERT_EQ(run(std::string(HORUS_CLI) + " topic list --json", out), 0) << out;
+  const auto arr = nlohmann::json::parse(out);
+  bool found = false;
+  for (const auto& j : arr)
+    if (j.at("topic") == name) {
+      found = true;
+      EXPECT_EQ(j.at("type"), std::string(horus::type_name<Stamp>()));
+      EXPECT_EQ(j.at("messages_sent"), 1);
+    }
+  EXPECT_TRUE(found) << out;
+  ASSERT_EQ(run(std::string(HORUS_CLI) + " topic info " + name, out), 0) << out;
+  EXPECT_NE(out.find("horus_test::Stamp"), std::string::npos) << out;
+  EXPECT_EQ(run(std::string(HORUS_CLI) + " topic info no.such.topic", out), 1);
+  EXPECT_NE(out.find("no topic 'no.such.topic'"), std::string::npos) << out;
+  // A type the tool cannot decode is named.
+  EXPECT_EQ(run(std::string(HORUS_CLI) + " topic echo " + name + " -n 1 --timeout 1", out), 1);
+  EXPECT_NE(out.find("not a standard horus message"), std::string::npos) << out;
+}
+
+TEST(HorusCli, HzReportsTheRateOfALiveTopic) {
+  const auto name = horus_test::unique_name("cli_hz");
+  horus::Topic<horus::msg::CmdVel> pub(name);
+  std::atomic<bool> stop{false};
+  std::thread t([&] {
+    while (!stop.load()) {
+      pub.send(horus::msg::CmdVel::make(1.0f, 0.0f));
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  });
+  std::string out;
+  const int rc = run(std::string(HORUS_CLI) + " topic hz " + name + " --duration 1.5 --window 0.5", out);
+  stop = true;
+  t.join();
+  ASSERT_EQ(rc, 0) << out;
+  EXPECT_NE(out.find("average rate:"), std::string::npos) << out;
+  EXPECT_NE(out.find("std dev:"), std::string::npos) << out;
+}
+
+}  // namespace

@@ -1,0 +1,273 @@
+// horus: the command line.
+//
+//   horus topic list [--json] [-v]        every topic on this host (HORUS_NAMESPACE)
+//   horus topic info NAME                 type, sizes, processes, counts, rate
+//   horus topic echo NAME [--json] [-n N] print messages as they arrive (standard types)
+//   horus topic hz NAME [--duration S]    live rate with min/max/std of the periods
+//   horus clean                           remove segments whose processes are all gone
+//
+// list/info/clean read the segments without joining them; echo and hz subscribe like any
+// other process (they count as a subscriber while they run).
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <signal.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "horus/discovery/registry.hpp"
+#include "horus/horus.hpp"
+#include "horus/json.hpp"
+#include "horus/msg/all.hpp"
+#include "horus/shm/shm_segment.hpp"
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+extern "C" void on_signal(int) { g_stop.store(true); }
+
+using clock_type = std::chrono::steady_clock;
+
+// Calls f.template operator()<T>() for the standard message called type_name; false if none.
+template <class F>
+bool with_standard_type(std::string_view type_name, F&& f) {
+  bool found = false;
+  horus::msg::for_each_message([&]<class T>(std::string_view) {
+    if (!found && horus::type_name<T>() == type_name) {
+      found = true;
+      f.template operator()<T>();
+    }
+  });
+  return found;
+}
+
+nlohmann::json entry_json(const horus::discovery::TopicEntry& e) {
+  nlohmann::json j;
+  j["topic"] = e.topic;
+  j["type"] = e.type_name;
+  j["type_hash"] = fmt::format("{:016x}", e.type_hash);
+  j["message_size"] = e.message_size;
+  j["serialized"] = e.serialized;
+  j["capacity"] = e.capacity;
+  j["segment"] = e.segment;
+  j["segment_bytes"] = e.segment_bytes;
+  j["publishers"] = e.publishers;
+  j["subscribers"] = e.subscribers;
+  j["messages_sent"] = e.messages_sent;
+  j["dropped"] = e.dropped;
+  if (e.rate_hz >= 0) j["rate_hz"] = e.rate_hz;
+  j["stale"] = e.stale;
+  auto procs = nlohmann::json::array();
+  for (const auto& p : e.processes)
+    procs.push_back({{"pid", p.pid}, {"alive", p.alive}, {"publishers", p.publishers}, {"subscribers", p.subscribers}});
+  j["processes"] = procs;
+  return j;
+}
+
+std::string processes_text(const horus::discovery::TopicEntry& e) {
+  std::string out;
+  for (const auto& p : e.processes) {
+    if (!out.empty()) out += ", ";
+    out += fmt::format("{}{} ({} pub, {} sub)", p.pid, p.alive ? "" : " dead", p.publishers, p.subscribers);
+  }
+  return out.empty() ? "none" : out;
+}
+
+int cmd_list(const std::string& ns, bool json, bool verbose) {
+  const auto topics = horus::discovery::list_topics(ns, std::chrono::milliseconds(200));
+  if (json) {
+    auto arr = nlohmann::json::array();
+    for (const auto& e : topics) arr.push_back(entry_json(e));
+    fmt::print("{}\n", arr.dump(2));
+    return 0;
+  }
+  if (topics.empty()) {
+    fmt::print("no topics in namespace '{}'\n", ns);
+    return 0;
+  }
+  fmt::print("{:<36} {:<34} {:>9} {:>4} {:>4} {:>10} {:>7} {:>9}\n", "topic", "type", "size", "pubs", "subs", "sent",
+             "drops", "rate Hz");
+  for (const auto& e : topics) {
+    fmt::print("{:<36} {:<34} {:>9} {:>4} {:>4} {:>10} {:>7} {:>9.1f}{}\n", e.topic, e.type_name,
+               e.serialized ? fmt::format("<={}", e.message_size) : std::to_string(e.message_size), e.publishers,
+               e.subscribers, e.messages_sent, e.dropped, e.rate_hz, e.stale ? "  (stale)" : "");
+    if (verbose) fmt::print("    processes: {}\n", processes_text(e));
+  }
+  return 0;
+}
+
+int cmd_info(const std::string& ns, const std::string& name) {
+  auto e = horus::discovery::find_topic(ns, name, std::chrono::milliseconds(500));
+  if (!e) {
+    fmt::print(stderr, "horus topic info: {}\n", e.error());
+    return 1;
+  }
+  fmt::print("topic:        {}\n", e->topic);
+  fmt::print("type:         {} (layout hash {:016x})\n", e->type_name, e->type_hash);
+  fmt::print("message:      {}\n", e->serialized ? fmt::format("serialized, at most {} bytes", e->message_size)
+                                                  : fmt::format("{} bytes, fixed size", e->message_size));
+  fmt::print("capacity:     {} slots per publisher\n", e->capacity);
+  fmt::print("segment:      /dev/shm/{} ({} bytes)\n", e->segment, e->segment_bytes);
+  fmt::print("publishers:   {}\nsubscribers:  {}\n", e->publishers, e->subscribers);
+  fmt::print("processes:    {}\n", processes_text(*e));
+  fmt::print("sent:         {}\ndropped:      {}\nrate:         {:.1f} Hz\n", e->messages_sent, e->dropped, e->rate_hz);
+  if (e->stale) fmt::print("stale:        every process is gone (horus clean removes it)\n");
+  return 0;
+}
+
+// Opens `name` as its standard type and runs body(topic); an error when it is not one.
+template <class Body>
+int with_topic(const std::string& ns, const std::string& name, const char* cmd, Body&& body) {
+  auto e = horus::discovery::find_topic(ns, name);
+  if (!e) {
+    fmt::print(stderr, "horus topic {}: {}\n", cmd, e.error());
+    return 1;
+  }
+  int rc = 0;
+  const bool known = with_standard_type(e->type_name, [&]<class T>() {
+    auto topic = horus::Topic<T>::open(name, horus::TopicOptions{horus::Backend::SharedMemory, {}, {}});
+    if (!topic) {
+      fmt::print(stderr, "horus topic {}: {}\n", cmd, topic.error().message());
+      rc = 1;
+      return;
+    }
+    rc = body(*topic);
+  });
+  if (!known) {
+    fmt::print(stderr,
+               "horus topic {}: topic '{}' carries {}, which is not a standard horus message; this tool decodes "
+               "the {} standard types (see messages/README.md)\n",
+               cmd, name, e->type_name, horus::msg::AllMessages::size);
+    return 1;
+  }
+  return rc;
+}
+
+int cmd_echo(const std::string& ns, const std::string& name, bool json, long count, double timeout_s) {
+  return with_topic(ns, name, "echo", [&](auto& topic) {
+    long printed = 0;
+    const auto deadline = clock_type::now() + std::chrono::duration_cast<clock_type::duration>(
+                                                  std::chrono::duration<double>(timeout_s > 0 ? timeout_s : 1e9));
+    while (!g_stop.load() && (count <= 0 || printed < count) && clock_type::now() < deadline) {
+      if (auto m = topic.recv()) {
+        if (json) fmt::print("{}\n", horus::to_json(*m).dump());
+        else fmt::print("{}\n", horus::log_summary(*m));
+        std::fflush(stdout);
+        ++printed;
+      } else {
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+      }
+    }
+    return (count > 0 && printed < count) ? 1 : 0;
+  });
+}
+
+int cmd_hz(const std::string& ns, const std::string& name, double duration_s, double window_s) {
+  return with_topic(ns, name, "hz", [&](auto& topic) {
+    const auto start = clock_type::now();
+    const auto end = start + std::chrono::duration_cast<clock_type::duration>(
+                                 std::chrono::duration<double>(duration_s > 0 ? duration_s : 1e9));
+    auto next_report = start + std::chrono::duration_cast<clock_type::duration>(std::chrono::duration<double>(window_s));
+    std::vector<double> periods;
+    clock_type::time_point last{};
+    bool have_last = false;
+    std::uint64_t total = 0;
+    while (!g_stop.load() && clock_type::now() < end) {
+      bool got = false;
+      while (auto m = topic.recv()) {
+        const auto now = clock_type::now();
+        if (have_last) periods.push_back(std::chrono::duration<double>(now - last).count());
+        last = now;
+        have_last = true;
+        ++total;
+        got = true;
+      }
+      if (!got) std::this_thread::sleep_for(std::chrono::microseconds(100));
+      if (clock_type::now() >= next_report) {
+        next_report += std::chrono::duration_cast<clock_type::duration>(std::chrono::duration<double>(window_s));
+        if (periods.empty()) {
+          fmt::print("no new messages\n");
+        } else {
+          double sum = 0, mn = periods[0], mx = periods[0];
+          for (double p : periods) {
+            sum += p;
+            mn = std::min(mn, p);
+            mx = std::max(mx, p);
+          }
+          const double mean = sum / static_cast<double>(periods.size());
+          double var = 0;
+          for (double p : periods) var += (p - mean) * (p - mean);
+          const double sd = std::sqrt(var / static_cast<double>(periods.size()));
+          fmt::print("average rate: {:.3f} Hz\n\tmin: {:.6f}s max: {:.6f}s std dev: {:.6f}s window: {}\n", 1.0 / mean,
+                     mn, mx, sd, periods.size() + 1);
+          periods.clear();
+        }
+        std::fflush(stdout);
+      }
+    }
+    fmt::print("received {} messages\n", total);
+    return 0;
+  });
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"horus: topics on this host"};
+  app.require_subcommand(1);
+  auto* topic = app.add_subcommand("topic", "inspect topics");
+  topic->require_subcommand(1);
+
+  bool json = false, verbose = false;
+  auto* list = topic->add_subcommand("list", "list every topic on this host");
+  list->add_flag("--json", json, "print JSON");
+  list->add_flag("-v,--verbose", verbose, "show the processes of each topic");
+
+  std::string name;
+  auto* info = topic->add_subcommand("info", "describe one topic");
+  info->add_option("name", name, "topic name")->required();
+
+  long count = 0;
+  double timeout_s = 0;
+  auto* echo = topic->add_subcommand("echo", "print a topic's messages");
+  echo->add_option("name", name, "topic name")->required();
+  echo->add_flag("--json", json, "one JSON object per line");
+  echo->add_option("-n,--count", count, "stop after N messages (exit 1 if fewer arrive before --timeout)");
+  echo->add_option("--timeout", timeout_s, "stop after S seconds");
+
+  double duration_s = 0, window_s = 1.0;
+  auto* hz = topic->add_subcommand("hz", "measure a topic's rate");
+  hz->add_option("name", name, "topic name")->required();
+  hz->add_option("--duration", duration_s, "stop after S seconds");
+  hz->add_option("--window", window_s, "seconds between reports")->check(CLI::Range(0.05, 3600.0));
+
+  auto* clean = app.add_subcommand("clean", "remove shared-memory segments whose processes are all gone");
+
+  CLI11_PARSE(app, argc, argv);
+  ::signal(SIGINT, on_signal);
+  ::signal(SIGTERM, on_signal);
+
+  auto ns = horus::shm::shm_namespace();
+  if (!ns) {
+    fmt::print(stderr, "horus: {}\n", ns.error().message);
+    return 2;
+  }
+  if (*clean) {
+    const auto removed = horus::discovery::clean(*ns);
+    for (const auto& t : removed) fmt::print("removed stale topic {} (/dev/shm/horus.{}.{})\n", t, *ns, t);
+    fmt::print("{} stale segment{} removed from namespace '{}'\n", removed.size(), removed.size() == 1 ? "" : "s", *ns);
+    return 0;
+  }
+  if (*list) return cmd_list(*ns, json, verbose);
+  if (*info) return cmd_info(*ns, name);
+  if (*echo) return cmd_echo(*ns, name, json, count, timeout_s);
+  if (*hz) return cmd_hz(*ns, name, duration_s, window_s);
+  return 2;
+}
