@@ -157,17 +157,38 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
     backend = *env;
   }
 
+  // Topics are told apart by name and namespace: "" for process-local ones, the shared-memory
+  // namespace for the others (so one process can use a name in two namespaces).
+  std::string ns;
+  if (backend == Backend::SharedMemory) {
+    auto n = shm::shm_namespace();
+    if (!n) return fail(Errc::Config, n.error().message);
+    ns = std::move(*n);
+  }
+  const std::string key = std::string(name) + '\0' + ns;
+
   auto& reg = registry();
   std::lock_guard lock(reg.mutex);
-  if (auto it = reg.topics.find(name); it != reg.topics.end()) {
-    auto core = it->second.lock();
-    if (core && core->pid != ::getpid()) core.reset();  // inherited through fork(): attach anew
-    if (core) {
-      if (core->backend != backend)
+  {
+    // The same name on the other backend, in this process: one backend per topic.
+    std::string other_ns;
+    if (backend == Backend::InProcess) {
+      if (auto n = shm::shm_namespace()) other_ns = *n;
+    }
+    const std::string other = std::string(name) + '\0' + other_ns;
+    if (auto it = reg.topics.find(other); other != key && it != reg.topics.end()) {
+      auto core = it->second.lock();
+      if (core && core->pid == ::getpid() && core->backend != backend)
         return fail(Errc::ConfigMismatch,
                     fmt::format("topic '{}' is open in this process on backend '{}'; cannot open it on '{}' (one "
                                 "backend per topic and process)",
                                 name, to_string(core->backend), to_string(backend)));
+    }
+  }
+  if (auto it = reg.topics.find(key); it != reg.topics.end()) {
+    auto core = it->second.lock();
+    if (core && core->pid != ::getpid()) core.reset();  // inherited through fork(): attach anew
+    if (core) {
       if (core->type_hash != type.hash || core->type_name != type.name || core->serialized != type.serialized ||
           (!type.serialized && core->payload_size != type.size))
         return fail(Errc::TypeMismatch,
@@ -203,8 +224,6 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
   core->backend = backend;
   core->pid = ::getpid();
   if (backend == Backend::SharedMemory) {
-    auto ns = shm::shm_namespace();
-    if (!ns) return fail(Errc::Config, ns.error().message);
     shm::SegmentSpec spec;
     spec.type_name = type.name;
     spec.type_hash = type.hash;
@@ -213,7 +232,7 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
     spec.capacity = cfg.capacity;
     spec.capacity_required = capacity.has_value();
     spec.payload_required = !type.serialized || slot_size.has_value();
-    auto seg = shm::ShmSegment::open(*ns, name, spec);
+    auto seg = shm::ShmSegment::open(ns, name, spec);
     if (!seg) return fail(segment_errc(seg.error().kind), seg.error().message);
     core->ring = seg->ring();
     core->payload_size = seg->header().payload_size;  // a serialized topic may have another slot size
@@ -229,7 +248,7 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
   }
   // Drop entries of topics that were closed, so the map does not grow without bound.
   std::erase_if(reg.topics, [](const auto& kv) { return kv.second.expired(); });
-  reg.topics.emplace(core->name, core);
+  reg.topics.emplace(key, core);
   return core;
 }
 

@@ -94,33 +94,44 @@ std::string segment_name(std::string_view ns, std::string_view topic) {
   return "/horus." + std::string(ns) + "." + std::string(topic);
 }
 
-std::uint64_t process_start_time(pid_t pid) noexcept {
+namespace {
+// Field 3 (state) and field 22 (start time) of /proc/<pid>/stat; false when unreadable.
+bool read_stat(pid_t pid, char& state, std::uint64_t& start) noexcept {
   try {
     std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
-    if (!in) return 0;
+    if (!in) return false;
     std::string line;
     std::getline(in, line);
     // The command name (field 2) may hold spaces and ')': fields resume after the last ')'.
     const auto close = line.rfind(')');
-    if (close == std::string::npos) return 0;
+    if (close == std::string::npos || close + 2 >= line.size()) return false;
     std::istringstream rest(line.substr(close + 2));
     std::string field;
-    // Field 3 is the state; the start time is field 22, i.e. the 20th after ')'.
-    for (int i = 3; i < 22; ++i)
-      if (!(rest >> field)) return 0;
-    std::uint64_t start = 0;
+    rest >> state;
+    for (int i = 4; i < 22; ++i)
+      if (!(rest >> field)) return false;
     rest >> start;
-    return start;
+    return static_cast<bool>(rest);
   } catch (...) {
-    return 0;
+    return false;
   }
+}
+}  // namespace
+
+std::uint64_t process_start_time(pid_t pid) noexcept {
+  char state = 0;
+  std::uint64_t start = 0;
+  return read_stat(pid, state, start) ? start : 0;
 }
 
 bool process_alive(pid_t pid, std::uint64_t start_time) noexcept {
   if (pid <= 0) return false;
   if (::kill(pid, 0) != 0 && errno == ESRCH) return false;
-  if (start_time == 0) return true;
-  return process_start_time(pid) == start_time;
+  char state = 0;
+  std::uint64_t start = 0;
+  if (!read_stat(pid, state, start)) return start_time == 0;  // no /proc: trust kill()
+  if (state == 'Z' || state == 'X') return false;  // exited, not yet reaped by its parent
+  return start_time == 0 || start == start_time;
 }
 
 // ---------------------------------------------------------------------------

@@ -48,9 +48,21 @@ pid_t spawn(F&& f) {
   return pid;
 }
 
-int wait_for(pid_t pid) {
+// Waits for a child, at most `timeout`: then kills it and returns -2 (tests never hang).
+int wait_for(pid_t pid, std::chrono::seconds timeout = std::chrono::seconds(60)) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
   int status = 0;
-  ::waitpid(pid, &status, 0);
+  for (;;) {
+    const pid_t r = ::waitpid(pid, &status, WNOHANG);
+    if (r == pid) break;
+    if (r < 0) return -1;
+    if (std::chrono::steady_clock::now() >= deadline) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, &status, 0);
+      return -2;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
   if (WIFEXITED(status)) return WEXITSTATUS(status);
   if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
   return -1;
@@ -198,6 +210,65 @@ TEST_F(ShmTopic, HorusBackendSelectsTheBackendAndABadValueIsNamed) {
   EXPECT_NE(bad.error().message().find("HORUS_BACKEND=carrier-pigeon"), std::string::npos);
   EXPECT_NE(bad.error().message().find("expected auto, shm or inproc"), std::string::npos);
   ::unsetenv("HORUS_BACKEND");
+}
+
+TEST_F(ShmTopic, TwoNamespacesNeverShareATopic) {
+  const auto name = horus_test::unique_name("ns");
+  ::setenv("HORUS_NAMESPACE", "test_ns_a", 1);
+  Topic<Stamp> a(name);
+  ::setenv("HORUS_NAMESPACE", "test_ns_b", 1);
+  auto b = Topic<horus_test::Other>::open(name);  // same name, other type: no conflict across namespaces
+  ::unsetenv("HORUS_NAMESPACE");
+  ASSERT_TRUE(b) << b.error().message();
+  a.send(Stamp::make(1, 1));
+  EXPECT_FALSE(b->recv());
+  EXPECT_EQ(a.pub_count(), 1u);
+  EXPECT_EQ(b->pub_count(), 0u);  // a's publisher is not on b's topic
+  EXPECT_EQ(b->sub_count(), 1u);
+}
+
+TEST_F(ShmTopic, ManyPublisherAndSubscriberProcessesEachGetEveryMessageInPublisherOrder) {
+  const auto name = horus_test::unique_name("many");
+  constexpr int kPublishers = 3, kSubscribers = 3;
+  constexpr std::uint64_t kEach = 2000;
+  // Creates the segment with room for every message; closed once the subscribers hold it (an
+  // idle subscriber would rightly make try_send wait for it).
+  auto keep = Topic<Stamp>::with_capacity(name, 8192);
+  ASSERT_TRUE(keep);
+  std::vector<Pipe> ready(kSubscribers);
+  Pipe go;
+  std::vector<pid_t> subs;
+  for (int s = 0; s < kSubscribers; ++s) {
+    subs.push_back(spawn([&, s] {
+      Topic<Stamp> sub(name);
+      ready[static_cast<std::size_t>(s)].signal();
+      std::vector<std::uint64_t> next(kPublishers, 0);
+      std::uint64_t total = 0;
+      const horus_test::Deadline deadline(std::chrono::seconds(30));
+      while (total < kPublishers * kEach && !deadline.expired()) {
+        auto m = sub.recv();
+        if (!m) continue;
+        if (!m->intact() || m->publisher >= kPublishers) return 10;
+        if (m->seq != next[m->publisher]) return 11;  // exactly once, in order, per publisher
+        ++next[m->publisher];
+        ++total;
+      }
+      return total == kPublishers * kEach && sub.dropped_count() == 0 ? 0 : 12;
+    }));
+  }
+  for (auto& r : ready) ASSERT_TRUE(r.wait());
+  keep = horus::Topic<Stamp>::with_capacity(horus_test::unique_name("many_other"), 1);  // closes ours
+  std::vector<pid_t> pubs;
+  for (int p = 0; p < kPublishers; ++p) {
+    pubs.push_back(spawn([&, p] {
+      Topic<Stamp> pub(name);
+      for (std::uint64_t i = 0; i < kEach; ++i)
+        while (!pub.try_send(Stamp::make(static_cast<std::uint32_t>(p), i))) std::this_thread::yield();
+      return 0;
+    }));
+  }
+  for (pid_t p : pubs) EXPECT_EQ(wait_for(p), 0);
+  for (pid_t s : subs) EXPECT_EQ(wait_for(s), 0);
 }
 
 // A publisher killed at a random point of a stream of sends, many times over: the subscriber

@@ -72,9 +72,21 @@ pid_t spawn(F&& f) {
   return pid;
 }
 
-int wait_for(pid_t pid) {
+// Waits for a child, at most `timeout`: then kills it and returns -2 (tests never hang).
+int wait_for(pid_t pid, std::chrono::seconds timeout = std::chrono::seconds(60)) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
   int status = 0;
-  ::waitpid(pid, &status, 0);
+  for (;;) {
+    const pid_t r = ::waitpid(pid, &status, WNOHANG);
+    if (r == pid) break;
+    if (r < 0) return -1;
+    if (std::chrono::steady_clock::now() >= deadline) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, &status, 0);
+      return -2;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
   if (WIFEXITED(status)) return WEXITSTATUS(status);
   if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
   return -1;
@@ -330,6 +342,11 @@ TEST_F(ShmSegmentTest, ProcessLivenessSeesThroughPidReuse) {
   EXPECT_TRUE(horus::shm::process_alive(::getpid(), start));
   EXPECT_FALSE(horus::shm::process_alive(::getpid(), start + 1));  // same pid, another start: reused
   const pid_t child = spawn([] { return 0; });
+  // Exited but not yet reaped (a zombie): dead already.
+  const horus_test::Deadline deadline(std::chrono::seconds(10));
+  while (horus::shm::process_alive(child, 0) && !deadline.expired()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT_FALSE(horus::shm::process_alive(child, 0));
+  EXPECT_EQ(::kill(child, 0), 0);  // the pid still exists: it is the zombie
   EXPECT_EQ(wait_for(child), 0);
   EXPECT_FALSE(horus::shm::process_alive(child, 0));
 }
