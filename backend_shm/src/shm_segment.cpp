@@ -53,6 +53,33 @@ struct FdLock {
 
 SegmentHeader* header_at(void* base) { return std::launder(reinterpret_cast<SegmentHeader*>(base)); }
 
+// True when shm name `name` still names the file open as fd (not unlinked, not replaced by a
+// newer segment of the same name): only then may we unlink the name.
+bool name_is_this_file(int fd, const std::string& name) {
+  struct stat by_fd{}, by_name{};
+  if (::fstat(fd, &by_fd) != 0 || by_fd.st_nlink == 0) return false;
+  if (::stat(("/dev/shm" + name).c_str(), &by_name) != 0) return false;
+  return by_fd.st_dev == by_name.st_dev && by_fd.st_ino == by_name.st_ino;
+}
+
+// A header's ring must be where this version puts it, inside the file, and agree with it.
+bool ring_consistent(const SegmentHeader& h, const void* base, std::size_t size) {
+  const std::uint64_t expected_offset = align_up(sizeof(SegmentHeader), kPage);
+  if (h.ring_offset != expected_offset || h.ring_offset >= size || h.total_size > size) return false;
+  const auto* ring_base = static_cast<const std::byte*>(base) + h.ring_offset;
+  if (Ring::validate(ring_base, size - h.ring_offset)) return false;
+  const auto* rh = reinterpret_cast<const RingHeader*>(ring_base);
+  return rh->payload_size == h.payload_size && rh->capacity == h.capacity && rh->type_hash == h.type_hash;
+}
+
+bool any_participant_alive(const SegmentHeader& h) {
+  for (const auto& e : h.participants) {
+    const auto pid = static_cast<pid_t>(e.pid.load(std::memory_order_acquire));
+    if (pid != 0 && process_alive(pid, e.start_time.load(std::memory_order_relaxed))) return true;
+  }
+  return false;
+}
+
 bool valid_namespace_char(char c) {
   return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
 }
@@ -222,19 +249,28 @@ std::expected<ShmSegment, SegmentError> ShmSegment::open(std::string_view ns, st
                   "; this horus uses version " + std::to_string(kSegmentVersion) + " (stop the older processes)"});
         } else if (h.magic != kSegmentMagic || h.ready.load(std::memory_order_acquire) != 1) {
           format = true;  // unfinished: its creator died while formatting it (we hold the lock)
+        } else if (!ring_consistent(h, p, size)) {
+          if (any_participant_alive(h))
+            return std::unexpected(SegmentError{SegmentError::Kind::Io,
+                                                "shared-memory segment /dev/shm" + name +
+                                                    " has a corrupt header (its ring does not match it) and live "
+                                                    "users; stop them, or remove it with horus clean"});
+          format = true;  // damaged and abandoned: reclaim it
         } else {
           seg.ring_ = Ring::attach(static_cast<std::byte*>(p) + h.ring_offset);
-          seg.reap_dead();
+          seg.reap_dead_locked();
           if (seg.live_participants() == 0) {
             format = true;  // every user is gone: reclaim it
           } else {
             const bool serialized = h.serialized != 0;
-            if (std::string_view(h.type_name) != spec.type_name || h.type_hash != spec.type_hash ||
+            if (std::string_view(h.type_name, strnlen(h.type_name, kMaxTypeName)) != spec.type_name || h.type_hash != spec.type_hash ||
                 serialized != spec.serialized || (!spec.serialized && h.payload_size != spec.payload_size))
               return std::unexpected(SegmentError{
                   SegmentError::Kind::TypeMismatch,
                   "topic '" + std::string(topic) + "' carries " +
-                      describe_type(h.type_name, h.type_hash, h.payload_size, serialized) + "; cannot open it as " +
+                      describe_type(std::string_view(h.type_name, strnlen(h.type_name, kMaxTypeName)), h.type_hash,
+                                    h.payload_size, serialized) +
+                      "; cannot open it as " +
                       describe_type(spec.type_name, spec.type_hash, spec.payload_size, spec.serialized)});
             if (spec.serialized && spec.payload_required && h.payload_size != spec.payload_size)
               return std::unexpected(SegmentError{
@@ -313,6 +349,12 @@ std::uint32_t ShmSegment::live_participants() const {
 }
 
 std::uint32_t ShmSegment::reap_dead() const {
+  if (header_ == nullptr || fd_ < 0 || !lock_with_deadline(fd_)) return 0;
+  FdLock lock{fd_};
+  return reap_dead_locked();
+}
+
+std::uint32_t ShmSegment::reap_dead_locked() const {
   if (header_ == nullptr) return 0;
   std::uint32_t reaped = 0;
   std::set<pid_t> live;
@@ -344,13 +386,14 @@ std::uint32_t ShmSegment::reap_dead() const {
 
 void ShmSegment::detach() noexcept {
   if (fd_ < 0) return;
-  if (header_ != nullptr && owner_ == ::getpid() && lock_with_deadline(fd_)) {
-    if (slot_ < kMaxParticipants) header_->participants[slot_].pid.store(0, std::memory_order_release);
+  // Membership work only for a segment we joined (never on a failed open's foreign header).
+  if (header_ != nullptr && owner_ == ::getpid() && slot_ < kMaxParticipants && lock_with_deadline(fd_)) {
+    header_->participants[slot_].pid.store(0, std::memory_order_release);
     try {
-      reap_dead();
+      reap_dead_locked();
     } catch (...) {
     }
-    if (live_participants() == 0) ::shm_unlink(name_.c_str());
+    if (live_participants() == 0 && name_is_this_file(fd_, name_)) ::shm_unlink(name_.c_str());
     ::flock(fd_, LOCK_UN);
   }
   if (base_ != nullptr) ::munmap(base_, size_);
@@ -482,7 +525,9 @@ std::vector<std::string> clean_stale_segments(std::string_view ns) {
       void* p = ::mmap(nullptr, sizeof(SegmentHeader), PROT_READ, MAP_SHARED, fd, 0);
       if (p != MAP_FAILED) {
         const auto* h = static_cast<const SegmentHeader*>(p);
-        if (h->magic == kSegmentMagic && h->ready.load(std::memory_order_acquire) == 1) {
+        if (h->magic == kSegmentMagic && h->layout_version != kSegmentVersion && h->layout_version != 0) {
+          stale = false;  // another horus version's segment: not ours to judge
+        } else if (h->magic == kSegmentMagic && h->ready.load(std::memory_order_acquire) == 1) {
           for (const auto& e : h->participants) {
             const auto pid = static_cast<pid_t>(e.pid.load(std::memory_order_acquire));
             if (pid != 0 && process_alive(pid, e.start_time.load(std::memory_order_relaxed))) stale = false;
@@ -491,7 +536,7 @@ std::vector<std::string> clean_stale_segments(std::string_view ns) {
         ::munmap(p, sizeof(SegmentHeader));
       }
     }
-    if (stale && ::shm_unlink(name.c_str()) == 0) removed.push_back(file);
+    if (stale && name_is_this_file(fd, name) && ::shm_unlink(name.c_str()) == 0) removed.push_back(file);
     ::flock(fd, LOCK_UN);
     ::close(fd);
   });

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cstdint>
 #include <cstdlib>
+#include <cstddef>
 #include <cstring>
 #include <string>
 #include <thread>
@@ -299,6 +300,40 @@ TEST_F(ShmSegmentTest, AnUnfinishedHeaderLeftByACrashedCreatorIsFormattedAgain) 
   ASSERT_TRUE(seg) << seg.error().message;
   EXPECT_EQ(seg->header().ready.load(), 1u);
   EXPECT_EQ(std::string(seg->header().type_name), "horus_test::Stamp");
+}
+
+TEST_F(ShmSegmentTest, AHeaderWhoseRingDoesNotMatchIsAnErrorWhileUsedAndReclaimedOnceAbandoned) {
+  const auto topic = topic_name("corrupt");
+  const std::string name = horus::shm::segment_name(test_ns(), topic);
+  {
+    auto a = ShmSegment::open(test_ns(), topic, stamp_spec());
+    ASSERT_TRUE(a);
+    const int fd = ::shm_open(name.c_str(), O_RDWR, 0);
+    ASSERT_GE(fd, 0);
+    const std::uint64_t bad_offset = 1u << 30;  // past the end of the file
+    ASSERT_EQ(::pwrite(fd, &bad_offset, sizeof(bad_offset), offsetof(horus::shm::SegmentHeader, ring_offset)),
+              static_cast<ssize_t>(sizeof(bad_offset)));
+    ::close(fd);
+    auto b = ShmSegment::open(test_ns(), topic, stamp_spec());
+    ASSERT_FALSE(b);
+    EXPECT_EQ(b.error().kind, SegmentError::Kind::Io);
+    EXPECT_NE(b.error().message.find("corrupt header"), std::string::npos) << b.error().message;
+    EXPECT_EQ(a->live_participants(), 1u);  // the failed open left the table alone
+  }
+  // Abandoned now (a detached; had it crashed, the same): the next open formats it afresh.
+  const int fd = ::shm_open(name.c_str(), O_RDWR | O_CREAT, 0600);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::ftruncate(fd, 2 * 4096 + 65536), 0);
+  horus::shm::SegmentHeader h{};
+  h.magic = horus::shm::kSegmentMagic;
+  h.layout_version = horus::shm::kSegmentVersion;
+  h.ready.store(1);
+  h.ring_offset = 1u << 30;
+  ASSERT_EQ(::pwrite(fd, &h, sizeof(h), 0), static_cast<ssize_t>(sizeof(h)));
+  ::close(fd);
+  auto c = ShmSegment::open(test_ns(), topic, stamp_spec());
+  ASSERT_TRUE(c) << c.error().message;
+  EXPECT_EQ(c->live_participants(), 1u);
 }
 
 TEST_F(ShmSegmentTest, CleanRemovesOnlySegmentsWhoseProcessesAreAllGone) {

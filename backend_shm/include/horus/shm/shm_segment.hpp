@@ -112,10 +112,11 @@ class ShmSegment {
   /// Processes attached now (after reaping dead ones).
   std::uint32_t live_participants() const;
   /// Releases ring lanes and subscriber entries held by processes that are gone, and their
-  /// participant entries. Returns how many processes were reaped.
+  /// participant entries (under the segment lock). Returns how many processes were reaped.
   std::uint32_t reap_dead() const;
 
  private:
+  std::uint32_t reap_dead_locked() const;  // the caller holds the lock
   void detach() noexcept;
   int fd_ = -1;
   void* base_ = nullptr;
