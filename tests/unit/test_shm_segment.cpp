@@ -18,6 +18,7 @@
 #include <thread>
 
 #include "horus/shm/shm_segment.hpp"
+#include "process_support.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -28,7 +29,10 @@ using horus::shm::RingWriter;
 using horus::shm::SegmentError;
 using horus::shm::SegmentSpec;
 using horus::shm::ShmSegment;
+using horus_test::Pipe;
+using horus_test::spawn;
 using horus_test::Stamp;
+using horus_test::wait_for;
 
 // Every test process has its own namespace (checked for leaks after each test).
 const std::string& test_ns() {
@@ -56,63 +60,6 @@ bool shm_file_exists(const std::string& topic) {
   struct stat st{};
   return ::stat(("/dev/shm" + horus::shm::segment_name(test_ns(), topic)).c_str(), &st) == 0;
 }
-
-// Runs f in a child process; returns its exit status (or 128 + signal).
-template <class F>
-pid_t spawn(F&& f) {
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    int rc = 1;
-    try {
-      rc = f();
-    } catch (...) {
-      rc = 2;
-    }
-    ::_exit(rc);
-  }
-  return pid;
-}
-
-// Waits for a child, at most `timeout`: then kills it and returns -2 (tests never hang).
-int wait_for(pid_t pid, std::chrono::seconds timeout = std::chrono::seconds(60)) {
-  const auto deadline = std::chrono::steady_clock::now() + timeout;
-  int status = 0;
-  for (;;) {
-    const pid_t r = ::waitpid(pid, &status, WNOHANG);
-    if (r == pid) break;
-    if (r < 0) return -1;
-    if (std::chrono::steady_clock::now() >= deadline) {
-      ::kill(pid, SIGKILL);
-      ::waitpid(pid, &status, 0);
-      return -2;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
-  if (WIFEXITED(status)) return WEXITSTATUS(status);
-  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
-  return -1;
-}
-
-// A one-byte pipe for "ready" signals between parent and child.
-struct Pipe {
-  int fd[2]{-1, -1};
-  Pipe() { EXPECT_EQ(::pipe(fd), 0); }
-  ~Pipe() {
-    ::close(fd[0]);
-    ::close(fd[1]);
-  }
-  void signal() const { (void)!::write(fd[1], "x", 1); }
-  bool wait(std::chrono::seconds timeout = std::chrono::seconds(20)) const {
-    const auto deadline = std::chrono::steady_clock::now() + timeout;
-    ::fcntl(fd[0], F_SETFL, O_NONBLOCK);
-    char c;
-    while (std::chrono::steady_clock::now() < deadline) {
-      if (::read(fd[0], &c, 1) == 1) return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-    return false;
-  }
-};
 
 // CTest runs every test in its own process, so each test has its own namespace: after it,
 // nothing of that namespace may remain in /dev/shm.
