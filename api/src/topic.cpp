@@ -133,19 +133,14 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
                               "bytes (the largest encoded message the topic accepts)",
                               name, max_bytes, type.name, kMaxSerialized));
     payload = static_cast<std::uint32_t>(8 + max_bytes);
-    if (capacity) {
-      if (auto err = shm::Ring::check_config({*capacity, payload, type.hash}))
-        return fail(Errc::InvalidArgument, fmt::format("topic '{}': {}", name, *err));
-    }
-  } else {
-    if (capacity) {
-      if (auto err = shm::Ring::check_config({*capacity, payload, type.hash}))
-        return fail(Errc::InvalidArgument, fmt::format("topic '{}': {}", name, *err));
-    }
-    if (slot_size && *slot_size < type.size)
-      return fail(Errc::InvalidArgument,
-                  fmt::format("topic '{}': slot_size {} is smaller than a {} message ({} bytes); expected at least {}",
-                              name, *slot_size, type.name, type.size, type.size));
+  } else if (slot_size && *slot_size < type.size) {
+    return fail(Errc::InvalidArgument,
+                fmt::format("topic '{}': slot_size {} is smaller than a {} message ({} bytes); expected at least {}",
+                            name, *slot_size, type.name, type.size, type.size));
+  }
+  if (capacity) {
+    if (auto err = shm::Ring::check_config({*capacity, payload, type.hash}))
+      return fail(Errc::InvalidArgument, fmt::format("topic '{}': {}", name, *err));
   }
 
   Backend backend = Backend::SharedMemory;

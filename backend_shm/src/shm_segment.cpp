@@ -283,9 +283,6 @@ std::expected<ShmSegment, SegmentError> ShmSegment::open(std::string_view ns, st
                   SegmentError::Kind::ConfigMismatch,
                   "topic '" + std::string(topic) + "' exists with capacity " + std::to_string(h.capacity) +
                       "; cannot open it with capacity " + std::to_string(spec.capacity)});
-            if (auto err = Ring::validate(static_cast<std::byte*>(p) + h.ring_offset, size - h.ring_offset))
-              return std::unexpected(SegmentError{SegmentError::Kind::Io,
-                                                  "shared-memory segment /dev/shm" + name + ": " + *err});
           }
         }
         if (format) {
@@ -528,10 +525,7 @@ std::vector<std::string> clean_stale_segments(std::string_view ns) {
         if (h->magic == kSegmentMagic && h->layout_version != kSegmentVersion && h->layout_version != 0) {
           stale = false;  // another horus version's segment: not ours to judge
         } else if (h->magic == kSegmentMagic && h->ready.load(std::memory_order_acquire) == 1) {
-          for (const auto& e : h->participants) {
-            const auto pid = static_cast<pid_t>(e.pid.load(std::memory_order_acquire));
-            if (pid != 0 && process_alive(pid, e.start_time.load(std::memory_order_relaxed))) stale = false;
-          }
+          stale = !any_participant_alive(*h);
         }
         ::munmap(p, sizeof(SegmentHeader));
       }

@@ -66,6 +66,20 @@ std::uint64_t sent_now(const std::string& segment) {
   return view ? view->ring().total_sent() : 0;
 }
 
+// Sets rate_hz of every entry from its sent count sampled `window` apart.
+void sample_rates(std::vector<TopicEntry>& entries, std::chrono::milliseconds window) {
+  if (window.count() <= 0 || entries.empty()) return;
+  std::vector<std::uint64_t> before;
+  for (const auto& e : entries) before.push_back(sent_now(e.segment));
+  const auto t0 = std::chrono::steady_clock::now();
+  std::this_thread::sleep_for(window);  // the measurement window itself, not a wait for a condition
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const std::uint64_t after = sent_now(entries[i].segment);
+    entries[i].rate_hz = after >= before[i] ? static_cast<double>(after - before[i]) / secs : 0.0;
+  }
+}
+
 }  // namespace
 
 std::vector<TopicEntry> list_topics(std::string_view ns, std::chrono::milliseconds window) {
@@ -73,17 +87,7 @@ std::vector<TopicEntry> list_topics(std::string_view ns, std::chrono::millisecon
   for (const auto& info : shm::list_segments(ns))
     if (auto e = read_entry(info)) out.push_back(std::move(*e));
   std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.topic < b.topic; });
-  if (window.count() > 0 && !out.empty()) {
-    std::vector<std::uint64_t> before;
-    for (const auto& e : out) before.push_back(sent_now(e.segment));
-    const auto t0 = std::chrono::steady_clock::now();
-    std::this_thread::sleep_for(window);
-    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    for (std::size_t i = 0; i < out.size(); ++i) {
-      const std::uint64_t after = sent_now(out[i].segment);
-      out[i].rate_hz = after >= before[i] ? static_cast<double>(after - before[i]) / secs : 0.0;
-    }
-  }
+  sample_rates(out, window);
   return out;
 }
 
@@ -92,15 +96,9 @@ std::expected<TopicEntry, std::string> find_topic(std::string_view ns, std::stri
   auto all = list_topics(ns, std::chrono::milliseconds(0));
   for (auto& e : all) {
     if (e.topic != topic) continue;
-    if (window.count() > 0) {
-      const std::uint64_t before = sent_now(e.segment);
-      const auto t0 = std::chrono::steady_clock::now();
-      std::this_thread::sleep_for(window);
-      const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      const std::uint64_t after = sent_now(e.segment);
-      e.rate_hz = after >= before ? static_cast<double>(after - before) / secs : 0.0;
-    }
-    return std::move(e);
+    std::vector<TopicEntry> one{std::move(e)};
+    sample_rates(one, window);
+    return std::move(one.front());
   }
   std::string known;
   for (const auto& e : all) known += (known.empty() ? "" : ", ") + e.topic;

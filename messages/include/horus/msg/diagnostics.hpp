@@ -90,7 +90,7 @@ void diag_set_text_or_throw(std::array<char, N>& field, std::string_view text, s
 /// The longest prefix of text of at most max_bytes bytes that does not split a
 /// UTF-8 character: text itself when it is short enough, else cut before the
 /// character that would straddle the limit (a cut lands only where the next
-/// byte is not a continuation byte 10xxxxxx). A well-formed UTF-8 text thus
+/// byte is not a continuation byte, whose top bits are 10). A well-formed UTF-8 text thus
 /// gives a well-formed prefix, at most 3 bytes shorter than max_bytes; it is
 /// empty when max_bytes is 0. The bytes are not otherwise validated.
 constexpr std::string_view diag_utf8_prefix(std::string_view text, std::size_t max_bytes) noexcept {
