@@ -90,6 +90,9 @@ Result<Backend> backend_from_environment() {
 namespace detail {
 
 namespace {
+// Large data: each publisher has 2 x capacity pool slots, at most kMaxPoolSlotsPerLane.
+constexpr std::uint32_t kMaxPoolCapacity = shm::kMaxPoolSlotsPerLane / 2;
+
 Errc segment_errc(shm::SegmentError::Kind k) {
   switch (k) {
     case shm::SegmentError::Kind::TypeMismatch: return Errc::TypeMismatch;
@@ -124,7 +127,21 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
   if (auto ok = validate_topic_name(name); !ok) return std::unexpected(std::move(ok.error()));
   // The ring payload: sizeof(T), or for a serialized type a length word and the encoded bytes.
   std::uint32_t payload = type.size;
-  if (type.serialized) {
+  std::uint64_t pool_bytes = type.pool_bytes;
+  if (type.pool_bytes != 0) {
+    constexpr std::uint64_t kMaxPoolSlot = std::uint64_t{1} << 31;
+    pool_bytes = slot_size.value_or(type.pool_bytes);
+    if (pool_bytes == 0 || pool_bytes > kMaxPoolSlot)
+      return fail(Errc::InvalidArgument,
+                  fmt::format("topic '{}': slot_size {} for {} messages is out of range; expected 1 to {} bytes (the "
+                              "largest message's data, one pool slot)",
+                              name, pool_bytes, type.name, kMaxPoolSlot));
+    if (capacity && *capacity > kMaxPoolCapacity)
+      return fail(Errc::InvalidArgument,
+                  fmt::format("topic '{}': capacity {} is too large for {} messages; expected at most {} (each "
+                              "publisher has 2 x capacity pool slots, at most {})",
+                              name, *capacity, type.name, kMaxPoolCapacity, shm::kMaxPoolSlotsPerLane));
+  } else if (type.serialized) {
     constexpr std::size_t kMaxSerialized = (std::size_t{1} << 30) - 8;
     const std::size_t max_bytes = slot_size.value_or(type.size);
     if (max_bytes == 0 || max_bytes > kMaxSerialized)
@@ -190,6 +207,11 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
                     fmt::format("topic '{}' carries {}; cannot open it as {}", name,
                                 describe(core->type_name, core->type_hash, core->payload_size),
                                 describe(type.name, type.hash, type.size)));
+      if (type.pool_bytes != 0 && slot_size && pool_bytes != core->pool.slot_bytes())
+        return fail(Errc::ConfigMismatch,
+                    fmt::format("topic '{}' exists with slot_size {} (pool slot bytes); cannot open it with slot_size "
+                                "{} (open it with the same slot size, or without one to accept it)",
+                                name, core->pool.slot_bytes(), *slot_size));
       if (type.serialized && slot_size && payload != core->payload_size)
         return fail(Errc::ConfigMismatch,
                     fmt::format("topic '{}' exists with slot_size {} (largest encoded message); cannot open it with "
@@ -208,8 +230,12 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
   // Serialized topics with big slots (images) default to 4 slots per lane: the ring is virtual
   // memory, touched only as far as messages are written, but 16 slots of 8 MiB is a lot.
   const std::uint32_t default_cap =
-      type.serialized && payload >= (1u << 20) ? 4u : shm::default_capacity(payload);
-  const shm::RingConfig cfg{capacity.value_or(default_cap), payload, type.hash};
+      (type.serialized && payload >= (1u << 20)) || pool_bytes >= (1u << 20) ? 4u : shm::default_capacity(payload);
+  const shm::RingConfig cfg{capacity.value_or(std::min(default_cap, type.pool_bytes != 0 ? kMaxPoolCapacity : default_cap)),
+                            payload, type.hash};
+  // Large data: twice as many pool slots per publisher as ring slots, so a slot is reused only
+  // after the ring has overwritten every message naming it (unless subscribers pin the spares).
+  const shm::PoolConfig pool_cfg{pool_bytes, std::min(2 * cfg.capacity, shm::kMaxPoolSlotsPerLane)};
   auto core = std::make_shared<TopicCore>();
   core->name = std::string(name);
   core->type_name = std::string(type.name);
@@ -227,19 +253,32 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
     spec.capacity = cfg.capacity;
     spec.capacity_required = capacity.has_value();
     spec.payload_required = !type.serialized || slot_size.has_value();
+    if (pool_bytes != 0) {
+      spec.pool_slot_bytes = pool_cfg.slot_bytes;
+      spec.pool_slots_per_lane = pool_cfg.slots_per_lane;
+      spec.pool_required = slot_size.has_value();
+    }
     auto seg = shm::ShmSegment::open(ns, name, spec);
     if (!seg) return fail(segment_errc(seg.error().kind), seg.error().message);
     core->ring = seg->ring();
     core->payload_size = seg->ring().header().payload_size;  // a serialized topic may have another slot size
+    core->pool = seg->pool();
+    core->participant = seg->participant();
     core->segment.emplace(std::move(*seg));
   } else {
+    if (pool_bytes != 0) {
+      if (auto err = shm::Pool::check_config(pool_cfg))
+        return fail(Errc::InvalidArgument, fmt::format("topic '{}': {}", name, *err));
+    }
+    const std::size_t ring_bytes = (shm::Ring::required_size(cfg) + shm::kPoolPage - 1) / shm::kPoolPage * shm::kPoolPage;
+    const std::size_t bytes = ring_bytes + (pool_bytes != 0 ? shm::Pool::required_size(pool_cfg) : 0);
     try {
-      core->region = shm::HeapRegion(shm::Ring::required_size(cfg));
+      core->region = shm::HeapRegion(bytes);
     } catch (const std::bad_alloc&) {
-      return fail(Errc::Io, fmt::format("topic '{}': cannot map {} bytes for its ring", name,
-                                        shm::Ring::required_size(cfg)));
+      return fail(Errc::Io, fmt::format("topic '{}': cannot map {} bytes for its ring", name, bytes));
     }
     core->ring = shm::Ring::format(core->region.data(), cfg);
+    if (pool_bytes != 0) core->pool = shm::Pool::format(static_cast<std::byte*>(core->region.data()) + ring_bytes, pool_cfg);
   }
   // Drop entries of topics that were closed, so the map does not grow without bound.
   std::erase_if(reg.topics, [](const auto& kv) { return kv.second.expired(); });
@@ -262,6 +301,11 @@ void report_no_lane(const TopicCore& core) {
 }
 
 namespace {
+// Largest message a topic carries: its pool slot (large data) or its serialized slot.
+std::uint64_t message_limit(const TopicCore& core) {
+  return core.pool ? core.pool.slot_bytes() : shm::max_serialized_size(core.payload_size);
+}
+
 std::string encoded_size_text(std::size_t size) {
   if (size == std::numeric_limits<std::size_t>::max()) return "more than the format allows (a sequence over 2^32 - 1 elements)";
   return fmt::format("{} bytes", size);
@@ -274,7 +318,7 @@ void report_too_large(const TopicCore& core, std::size_t size, std::uint64_t cou
     log().error("topic '{}': a {} message encodes to {}, over the topic's slot size of {} bytes; refused "
                 "({} so far). Open the topic with Topic::with_capacity(name, capacity, slot_size) and a larger "
                 "slot_size.",
-                core.name, core.type_name, encoded_size_text(size), shm::max_serialized_size(core.payload_size), count);
+                core.name, core.type_name, encoded_size_text(size), message_limit(core), count);
 }
 
 void report_decode_failure(const TopicCore& core, const std::string& what, std::uint64_t count) {
@@ -287,8 +331,40 @@ Error too_large_error(const TopicCore& core, std::size_t size) {
   return Error(Errc::MessageTooLarge,
                fmt::format("topic '{}': a {} message encodes to {}, over the topic's slot size of {} bytes; "
                            "expected at most {} (open the topic with a larger slot_size)",
-                           core.name, core.type_name, encoded_size_text(size), shm::max_serialized_size(core.payload_size),
-                           shm::max_serialized_size(core.payload_size)));
+                           core.name, core.type_name, encoded_size_text(size), message_limit(core),
+                           message_limit(core)));
+}
+
+void report_pool_exhausted(const TopicCore& core, std::uint64_t count) {
+  if (count == 1 || count % 1024 == 0)
+    log().error("topic '{}': every pool slot of this publisher ({}) is pinned by received {} messages still alive "
+                "or lent; the message is refused ({} so far). Drop received messages sooner, or open the topic "
+                "with a larger capacity.",
+                core.name, core.pool.slots_per_lane(), core.type_name, count);
+}
+
+void report_inconsistent(const TopicCore& core, std::uint64_t count) {
+  if (count == 1 || count % 1024 == 0)
+    log().error("topic '{}': a {} message whose metadata does not describe its bytes (sizes, step, shape or "
+                "frame id) is refused ({} so far); receivers could not rebuild it",
+                core.name, core.type_name, count);
+}
+
+Error pool_exhausted_error(const TopicCore& core) {
+  return Error(Errc::LimitReached,
+               fmt::format("topic '{}': every pool slot of this publisher ({}) is pinned by received {} messages "
+                           "still alive or lent; expected a free slot (drop received messages sooner, send or drop "
+                           "loans, or open the topic with a larger capacity)",
+                           core.name, core.pool.slots_per_lane(), core.type_name));
+}
+
+void release_pin(const void* core, std::uint64_t slot, std::uint64_t participant) noexcept {
+  static_cast<const TopicCore*>(core)->pool.unpin(static_cast<std::uint32_t>(slot),
+                                                  static_cast<std::uint32_t>(participant));
+}
+
+void release_loan(const void* core, std::uint64_t slot, std::uint64_t gen) noexcept {
+  static_cast<const TopicCore*>(core)->pool.abandon({static_cast<std::uint32_t>(slot), gen});
 }
 
 void report_no_subscriber_slot(const TopicCore& core) {

@@ -69,7 +69,15 @@ bool ring_consistent(const SegmentHeader& h, const void* base, std::size_t size)
   const auto* ring_base = static_cast<const std::byte*>(base) + h.ring_offset;
   if (Ring::validate(ring_base, size - h.ring_offset)) return false;
   const auto* rh = reinterpret_cast<const RingHeader*>(ring_base);
-  return rh->payload_size == h.payload_size && rh->capacity == h.capacity && rh->type_hash == h.type_hash;
+  if (rh->payload_size != h.payload_size || rh->capacity != h.capacity || rh->type_hash != h.type_hash) return false;
+  if (h.pool_offset == 0) return h.pool_slot_bytes == 0;
+  const std::uint64_t expected_pool =
+      align_up(h.ring_offset + Ring::required_size({h.capacity, h.payload_size, h.type_hash}), kPage);
+  if (h.pool_offset != expected_pool || h.pool_offset >= size) return false;
+  const auto* pool_base = static_cast<const std::byte*>(base) + h.pool_offset;
+  if (Pool::validate(pool_base, size - h.pool_offset)) return false;
+  const auto* ph = reinterpret_cast<const PoolHeader*>(pool_base);
+  return ph->slot_bytes == h.pool_slot_bytes && ph->slots_per_lane == h.pool_slots_per_lane;
 }
 
 bool any_participant_alive(const SegmentHeader& h) {
@@ -90,13 +98,15 @@ std::uint64_t now_unix_ns() {
           .count());
 }
 
-std::string describe_type(std::string_view name, std::uint64_t hash, std::uint32_t payload, bool serialized) {
+std::string describe_type(std::string_view name, std::uint64_t hash, std::uint32_t payload, bool serialized,
+                          std::uint64_t pool_bytes) {
   char buf[64];
   std::snprintf(buf, sizeof(buf), "%016llx", static_cast<unsigned long long>(hash));
-  return std::string(name) + " (layout hash " + buf + ", " +
-         (serialized ? "serialized, slots of " + std::to_string(max_serialized_size(payload)) + " bytes"
-                     : std::to_string(payload) + " bytes") +
-         ")";
+  std::string how;
+  if (pool_bytes != 0) how = "large data in a pool, slots of " + std::to_string(pool_bytes) + " bytes";
+  else if (serialized) how = "serialized, slots of " + std::to_string(max_serialized_size(payload)) + " bytes";
+  else how = std::to_string(payload) + " bytes";
+  return std::string(name) + " (layout hash " + buf + ", " + how + ")";
 }
 
 }  // namespace
@@ -173,6 +183,7 @@ ShmSegment& ShmSegment::operator=(ShmSegment&& o) noexcept {
     size_ = std::exchange(o.size_, 0);
     header_ = std::exchange(o.header_, nullptr);
     ring_ = o.ring_;
+    pool_ = o.pool_;
     name_ = std::move(o.name_);
     slot_ = std::exchange(o.slot_, kMaxParticipants);
     owner_ = std::exchange(o.owner_, 0);
@@ -194,8 +205,15 @@ std::expected<ShmSegment, SegmentError> ShmSegment::open(std::string_view ns, st
   const RingConfig cfg{spec.capacity, spec.payload_size, spec.type_hash};
   if (auto err = Ring::check_config(cfg)) return std::unexpected(SegmentError{SegmentError::Kind::ConfigMismatch, *err});
   const std::string name = segment_name(ns, topic);
+  const bool pooled = spec.pool_slot_bytes != 0;
+  const PoolConfig pool_cfg{spec.pool_slot_bytes, spec.pool_slots_per_lane};
+  if (pooled) {
+    if (auto err = Pool::check_config(pool_cfg))
+      return std::unexpected(SegmentError{SegmentError::Kind::ConfigMismatch, *err});
+  }
   const std::uint64_t ring_offset = align_up(sizeof(SegmentHeader), kPage);
-  const std::uint64_t total = ring_offset + Ring::required_size(cfg);
+  const std::uint64_t pool_offset = pooled ? align_up(ring_offset + Ring::required_size(cfg), kPage) : 0;
+  const std::uint64_t total = pooled ? pool_offset + Pool::required_size(pool_cfg) : ring_offset + Ring::required_size(cfg);
   const pid_t self = ::getpid();
   const std::uint64_t self_start = process_start_time(self);
 
@@ -258,20 +276,29 @@ std::expected<ShmSegment, SegmentError> ShmSegment::open(std::string_view ns, st
           format = true;  // damaged and abandoned: reclaim it
         } else {
           seg.ring_ = Ring::attach(static_cast<std::byte*>(p) + h.ring_offset);
+          if (h.pool_offset != 0) seg.pool_ = Pool::attach(static_cast<std::byte*>(p) + h.pool_offset);
           seg.reap_dead_locked();
           if (seg.live_participants() == 0) {
             format = true;  // every user is gone: reclaim it
           } else {
             const bool serialized = h.serialized != 0;
             if (std::string_view(h.type_name, strnlen(h.type_name, kMaxTypeName)) != spec.type_name || h.type_hash != spec.type_hash ||
-                serialized != spec.serialized || (!spec.serialized && h.payload_size != spec.payload_size))
+                serialized != spec.serialized || (!spec.serialized && h.payload_size != spec.payload_size) ||
+                (h.pool_offset != 0) != pooled)
               return std::unexpected(SegmentError{
                   SegmentError::Kind::TypeMismatch,
                   "topic '" + std::string(topic) + "' carries " +
                       describe_type(std::string_view(h.type_name, strnlen(h.type_name, kMaxTypeName)), h.type_hash,
-                                    h.payload_size, serialized) +
+                                    h.payload_size, serialized, h.pool_slot_bytes) +
                       "; cannot open it as " +
-                      describe_type(spec.type_name, spec.type_hash, spec.payload_size, spec.serialized)});
+                      describe_type(spec.type_name, spec.type_hash, spec.payload_size, spec.serialized,
+                                    spec.pool_slot_bytes)});
+            if (pooled && spec.pool_required && h.pool_slot_bytes != spec.pool_slot_bytes)
+              return std::unexpected(SegmentError{
+                  SegmentError::Kind::ConfigMismatch,
+                  "topic '" + std::string(topic) + "' exists with pool slots of " +
+                      std::to_string(h.pool_slot_bytes) + " bytes (slot_size); cannot open it with slot_size " +
+                      std::to_string(spec.pool_slot_bytes)});
             if (spec.serialized && spec.payload_required && h.payload_size != spec.payload_size)
               return std::unexpected(SegmentError{
                   SegmentError::Kind::ConfigMismatch,
@@ -290,6 +317,7 @@ std::expected<ShmSegment, SegmentError> ShmSegment::open(std::string_view ns, st
           seg.base_ = nullptr;
           seg.header_ = nullptr;
           seg.ring_ = Ring();
+          seg.pool_ = Pool();
         }
       }
     }
@@ -316,6 +344,12 @@ std::expected<ShmSegment, SegmentError> ShmSegment::open(std::string_view ns, st
       h->total_size = total;
       h->created_unix_ns = now_unix_ns();
       seg.ring_ = Ring::format(static_cast<std::byte*>(p) + ring_offset, cfg);
+      if (pooled) {
+        h->pool_offset = pool_offset;
+        h->pool_slot_bytes = spec.pool_slot_bytes;
+        h->pool_slots_per_lane = spec.pool_slots_per_lane;
+        seg.pool_ = Pool::format(static_cast<std::byte*>(p) + pool_offset, pool_cfg);
+      }
       h->ready.store(1, std::memory_order_release);
     }
 
@@ -355,12 +389,14 @@ std::uint32_t ShmSegment::reap_dead_locked() const {
   if (header_ == nullptr) return 0;
   std::uint32_t reaped = 0;
   std::set<pid_t> live;
-  for (auto& e : header_->participants) {
+  for (std::uint32_t i = 0; i < kMaxParticipants; ++i) {
+    auto& e = header_->participants[i];
     const auto pid = static_cast<pid_t>(e.pid.load(std::memory_order_acquire));
     if (pid == 0) continue;
     if (process_alive(pid, e.start_time.load(std::memory_order_relaxed))) {
       live.insert(pid);
     } else {
+      if (pool_) pool_.release_participant(i);  // the images it held come back
       e.pid.store(0, std::memory_order_release);
       ++reaped;
     }
@@ -385,6 +421,7 @@ void ShmSegment::detach() noexcept {
   if (fd_ < 0) return;
   // Membership work only for a segment we joined (never on a failed open's foreign header).
   if (header_ != nullptr && owner_ == ::getpid() && slot_ < kMaxParticipants && lock_with_deadline(fd_)) {
+    if (pool_) pool_.release_participant(slot_);
     header_->participants[slot_].pid.store(0, std::memory_order_release);
     try {
       reap_dead_locked();
@@ -438,6 +475,8 @@ std::expected<SegmentView, SegmentError> SegmentView::open(const std::string& na
   if (auto err = Ring::validate(ring_base, size - h.ring_offset))
     return std::unexpected(SegmentError{SegmentError::Kind::Io, "shared-memory segment /dev/shm" + name + ": " + *err});
   v.ring_ = Ring::attach(ring_base);
+  if (h.pool_offset != 0 && h.pool_offset < size && !Pool::validate(static_cast<std::byte*>(p) + h.pool_offset, size - h.pool_offset))
+    v.pool_ = Pool::attach(static_cast<std::byte*>(p) + h.pool_offset);
   return v;
 }
 
@@ -448,6 +487,7 @@ SegmentView& SegmentView::operator=(SegmentView&& o) noexcept {
     size_ = std::exchange(o.size_, 0);
     header_ = std::exchange(o.header_, nullptr);
     ring_ = o.ring_;
+    pool_ = o.pool_;
   }
   return *this;
 }

@@ -103,17 +103,52 @@ TYPED_TEST(EveryMessage, IsComparableAndDefaultConstructible) {
   EXPECT_FALSE(sample<TypeParam>() == TypeParam{});
 }
 
+// A large-data message whose metadata describes its bytes (the reflection sample's sizes do
+// not agree with each other), with a distinct byte pattern and the sample's text and stamps.
+template <class T>
+T topic_sample() {
+  using namespace horus::msg;
+  T m;
+  if constexpr (std::is_same_v<T, Image>) {
+    m = Image(3, 5, ImageEncoding::Rgb8);
+    m.set_frame_id("cam");
+    m.set_timestamp_ns(42);
+  } else if constexpr (std::is_same_v<T, PointCloud>) {
+    m = PointCloud::make(7, 4, TensorDtype::F32);
+    m.set_timestamp_ns(42);
+  } else if constexpr (std::is_same_v<T, DepthImage>) {
+    m = DepthImage::millimeters(4, 6);
+    m.set_timestamp_ns(42);
+  } else if constexpr (std::is_same_v<T, Tensor>) {
+    m = Tensor({2, 3, 4}, TensorDtype::U16);
+  } else {
+    return sample<T>();
+  }
+  if constexpr (horus::PoolMessage<T>) {
+    auto bytes = m.data_mut();
+    for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<std::uint8_t>(i * 7 + 3);
+  }
+  return m;
+}
+
 TYPED_TEST(EveryMessage, RoundTripsThroughTheInProcessTopic) {
   const auto name = horus_test::unique_name("every");
   auto pub = horus::Topic<TypeParam>::with_capacity(name, 4, std::nullopt);
   ASSERT_TRUE(pub) << pub.error().message();
   horus::Topic<TypeParam> sub(name);
-  const TypeParam m = sample<TypeParam>();
+  const TypeParam m = topic_sample<TypeParam>();
   pub->send(m);
   auto got = sub.recv();
   ASSERT_TRUE(got);
   EXPECT_TRUE(SameMessage(*got, m));
-  EXPECT_EQ(horus::Topic<TypeParam>::kSerialized, !horus::reflect::is_fixed_size<TypeParam>);
+  using Top = horus::Topic<TypeParam>;
+  EXPECT_EQ(Top::kSerialized || Top::kPooled, !horus::reflect::is_fixed_size<TypeParam>);
+  if constexpr (Top::kPooled) {
+    // The reflection sample's metadata does not describe its bytes: refused at send, counted.
+    pub->send(sample<TypeParam>());
+    EXPECT_EQ(pub->metrics().send_failures(), 1u);
+    EXPECT_FALSE(sub.recv());
+  }
 }
 
 TYPED_TEST(EveryMessage, RoundTripsThroughJson) {

@@ -20,7 +20,9 @@
 // handles of a name share one ring.
 #pragma once
 
+#include <array>
 #include <chrono>
+#include <cstring>
 #include <cstdint>
 #include <expected>
 #include <memory>
@@ -31,11 +33,13 @@
 #include <type_traits>
 #include <vector>
 
+#include "horus/byte_buffer.hpp"
 #include "horus/codec.hpp"
 #include "horus/error.hpp"
 #include "horus/metrics.hpp"
 #include "horus/reflect.hpp"
 #include "horus/shm/heap_region.hpp"
+#include "horus/shm/pool.hpp"
 #include "horus/shm/ring.hpp"
 #include "horus/shm/shm_segment.hpp"
 
@@ -52,7 +56,8 @@ std::string_view to_string(Backend b) noexcept;
 struct TopicOptions {
   std::optional<Backend> backend;         // default: HORUS_BACKEND, else shared memory
   std::optional<std::uint32_t> capacity;  // slots per publisher, a power of two
-  std::optional<std::size_t> slot_size;   // serialized messages: the largest encoded message
+  std::optional<std::size_t> slot_size;   // serialized messages: the largest encoded message;
+                                          // large data: the largest message's bytes (pool slot)
 };
 
 /// The backend HORUS_BACKEND selects (auto|shm|inproc; unset means auto = shm); an error
@@ -72,9 +77,45 @@ Result<void> validate_topic_name(std::string_view name);
 template <class T>
 concept Message = Reflected<T> && std::is_default_constructible_v<T>;
 
+/// Large-data messages (Image, PointCloud, DepthImage, Tensor): the topic keeps their bytes in
+/// a pool of slots beside its ring, and the ring carries only T::Descriptor (zero-copy).
+namespace detail {
+template <class T>
+concept PoolMessageParts = requires(const T& t, const typename T::Descriptor& d, ByteBuffer&& b) {
+  requires std::is_trivially_copyable_v<typename T::Descriptor>;
+  { t.descriptor() } -> std::same_as<typename T::Descriptor>;
+  { t.buffer() } -> std::same_as<const ByteBuffer&>;
+  { T::adopt(d, std::move(b)) } -> std::same_as<std::optional<T>>;
+  d.pool_id;
+  d.slot_id;
+  d.generation;
+  d.offset;
+  d.data_size;
+};
+}  // namespace detail
+
+template <class T>
+concept PoolMessage = requires { typename T::Descriptor; } && detail::PoolMessageParts<T>;
+
+namespace detail {
+struct NoDescriptor {};
+template <class T, bool = PoolMessage<T>>
+struct DescriptorOf {
+  using type = NoDescriptor;
+};
+template <class T>
+struct DescriptorOf<T, true> {
+  using type = typename T::Descriptor;
+};
+}  // namespace detail
+
+/// True when Topic<T> keeps T's bytes in a shared-memory pool (PoolMessage).
+template <class T>
+inline constexpr bool is_pool_message = PoolMessage<T>;
+
 /// True when Topic<T> serializes T rather than copying it.
 template <class T>
-inline constexpr bool is_serialized_message = !std::is_trivially_copyable_v<T>;
+inline constexpr bool is_serialized_message = !std::is_trivially_copyable_v<T> && !PoolMessage<T>;
 
 namespace detail {
 template <class T>
@@ -99,8 +140,10 @@ namespace detail {
 struct TypeInfo {
   std::string_view name;
   std::uint64_t hash;
-  std::uint32_t size;        // sizeof(T); for a serialized type, the default largest encoded message
+  std::uint32_t size;        // sizeof(T) (a pooled type: sizeof(T::Descriptor)); for a serialized type,
+                             // the default largest encoded message
   bool serialized = false;   // variable-size: slots hold [length][encoded bytes]
+  std::uint64_t pool_bytes = 0;  // large data: default bytes per pool slot (0: no pool)
 };
 
 /// The shared state of one topic in this process: its ring and the memory it lives in.
@@ -115,6 +158,8 @@ struct TopicCore {
   shm::HeapRegion region;                  // InProcess
   std::optional<shm::ShmSegment> segment;  // SharedMemory
   shm::Ring ring;
+  shm::Pool pool;                // large data only
+  std::uint32_t participant = 0;  // our index in the segment's participant table (what pins pool slots)
 };
 
 /// Finds or creates the topic `name` for a message type; checks name, type and configuration.
@@ -130,15 +175,49 @@ void report_too_large(const TopicCore& core, std::size_t size, std::uint64_t cou
 void report_decode_failure(const TopicCore& core, const std::string& what, std::uint64_t count);
 /// The error send_blocking returns for a message over the slot size.
 Error too_large_error(const TopicCore& core, std::size_t size);
+/// Logs (first and every 1024th) that a large-data send found every pool slot of its lane pinned.
+void report_pool_exhausted(const TopicCore& core, std::uint64_t count);
+/// Logs (first and every 1024th) a large-data message refused because its metadata does not
+/// describe its bytes (e.g. an Image edited through JSON).
+void report_inconsistent(const TopicCore& core, std::uint64_t count);
+/// The error for the same, from send_blocking or loan().
+Error pool_exhausted_error(const TopicCore& core);
+
+/// Pool leases: a received message unpins its slot; a loan dropped unsent gives its slot back.
+void release_pin(const void* core, std::uint64_t slot, std::uint64_t participant) noexcept;
+void release_loan(const void* core, std::uint64_t slot, std::uint64_t gen) noexcept;
 
 }  // namespace detail
+
+template <class T>
+class Topic;
+
+/// A pool slot lent to a publisher (Topic<T>::loan): a T whose bytes are the slot itself, to be
+/// filled in place and published with Topic<T>::send(std::move(loan)), which copies nothing.
+/// Its bytes start with whatever the slot held before: write all of them. Dropping a loan
+/// unsent gives the slot back. A loan must be sent through the handle that lent it.
+template <class T>
+class Loan {
+ public:
+  T& operator*() noexcept { return value_; }
+  T* operator->() noexcept { return &value_; }
+  const T& operator*() const noexcept { return value_; }
+  const T* operator->() const noexcept { return &value_; }
+
+ private:
+  friend class Topic<T>;
+  Loan(T value, const void* core, shm::Pool::Claim claim) : value_(std::move(value)), core_(core), claim_(claim) {}
+  T value_;
+  const void* core_;
+  shm::Pool::Claim claim_;
+};
 
 template <class T>
 class Topic {
   static_assert(Reflected<T>,
                 "horus::Topic<T>: T must be a message declared with HORUS_MESSAGE or HORUS_REFLECT");
   static_assert(std::is_default_constructible_v<T>, "horus::Topic<T>: T must be default constructible");
-  static_assert(is_serialized_message<T> || sizeof(T) <= (1u << 20),
+  static_assert(!std::is_trivially_copyable_v<T> || sizeof(T) <= (1u << 20),
                 "horus::Topic<T>: fixed-size messages are at most 1 MiB (they are copied through the stack); "
                 "large data (images, point clouds) uses the large-data classes");
 
@@ -146,6 +225,10 @@ class Topic {
   using message_type = T;
   /// True when messages are serialized into slots (variable-size T) rather than copied.
   static constexpr bool kSerialized = is_serialized_message<T>;
+  /// True when T's bytes travel through the topic's pool and the ring carries T::Descriptor.
+  static constexpr bool kPooled = is_pool_message<T>;
+  /// Large data: the fixed-size description the ring carries (T::Descriptor).
+  using descriptor_type = typename detail::DescriptorOf<T>::type;
 
   /// Opens (or creates) the topic with the default capacity; throws horus::Exception.
   explicit Topic(std::string_view name) : Topic(value_or_throw(open(name))) {}
@@ -183,6 +266,11 @@ class Topic {
     too_large_ = other.too_large_;
     decode_failures_ = other.decode_failures_;
     undelivered_ = other.undelivered_;
+    pool_lost_ = other.pool_lost_;
+    pool_exhausted_ = other.pool_exhausted_;
+    inconsistent_ = other.inconsistent_;
+    loans_ = other.loans_;
+    loan_gen_ = other.loan_gen_;
     encoded_size_ = other.encoded_size_;
     scratch_ = std::move(other.scratch_);
     inbox_ = std::move(other.inbox_);
@@ -213,9 +301,63 @@ class Topic {
         return;
       }
       writer_.write_bytes(encoded());
+    } else if constexpr (kPooled) {
+      if (!fits(msg) || !write_pooled(msg)) ++send_failures_;
     } else {
       writer_.write(msg);
     }
+  }
+
+  /// Large data: lends a slot of the topic's pool for a message described by `desc` (e.g.
+  /// Image::describe(1080, 1920, ImageEncoding::Rgb8)). Fill it in place (loan->data_mut(),
+  /// set_timestamp_ns, ...), then send(std::move(loan)): nothing is copied. Errors:
+  /// MessageTooLarge when desc.data_size exceeds the slot size, LimitReached when every slot of
+  /// this publisher is pinned by subscribers or lent, or every publisher lane is taken, and
+  /// InvalidArgument for a descriptor T cannot have (T::describe never gives one).
+  Result<Loan<T>> loan(const descriptor_type& desc)
+    requires kPooled
+  {
+    if (!writer_.has_lane() && !become_publisher())
+      return fail(Errc::LimitReached, "topic '" + core_->name + "': all " + std::to_string(shm::kMaxPublishers) +
+                                          " publisher lanes are in use; nothing lent");
+    if (desc.data_size > core_->pool.slot_bytes())
+      return std::unexpected(detail::too_large_error(*core_, desc.data_size));
+    auto claim = claim_slot();
+    if (!claim) return std::unexpected(detail::pool_exhausted_error(*core_));
+    const std::uint32_t k = claim->slot % core_->pool.slots_per_lane();
+    loans_ |= std::uint64_t{1} << k;
+    loan_gen_[k] = claim->gen;
+    ByteBuffer bytes = ByteBuffer::borrow(core_->pool.data(claim->slot), desc.data_size,
+                                          ByteBuffer::Lease{core_, &detail::release_loan, claim->slot, claim->gen},
+                                          /*writable=*/true);
+    auto value = T::adopt(desc, std::move(bytes));
+    if (!value) {
+      core_->pool.abandon(*claim);
+      return fail(Errc::InvalidArgument,
+                  "topic '" + core_->name + "': cannot lend a slot for " + std::string(type_name()) +
+                      ": the descriptor is not valid (use " + std::string(type_name()) + "::describe to make one)");
+    }
+    return Loan<T>(std::move(*value), core_.get(), *claim);
+  }
+
+  /// Publishes a loan of this handle without copying its bytes. A loan whose bytes were
+  /// replaced (resized, assigned another size) or that came from another handle is sent by
+  /// copy instead; failures count in metrics().send_failures() as for send().
+  void send(Loan<T>&& loan)
+    requires kPooled
+  {
+    Loan<T> l = std::move(loan);
+    const auto& pool = core_->pool;
+    const ByteBuffer& b = l.value_.buffer();
+    const bool in_place = l.core_ == core_.get() && writer_.has_lane() &&
+                          l.claim_.slot / pool.slots_per_lane() == writer_.lane() && b.borrowed() &&
+                          b.data() == pool.data(l.claim_.slot) && pool.claimed(l.claim_);
+    if (!in_place) {
+      send(static_cast<const T&>(l.value_));
+      return;
+    }
+    publish(l.value_.descriptor(), l.claim_);
+    loans_ &= ~(std::uint64_t{1} << (l.claim_.slot % pool.slots_per_lane()));
   }
 
   /// Publishes only if no subscriber would lose an unread message; else gives the message back
@@ -241,6 +383,15 @@ class Topic {
       if (!encode(msg)) {  // once: the retries below send these bytes
         ++send_failures_;
         return std::unexpected(detail::too_large_error(*core_, encoded_size_));
+      }
+    } else if constexpr (kPooled) {
+      if (!fits(msg)) {
+        ++send_failures_;
+        if (msg.buffer().size() > core_->pool.slot_bytes())
+          return std::unexpected(detail::too_large_error(*core_, msg.buffer().size()));
+        return fail(Errc::InvalidArgument, "topic '" + core_->name + "': the " + std::string(type_name()) +
+                                               " message's metadata does not describe its bytes (" +
+                                               msg.descriptor().log_summary() + "); message not sent");
       }
     }
     if (try_commit(msg)) return {};
@@ -282,6 +433,12 @@ class Topic {
         if (auto m = decode_inbox()) return m;
         ++undelivered_;
       }
+    } else if constexpr (kPooled) {
+      descriptor_type d;
+      while (reader_.read(d)) {
+        if (auto m = adopt(d)) return m;
+        ++undelivered_;
+      }
     } else {
       Slot s;
       if (reader_.read(s.value)) return s.value;
@@ -307,6 +464,10 @@ class Topic {
       prepare_inbox();
       if (!reader_.read_latest(inbox_)) return std::nullopt;
       return decode_inbox();
+    } else if constexpr (kPooled) {
+      descriptor_type d;
+      if (!reader_.read_latest(d)) return std::nullopt;
+      return adopt(d);
     } else {
       Slot s;
       if (!reader_.read_latest(s.value)) return std::nullopt;
@@ -329,10 +490,14 @@ class Topic {
   }
   /// Messages lost to overwrites: this handle's own losses when it subscribes; for a pure
   /// publisher, the losses of all subscribers of the topic.
+  /// Large data: a message whose pool slot was reused before this handle read it (subscribers
+  /// kept the spare slots pinned) counts as dropped too.
   std::uint64_t dropped_count() const noexcept {
-    if (reader_.subscribed()) return reader_.lost();
+    if (reader_.subscribed()) return reader_.lost() + pool_lost_;
     const auto& ring = core_->ring;
-    return ring.header().dropped_total.load(std::memory_order_relaxed) + ring.undetected_losses();
+    std::uint64_t n = ring.header().dropped_total.load(std::memory_order_relaxed) + ring.undetected_losses();
+    if constexpr (kPooled) n += core_->pool.header().reused.load(std::memory_order_relaxed);
+    return n;
   }
   /// Publishers currently holding a lane of this topic.
   std::uint32_t pub_count() const noexcept { return core_->ring.publisher_count(); }
@@ -346,6 +511,7 @@ class Topic {
   std::uint32_t capacity() const noexcept { return core_->ring.capacity(); }
   /// Largest message the topic carries: sizeof(T), or for a serialized T the largest encoded size.
   std::size_t max_message_size() const noexcept {
+    if constexpr (kPooled) return core_->pool.slot_bytes();
     return kSerialized ? shm::max_serialized_size(core_->payload_size) : sizeof(T);
   }
   /// Where this topic's messages travel (see Backend).
@@ -366,9 +532,8 @@ class Topic {
         reader_(core_->ring, detail::next_token()) {}
 
   static Result<Topic> make(std::string_view name, const TopicOptions& options) {
-    const detail::TypeInfo type{horus::type_name<T>(), horus::type_hash<T>,
-                                static_cast<std::uint32_t>(kSerialized ? default_slot_bytes<T> : sizeof(T)),
-                                kSerialized};
+    const detail::TypeInfo type{horus::type_name<T>(), horus::type_hash<T>, static_cast<std::uint32_t>(payload_bytes()),
+                                kSerialized, kPooled ? default_slot_bytes<T> : 0};
     auto core = detail::open_core(name, type, options);
     if (!core) return std::unexpected(std::move(core.error()));
     Topic topic(std::move(*core));
@@ -380,6 +545,12 @@ class Topic {
     return topic;
   }
 
+  static constexpr std::size_t payload_bytes() noexcept {
+    if constexpr (kPooled) return sizeof(descriptor_type);
+    else if constexpr (kSerialized) return default_slot_bytes<T>;
+    else return sizeof(T);
+  }
+
   static Topic value_or_throw(Result<Topic> r) {
     if (!r) throw Exception(std::move(r.error()));
     return std::move(*r);
@@ -389,6 +560,8 @@ class Topic {
     if (!writer_.has_lane() && !become_publisher()) return false;
     if constexpr (kSerialized) {
       if (!encode(msg)) return false;  // a message too large is refused (and logged) before any wait
+    } else if constexpr (kPooled) {
+      if (!fits(msg)) return false;
     }
     return try_commit(msg);
   }
@@ -398,10 +571,88 @@ class Topic {
     if (!writer_.has_space(reader_.token())) return false;
     if constexpr (kSerialized) {
       writer_.write_bytes(encoded());
+    } else if constexpr (kPooled) {
+      return write_pooled(msg);
     } else {
       writer_.write(msg);
     }
     return true;
+  }
+
+  // Large data: a message over the pool's slot size, or whose metadata does not describe its
+  // bytes (receivers could not rebuild it), is refused and logged.
+  bool fits(const T& msg) {
+    const ByteBuffer& b = msg.buffer();
+    if (b.size() > core_->pool.slot_bytes()) [[unlikely]] {
+      encoded_size_ = b.size();
+      ++too_large_;
+      detail::report_too_large(*core_, b.size(), too_large_);
+      return false;
+    }
+    // A borrowed view of the bytes (nothing copied), rebuilt as a receiver will.
+    if (!T::adopt(msg.descriptor(), ByteBuffer::borrow(const_cast<std::uint8_t*>(b.data()), b.size(), {}, false)))
+        [[unlikely]] {
+      detail::report_inconsistent(*core_, ++inconsistent_);
+      return false;
+    }
+    return true;
+  }
+
+  // Claims the oldest free slot of our lane; loans of ours that were sent or dropped stop
+  // counting as busy first.
+  std::optional<shm::Pool::Claim> claim_slot() {
+    const auto& pool = core_->pool;
+    if (loans_ != 0) {
+      const std::uint32_t base = writer_.lane() * pool.slots_per_lane();
+      for (std::uint32_t k = 0; k < pool.slots_per_lane(); ++k)
+        if (((loans_ >> k) & 1u) != 0 && !pool.claimed({base + k, loan_gen_[k]})) loans_ &= ~(std::uint64_t{1} << k);
+    }
+    auto c = pool.claim(writer_.lane(), loans_);
+    if (!c) detail::report_pool_exhausted(*core_, ++pool_exhausted_);
+    return c;
+  }
+
+  // Copies msg's bytes into a pool slot and publishes its descriptor.
+  bool write_pooled(const T& msg) {
+    auto c = claim_slot();
+    if (!c) return false;
+    const auto bytes = msg.buffer().view();
+    if (!bytes.empty()) std::memcpy(core_->pool.data(c->slot), bytes.data(), bytes.size());
+    publish(msg.descriptor(), *c);
+    return true;
+  }
+
+  void publish(descriptor_type d, const shm::Pool::Claim& c) {
+    d.pool_id = 1;
+    d.slot_id = c.slot;
+    d.offset = core_->pool.offset_of(c.slot);
+    d.generation = core_->pool.publish(c, writer_.head() + 1);
+    writer_.write(d);
+  }
+
+  // A received descriptor: pins its slot and lends the bytes to a T (no copy). Nothing when the
+  // slot was reused meanwhile (counted as a drop) or the descriptor is not valid (a decode failure).
+  std::optional<T> adopt(const descriptor_type& d) {
+    const auto& pool = core_->pool;
+    if (d.pool_id != 1 || d.slot_id >= pool.slot_count() || d.data_size > pool.slot_bytes()) [[unlikely]] {
+      ++decode_failures_;
+      detail::report_decode_failure(*core_, "its descriptor names no slot of the topic's pool", decode_failures_);
+      return std::nullopt;
+    }
+    if (!pool.pin(d.slot_id, d.generation, core_->participant)) [[unlikely]] {
+      ++pool_lost_;
+      pool.header().reused.fetch_add(1, std::memory_order_relaxed);
+      return std::nullopt;
+    }
+    ByteBuffer bytes = ByteBuffer::borrow(pool.data(d.slot_id), d.data_size,
+                                          ByteBuffer::Lease{core_, &detail::release_pin, d.slot_id, core_->participant},
+                                          /*writable=*/false);
+    auto m = T::adopt(d, std::move(bytes));
+    if (!m) [[unlikely]] {
+      ++decode_failures_;
+      detail::report_decode_failure(*core_, "its descriptor is not valid", decode_failures_);
+    }
+    return m;
   }
 
   // Serialized messages: encode into scratch_ (false, logged, when too large; the caller counts it).
@@ -448,7 +699,7 @@ class Topic {
     return false;
   }
 
-  using Payload = std::conditional_t<kSerialized, shm::ByteMessage, T>;
+  using Payload = std::conditional_t<kPooled, descriptor_type, std::conditional_t<kSerialized, shm::ByteMessage, T>>;
 
   std::shared_ptr<detail::TopicCore> core_;  // first: outlives writer_ and reader_
   shm::RingWriter<Payload> writer_;
@@ -458,6 +709,14 @@ class Topic {
   std::uint64_t too_large_ = 0;
   std::uint64_t decode_failures_ = 0;
   std::uint64_t undelivered_ = 0;  // read by recv() but not decoded (not counted as received)
+  // Large data only.
+  std::uint64_t pool_lost_ = 0;       // descriptors whose slot was reused before we pinned it
+  std::uint64_t pool_exhausted_ = 0;  // sends that found every slot of our lane pinned
+  std::uint64_t inconsistent_ = 0;    // sends refused: metadata that does not describe the bytes
+  std::uint64_t loans_ = 0;           // bit k: slot k of our lane is lent (Loan) and not yet sent
+  struct NoLoans {};
+  [[no_unique_address]] std::conditional_t<kPooled, std::array<std::uint64_t, shm::kMaxPoolSlotsPerLane>, NoLoans>
+      loan_gen_{};  // generation of each lent slot
   // Serialized messages only: the encoding buffer and the last slot read.
   std::vector<std::byte> scratch_;
   std::size_t encoded_size_ = 0;

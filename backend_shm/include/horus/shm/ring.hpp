@@ -408,6 +408,10 @@ class RingWriter {
   ~RingWriter() { release(); }
 
   bool has_lane() const noexcept { return slots_ != nullptr; }
+  /// The lane this writer owns (when has_lane()).
+  std::uint32_t lane() const noexcept { return lane_; }
+  /// The lane's next sequence number (messages ever written to it).
+  std::uint64_t head() const noexcept { return head_; }
   /// Claims a lane; false when every lane of the topic is in use.
   bool ensure_lane() noexcept {
     if (has_lane()) return true;

@@ -7,6 +7,7 @@
 //                                  serialized or not), capacity, and the participant table
 //                                  (pid + process start time of every process attached)
 //   ring_offset    the ring (ring.hpp), exactly as in process-local memory
+//   pool_offset    large-data topics only: the pool holding the messages' bytes (pool.hpp)
 //
 // Membership changes (create, attach, detach, reclaim) happen under flock() on the segment's
 // file descriptor. The kernel drops that lock when its holder dies, so a process killed while
@@ -29,14 +30,13 @@
 #include <string_view>
 #include <vector>
 
+#include "horus/shm/pool.hpp"
 #include "horus/shm/ring.hpp"
 
 namespace horus::shm {
 
 inline constexpr std::uint64_t kSegmentMagic = 0x3147'4553'5355'524FULL;  // "ORUSSEG1"
-inline constexpr std::uint32_t kSegmentVersion = 1;
-/// Processes that can attach to one topic at once.
-inline constexpr std::uint32_t kMaxParticipants = 64;
+inline constexpr std::uint32_t kSegmentVersion = 2;  // 2: the large-data pool
 inline constexpr std::size_t kMaxTypeName = 255;
 
 struct alignas(kCacheLine) Participant {
@@ -57,6 +57,10 @@ struct alignas(kCacheLine) SegmentHeader {
   std::uint64_t ring_offset;
   std::uint64_t total_size;
   std::uint64_t created_unix_ns;
+  std::uint64_t pool_offset;       // 0: no pool; else the large-data pool (pool.hpp)
+  std::uint64_t pool_slot_bytes;   // largest message's bytes in the pool
+  std::uint32_t pool_slots_per_lane;
+  std::uint32_t reserved;
   Participant participants[kMaxParticipants];
 };
 static_assert(std::is_standard_layout_v<SegmentHeader>, "the segment header has a fixed layout");
@@ -71,6 +75,9 @@ struct SegmentSpec {
   bool capacity_required = false;      // true: an existing segment with another capacity is an error
   bool payload_required = true;        // false (serialized, no slot size given): accept the existing one
   mode_t mode = 0600;                  // permissions of a created segment
+  std::uint64_t pool_slot_bytes = 0;   // large data: bytes per pool slot (0: no pool)
+  std::uint32_t pool_slots_per_lane = 0;
+  bool pool_required = true;           // false: accept an existing pool's slot size
 };
 
 struct SegmentError {
@@ -107,6 +114,10 @@ class ShmSegment {
   ~ShmSegment();
 
   Ring ring() const noexcept { return ring_; }
+  /// The large-data pool (false when the topic has none).
+  Pool pool() const noexcept { return pool_; }
+  /// Our index in the participant table (what pins the pool's slots).
+  std::uint32_t participant() const noexcept { return slot_; }
   const SegmentHeader& header() const noexcept { return *header_; }
   const std::string& name() const noexcept { return name_; }
   /// Processes attached now (after reaping dead ones).
@@ -123,6 +134,7 @@ class ShmSegment {
   std::size_t size_ = 0;
   SegmentHeader* header_ = nullptr;
   Ring ring_;
+  Pool pool_;
   std::string name_;
   std::uint32_t slot_ = kMaxParticipants;  // our participant entry
   pid_t owner_ = 0;  // the process that attached (a forked child only unmaps its copy)
@@ -143,6 +155,8 @@ class SegmentView {
 
   const SegmentHeader& header() const noexcept { return *header_; }
   Ring ring() const noexcept { return ring_; }
+  /// The large-data pool, read-only (false when the topic has none).
+  Pool pool() const noexcept { return pool_; }
   std::size_t size() const noexcept { return size_; }
 
  private:
@@ -150,6 +164,7 @@ class SegmentView {
   std::size_t size_ = 0;
   const SegmentHeader* header_ = nullptr;
   Ring ring_;
+  Pool pool_;
 };
 
 /// A segment found in /dev/shm, for tools (`horus topic list`, `horus clean`).

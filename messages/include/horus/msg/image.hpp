@@ -22,6 +22,7 @@
 
 #include <fmt/format.h>
 
+#include "horus/byte_buffer.hpp"
 #include "horus/fixed_string.hpp"
 #include "horus/format.hpp"
 #include "horus/msg/tensor.hpp"
@@ -205,8 +206,9 @@ class Image {
   }
 
   // --- pixels -------------------------------------------------------------
-  std::span<const std::uint8_t> data() const noexcept { return data_; }
-  std::span<std::uint8_t> data_mut() noexcept { return data_; }
+  std::span<const std::uint8_t> data() const noexcept { return data_.view(); }
+  /// Writable bytes; a received (borrowed, read-only) buffer is copied first (ByteBuffer).
+  std::span<std::uint8_t> data_mut() { return data_.mutable_view(); }
 
   /// The bytes of pixel (x, y), or nullopt when x >= width() or y >= height().
   std::optional<std::span<const std::uint8_t>> pixel(std::uint32_t x, std::uint32_t y) const noexcept {
@@ -218,20 +220,20 @@ class Image {
   /// Writes pixel (x, y). False, changing nothing, when (x, y) is out of bounds
   /// or value.size() != bytes_per_pixel(). (HORUS returns &mut Self and
   /// silently ignores these cases; the bool lets a caller notice them.)
-  bool set_pixel(std::uint32_t x, std::uint32_t y, std::span<const std::uint8_t> value) noexcept {
+  bool set_pixel(std::uint32_t x, std::uint32_t y, std::span<const std::uint8_t> value) {
     const auto off = pixel_offset(x, y);
     if (!off || value.size() != bytes_per_pixel()) return false;
     std::memcpy(data_.data() + *off, value.data(), value.size());
     return true;
   }
   /// set_pixel(x, y, {255, 0, 0}).
-  bool set_pixel(std::uint32_t x, std::uint32_t y, std::initializer_list<std::uint8_t> value) noexcept {
+  bool set_pixel(std::uint32_t x, std::uint32_t y, std::initializer_list<std::uint8_t> value) {
     return set_pixel(x, y, std::span<const std::uint8_t>(value.begin(), value.size()));
   }
 
   /// Copies a whole image's bytes (src.size() must equal data().size(), row
   /// padding included). False, copying nothing, otherwise (HORUS panics).
-  bool copy_from(std::span<const std::uint8_t> src) noexcept {
+  bool copy_from(std::span<const std::uint8_t> src) {
     if (src.size() != data_.size()) return false;
     if (!src.empty()) std::memcpy(data_.data(), src.data(), src.size());
     return true;
@@ -239,7 +241,7 @@ class Image {
 
   /// Sets every pixel to value. Does nothing when value.size() != bytes_per_pixel()
   /// (as HORUS). Row padding bytes (step > width * bpp) are left alone.
-  Image& fill(std::span<const std::uint8_t> value) noexcept {
+  Image& fill(std::span<const std::uint8_t> value) {
     const std::size_t bpp = bytes_per_pixel();
     if (bpp == 0 || value.size() != bpp || !is_consistent()) return *this;
     for (std::uint32_t y = 0; y < height_; ++y) {
@@ -250,7 +252,7 @@ class Image {
     return *this;
   }
   /// fill({0, 0, 255}).
-  Image& fill(std::initializer_list<std::uint8_t> value) noexcept {
+  Image& fill(std::initializer_list<std::uint8_t> value) {
     return fill(std::span<const std::uint8_t>(value.begin(), value.size()));
   }
 
@@ -291,6 +293,32 @@ class Image {
   /// kMaxLargeDataBytes, bytes.size() == data_size and frame_id is
   /// NUL-terminated. The pool fields are not used (bytes are given).
   static std::optional<Image> from_descriptor(const ImageDescriptor& desc, std::span<const std::uint8_t> bytes) {
+    return build(desc, bytes);
+  }
+  /// The descriptor of such a message without allocating its bytes: what Topic<Image>::loan
+  /// takes to lend a pool slot. nullopt for the arguments the constructor refuses.
+  static std::optional<ImageDescriptor> describe(std::uint32_t height, std::uint32_t width, ImageEncoding encoding) noexcept {
+    std::uint64_t bytes = 0;
+    if (check(height, width, encoding, bytes) != detail::SizeError::None) return std::nullopt;
+    Image x;
+    x.init_meta(height, width, encoding);
+    ImageDescriptor d = x.descriptor();
+    d.data_size = bytes;
+    return d;
+  }
+  /// As from_descriptor, taking `bytes` over instead of copying them: how a topic hands out a
+  /// message whose bytes stay in its shared-memory pool (zero-copy). nullopt under the same
+  /// conditions (bytes.size() must equal desc.data_size).
+  static std::optional<Image> adopt(const ImageDescriptor& desc, ByteBuffer&& bytes) { return build(desc, std::move(bytes)); }
+
+  /// The fixed-size description that travels through a topic while the bytes stay in its pool.
+  using Descriptor = ImageDescriptor;
+  /// The bytes with their storage (owned, or borrowed from a pool slot).
+  const ByteBuffer& buffer() const noexcept { return data_; }
+
+ private:
+  template <class Bytes>
+  static std::optional<Image> build(const ImageDescriptor& desc, Bytes&& bytes) {
     std::uint64_t min_size = 0;
     if (check(desc.height, desc.width, desc.encoding, min_size) != detail::SizeError::None) return std::nullopt;
     const std::uint64_t row = std::uint64_t{desc.width} * msg::bytes_per_pixel(desc.encoding);
@@ -305,9 +333,15 @@ class Image {
     img.step_ = desc.step;
     img.frame_id_ = desc.frame_id;
     img.timestamp_ns_ = desc.timestamp_ns;
-    img.data_.assign(bytes.begin(), bytes.end());
+    if constexpr (std::is_same_v<std::remove_cvref_t<Bytes>, ByteBuffer>) {
+      img.data_ = std::move(bytes);
+    } else {
+      img.data_.assign(bytes.begin(), bytes.end());
+    }
     return img;
   }
+
+ public:
 
   /// True when the metadata describes the bytes exactly (known encoding,
   /// step >= width * bpp, data().size() == step * height); false e.g. for an
@@ -335,7 +369,7 @@ class Image {
   std::uint32_t step_{};
   std::array<char, 32> frame_id_{};
   std::uint64_t timestamp_ns_{};
-  std::vector<std::uint8_t> data_;
+  ByteBuffer data_;
 
   HORUS_REFLECT_FRIEND(Image)
 
@@ -354,11 +388,14 @@ class Image {
   }
 
   void init(std::uint32_t height, std::uint32_t width, ImageEncoding encoding, std::uint64_t bytes) {
+    init_meta(height, width, encoding);
+    data_.assign(static_cast<std::size_t>(bytes), std::uint8_t{0});
+  }
+  void init_meta(std::uint32_t height, std::uint32_t width, ImageEncoding encoding) noexcept {
     width_ = width;
     height_ = height;
     encoding_ = encoding;
     step_ = width * msg::bytes_per_pixel(encoding);  // <= 2^31 (checked)
-    data_.assign(static_cast<std::size_t>(bytes), std::uint8_t{0});
   }
 
   // Byte offset of pixel (x, y) when it is inside the image and inside data_.

@@ -28,6 +28,7 @@
 
 #include <fmt/format.h>
 
+#include "horus/byte_buffer.hpp"
 #include "horus/fixed_string.hpp"
 #include "horus/format.hpp"
 #include "horus/msg/tensor.hpp"
@@ -284,8 +285,9 @@ class PointCloud {
   }
 
   // --- points -------------------------------------------------------------
-  std::span<const std::uint8_t> data() const noexcept { return data_; }
-  std::span<std::uint8_t> data_mut() noexcept { return data_; }
+  std::span<const std::uint8_t> data() const noexcept { return data_.view(); }
+  /// Writable bytes; a received (borrowed, read-only) buffer is copied first (ByteBuffer).
+  std::span<std::uint8_t> data_mut() { return data_.mutable_view(); }
 
   /// The bytes of point idx (point_size() bytes), or nullopt when idx >= point_count().
   std::optional<std::span<const std::uint8_t>> point_at(std::uint64_t idx) const noexcept {
@@ -308,7 +310,7 @@ class PointCloud {
 
   /// Copies all point data (src.size() must equal data().size()). False,
   /// copying nothing, otherwise (HORUS panics).
-  bool copy_from(std::span<const std::uint8_t> src) noexcept {
+  bool copy_from(std::span<const std::uint8_t> src) {
     if (src.size() != data_.size()) return false;
     if (!src.empty()) std::memcpy(data_.data(), src.data(), src.size());
     return true;
@@ -331,8 +333,33 @@ class PointCloud {
   /// fields_per_point > 0, dtype is known, data_size == point_count *
   /// fields_per_point * element size <= kMaxLargeDataBytes, bytes.size() ==
   /// data_size and frame_id is NUL-terminated. The pool fields are not used.
-  static std::optional<PointCloud> from_descriptor(const PointCloudDescriptor& desc,
-                                                   std::span<const std::uint8_t> bytes) {
+  static std::optional<PointCloud> from_descriptor(const PointCloudDescriptor& desc, std::span<const std::uint8_t> bytes) {
+    return build(desc, bytes);
+  }
+  /// The descriptor of such a message without allocating its bytes: what Topic<PointCloud>::loan
+  /// takes to lend a pool slot. nullopt for the arguments the constructor refuses.
+  static std::optional<PointCloudDescriptor> describe(std::uint64_t num_points, std::uint32_t fields_per_point, TensorDtype dtype) noexcept {
+    std::uint64_t bytes = 0;
+    if (check(num_points, fields_per_point, dtype, bytes) != detail::SizeError::None) return std::nullopt;
+    PointCloud x;
+    x.init_meta(num_points, fields_per_point, dtype);
+    PointCloudDescriptor d = x.descriptor();
+    d.data_size = bytes;
+    return d;
+  }
+  /// As from_descriptor, taking `bytes` over instead of copying them: how a topic hands out a
+  /// message whose bytes stay in its shared-memory pool (zero-copy). nullopt under the same
+  /// conditions (bytes.size() must equal desc.data_size).
+  static std::optional<PointCloud> adopt(const PointCloudDescriptor& desc, ByteBuffer&& bytes) { return build(desc, std::move(bytes)); }
+
+  /// The fixed-size description that travels through a topic while the bytes stay in its pool.
+  using Descriptor = PointCloudDescriptor;
+  /// The bytes with their storage (owned, or borrowed from a pool slot).
+  const ByteBuffer& buffer() const noexcept { return data_; }
+
+ private:
+  template <class Bytes>
+  static std::optional<PointCloud> build(const PointCloudDescriptor& desc, Bytes&& bytes) {
     std::uint64_t size = 0;
     if (check(desc.point_count, desc.fields_per_point, desc.dtype, size) != detail::SizeError::None)
       return std::nullopt;
@@ -343,9 +370,15 @@ class PointCloud {
     pc.dtype_ = desc.dtype;
     pc.frame_id_ = desc.frame_id;
     pc.timestamp_ns_ = desc.timestamp_ns;
-    pc.data_.assign(bytes.begin(), bytes.end());
+    if constexpr (std::is_same_v<std::remove_cvref_t<Bytes>, ByteBuffer>) {
+      pc.data_ = std::move(bytes);
+    } else {
+      pc.data_.assign(bytes.begin(), bytes.end());
+    }
     return pc;
   }
+
+ public:
 
   /// True when data().size() == point_count * point_size() and dtype is known
   /// (always for a cloud made here; maybe not for hand-edited JSON).
@@ -369,7 +402,7 @@ class PointCloud {
   TensorDtype dtype_{TensorDtype::F32};
   std::array<char, 32> frame_id_{};
   std::uint64_t timestamp_ns_{};
-  std::vector<std::uint8_t> data_;
+  ByteBuffer data_;
 
   HORUS_REFLECT_FRIEND(PointCloud)
 
@@ -385,10 +418,13 @@ class PointCloud {
   }
 
   void init(std::uint64_t num_points, std::uint32_t fields, TensorDtype dtype, std::uint64_t bytes) {
+    init_meta(num_points, fields, dtype);
+    data_.assign(static_cast<std::size_t>(bytes), std::uint8_t{0});
+  }
+  void init_meta(std::uint64_t num_points, std::uint32_t fields, TensorDtype dtype) noexcept {
     point_count_ = num_points;
     fields_per_point_ = fields;
     dtype_ = dtype;
-    data_.assign(static_cast<std::size_t>(bytes), std::uint8_t{0});
   }
 
   // Writes the floats of point i (F32 clouds built by the factories).
@@ -496,8 +532,9 @@ class DepthImage {
   }
 
   // --- depths -------------------------------------------------------------
-  std::span<const std::uint8_t> data() const noexcept { return data_; }
-  std::span<std::uint8_t> data_mut() noexcept { return data_; }
+  std::span<const std::uint8_t> data() const noexcept { return data_.view(); }
+  /// Writable bytes; a received (borrowed, read-only) buffer is copied first (ByteBuffer).
+  std::span<std::uint8_t> data_mut() { return data_.mutable_view(); }
 
   /// Depth at (x, y) in metres (U16: raw * depth_scale / 1000; invalid pixels
   /// come back as stored: 0 or NaN). nullopt when out of bounds.
@@ -523,7 +560,7 @@ class DepthImage {
   /// (HORUS returns an error there, and truncates instead of rounding).
   /// False, changing nothing, when (x, y) is out of bounds. (HORUS returns
   /// &mut Self; the bool lets a caller notice a refused value.)
-  bool set_depth(std::uint32_t x, std::uint32_t y, float metres) noexcept {
+  bool set_depth(std::uint32_t x, std::uint32_t y, float metres) {
     const auto off = offset_of(x, y);
     if (!off) return false;
     if (is_meters()) {
@@ -559,7 +596,7 @@ class DepthImage {
 
   /// Copies all depth data (src.size() must equal data().size()). False,
   /// copying nothing, otherwise.
-  bool copy_from(std::span<const std::uint8_t> src) noexcept {
+  bool copy_from(std::span<const std::uint8_t> src) {
     if (src.size() != data_.size()) return false;
     if (!src.empty()) std::memcpy(data_.data(), src.data(), src.size());
     return true;
@@ -583,8 +620,33 @@ class DepthImage {
   /// unless dtype is F32 or U16, width and height are > 0, data_size == width *
   /// height * element size <= kMaxLargeDataBytes, bytes.size() == data_size,
   /// depth_scale is finite and > 0 and frame_id is NUL-terminated.
-  static std::optional<DepthImage> from_descriptor(const DepthImageDescriptor& desc,
-                                                   std::span<const std::uint8_t> bytes) {
+  static std::optional<DepthImage> from_descriptor(const DepthImageDescriptor& desc, std::span<const std::uint8_t> bytes) {
+    return build(desc, bytes);
+  }
+  /// The descriptor of such a message without allocating its bytes: what Topic<DepthImage>::loan
+  /// takes to lend a pool slot. nullopt for the arguments the constructor refuses.
+  static std::optional<DepthImageDescriptor> describe(std::uint32_t height, std::uint32_t width, TensorDtype dtype = TensorDtype::F32) noexcept {
+    std::uint64_t bytes = 0;
+    if (check(height, width, dtype, bytes) != detail::SizeError::None) return std::nullopt;
+    DepthImage x;
+    x.init_meta(height, width, dtype);
+    DepthImageDescriptor d = x.descriptor();
+    d.data_size = bytes;
+    return d;
+  }
+  /// As from_descriptor, taking `bytes` over instead of copying them: how a topic hands out a
+  /// message whose bytes stay in its shared-memory pool (zero-copy). nullopt under the same
+  /// conditions (bytes.size() must equal desc.data_size).
+  static std::optional<DepthImage> adopt(const DepthImageDescriptor& desc, ByteBuffer&& bytes) { return build(desc, std::move(bytes)); }
+
+  /// The fixed-size description that travels through a topic while the bytes stay in its pool.
+  using Descriptor = DepthImageDescriptor;
+  /// The bytes with their storage (owned, or borrowed from a pool slot).
+  const ByteBuffer& buffer() const noexcept { return data_; }
+
+ private:
+  template <class Bytes>
+  static std::optional<DepthImage> build(const DepthImageDescriptor& desc, Bytes&& bytes) {
     std::uint64_t size = 0;
     if (check(desc.height, desc.width, desc.dtype, size) != detail::SizeError::None) return std::nullopt;
     if (size != desc.data_size || bytes.size() != size || !detail::has_terminator(desc.frame_id)) return std::nullopt;
@@ -595,9 +657,15 @@ class DepthImage {
     img.dtype_ = desc.dtype;
     img.frame_id_ = desc.frame_id;
     img.timestamp_ns_ = desc.timestamp_ns;
-    img.data_.assign(bytes.begin(), bytes.end());
+    if constexpr (std::is_same_v<std::remove_cvref_t<Bytes>, ByteBuffer>) {
+      img.data_ = std::move(bytes);
+    } else {
+      img.data_.assign(bytes.begin(), bytes.end());
+    }
     return img;
   }
+
+ public:
 
   /// True when dtype is F32 or U16 and data().size() == width * height *
   /// element size (always for an image made here; maybe not for hand-edited JSON).
@@ -622,7 +690,7 @@ class DepthImage {
   float depth_scale_{1.0f};
   std::array<char, 32> frame_id_{};
   std::uint64_t timestamp_ns_{};
-  std::vector<std::uint8_t> data_;
+  ByteBuffer data_;
 
   HORUS_REFLECT_FRIEND(DepthImage)
 
@@ -660,10 +728,13 @@ class DepthImage {
   }
 
   void init(std::uint32_t height, std::uint32_t width, TensorDtype dtype, std::uint64_t bytes) {
+    init_meta(height, width, dtype);
+    data_.assign(static_cast<std::size_t>(bytes), std::uint8_t{0});
+  }
+  void init_meta(std::uint32_t height, std::uint32_t width, TensorDtype dtype) noexcept {
     width_ = width;
     height_ = height;
     dtype_ = dtype;
-    data_.assign(static_cast<std::size_t>(bytes), std::uint8_t{0});
   }
 
   // Byte offset of pixel (x, y) when it is inside the image and inside data_.

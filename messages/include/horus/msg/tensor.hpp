@@ -39,6 +39,7 @@
 
 #include <fmt/format.h>
 
+#include "horus/byte_buffer.hpp"
 #include "horus/fixed_string.hpp"
 #include "horus/format.hpp"
 #include "horus/reflect.hpp"
@@ -406,11 +407,12 @@ class Tensor {
   }
 
   // --- data ---------------------------------------------------------------
-  std::span<const std::uint8_t> data() const noexcept { return data_; }
-  std::span<std::uint8_t> data_mut() noexcept { return data_; }
+  std::span<const std::uint8_t> data() const noexcept { return data_.view(); }
+  /// Writable bytes; a received (borrowed, read-only) buffer is copied first (ByteBuffer).
+  std::span<std::uint8_t> data_mut() { return data_.mutable_view(); }
 
   /// Copies src into the data block. False (nothing copied) when src.size() != nbytes().
-  bool copy_from(std::span<const std::uint8_t> src) noexcept {
+  bool copy_from(std::span<const std::uint8_t> src) {
     if (src.size() != data_.size()) return false;
     if (!src.empty()) std::memcpy(data_.data(), src.data(), src.size());
     return true;
@@ -451,6 +453,32 @@ class Tensor {
   /// Non-row-major strides (a view, even a broadcast with stride 0) are kept.
   /// The pool fields are not used (bytes are given).
   static std::optional<Tensor> from_descriptor(const TensorDescriptor& desc, std::span<const std::uint8_t> bytes) {
+    return build(desc, bytes);
+  }
+  /// The descriptor of such a message without allocating its bytes: what Topic<Tensor>::loan
+  /// takes to lend a pool slot. nullopt for the arguments the constructor refuses.
+  static std::optional<TensorDescriptor> describe(std::span<const std::uint64_t> shape, TensorDtype dtype, Device device = Device::cpu()) noexcept {
+    std::uint64_t bytes = 0;
+    if (check(shape, dtype, bytes) != detail::SizeError::None) return std::nullopt;
+    Tensor x;
+    x.init_meta(shape, dtype, device);
+    TensorDescriptor d = x.descriptor();
+    d.data_size = bytes;
+    return d;
+  }
+  /// As from_descriptor, taking `bytes` over instead of copying them: how a topic hands out a
+  /// message whose bytes stay in its shared-memory pool (zero-copy). nullopt under the same
+  /// conditions (bytes.size() must equal desc.data_size).
+  static std::optional<Tensor> adopt(const TensorDescriptor& desc, ByteBuffer&& bytes) { return build(desc, std::move(bytes)); }
+
+  /// The fixed-size description that travels through a topic while the bytes stay in its pool.
+  using Descriptor = TensorDescriptor;
+  /// The bytes with their storage (owned, or borrowed from a pool slot).
+  const ByteBuffer& buffer() const noexcept { return data_; }
+
+ private:
+  template <class Bytes>
+  static std::optional<Tensor> build(const TensorDescriptor& desc, Bytes&& bytes) {
     const std::size_t elem = msg::element_size(desc.dtype);
     if (desc.ndim == 0 || desc.ndim > kMaxDims || elem == 0) return std::nullopt;
     if (desc.data_size > kMaxLargeDataBytes || bytes.size() != desc.data_size) return std::nullopt;
@@ -473,9 +501,15 @@ class Tensor {
     }
     t.dtype_ = desc.dtype;
     t.device_ = desc.device;
-    t.data_.assign(bytes.begin(), bytes.end());
+    if constexpr (std::is_same_v<std::remove_cvref_t<Bytes>, ByteBuffer>) {
+      t.data_ = std::move(bytes);
+    } else {
+      t.data_.assign(bytes.begin(), bytes.end());
+    }
     return t;
   }
+
+ public:
 
   // --- DLPack (v0.6 ABI) --------------------------------------------------
   /// Exports a copy of the tensor as a DLManagedTensor owned by the caller, who
@@ -486,7 +520,7 @@ class Tensor {
   /// Throws std::bad_alloc on allocation failure.
   DLManagedTensor* to_dlpack() const& {
     if (!exportable()) return nullptr;
-    return export_dlpack(std::vector<std::uint8_t>(data_));
+    return export_dlpack(data_.to_vector());
   }
 
   /// Same, but hands the bytes over without copying (the exported data pointer
@@ -494,7 +528,7 @@ class Tensor {
   /// in the cases above.
   DLManagedTensor* to_dlpack() && {
     if (!exportable()) return nullptr;
-    DLManagedTensor* m = export_dlpack(std::move(data_));
+    DLManagedTensor* m = export_dlpack(std::move(data_).take_vector());
     *this = Tensor{};
     return m;
   }
@@ -581,7 +615,7 @@ class Tensor {
   std::uint8_t ndim_{};
   TensorDtype dtype_{TensorDtype::F32};
   Device device_{};
-  std::vector<std::uint8_t> data_;
+  ByteBuffer data_;
 
   HORUS_REFLECT_FRIEND(Tensor)
 
@@ -614,10 +648,13 @@ class Tensor {
   }
 
   void init(std::span<const std::uint64_t> shape, TensorDtype dtype, Device device, std::uint64_t bytes) {
+    init_meta(shape, dtype, device);
+    data_.assign(static_cast<std::size_t>(bytes), std::uint8_t{0});
+  }
+  void init_meta(std::span<const std::uint64_t> shape, TensorDtype dtype, Device device) noexcept {
     dtype_ = dtype;
     device_ = device;
     set_shape(shape);
-    data_.assign(static_cast<std::size_t>(bytes), std::uint8_t{0});
   }
 
   bool exportable() const noexcept {
