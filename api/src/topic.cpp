@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstdlib>
 #include <map>
 #include <limits>
@@ -356,6 +357,16 @@ Error pool_exhausted_error(const TopicCore& core) {
                            "still alive or lent; expected a free slot (drop received messages sooner, send or drop "
                            "loans, or open the topic with a larger capacity)",
                            core.name, core.pool.slots_per_lane(), core.type_name));
+}
+
+bool reap_dead_participants(TopicCore& core) {
+  if (!core.segment) return false;
+  const std::int64_t now = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                               std::chrono::steady_clock::now().time_since_epoch())
+                               .count();
+  std::int64_t last = core.last_reap_ns.load(std::memory_order_relaxed);
+  if (now - last < 50'000'000 || !core.last_reap_ns.compare_exchange_strong(last, now)) return false;
+  return core.segment->reap_dead() != 0;
 }
 
 void release_pin(const void* core, std::uint64_t slot, std::uint64_t participant) noexcept {

@@ -160,6 +160,7 @@ struct TopicCore {
   shm::Ring ring;
   shm::Pool pool;                // large data only
   std::uint32_t participant = 0;  // our index in the segment's participant table (what pins pool slots)
+  std::atomic<std::int64_t> last_reap_ns{0};  // reap_dead_participants' rate limit
 };
 
 /// Finds or creates the topic `name` for a message type; checks name, type and configuration.
@@ -183,6 +184,9 @@ void report_inconsistent(const TopicCore& core, std::uint64_t count);
 /// The error for the same, from send_blocking or loan().
 Error pool_exhausted_error(const TopicCore& core);
 
+/// Shared memory: releases what processes that died held (pins, lanes, subscriber entries), at
+/// most once per 50 ms per topic; true when some process was reaped.
+bool reap_dead_participants(TopicCore& core);
 /// Pool leases: a received message unpins its slot; a loan dropped unsent gives its slot back.
 void release_pin(const void* core, std::uint64_t slot, std::uint64_t participant) noexcept;
 void release_loan(const void* core, std::uint64_t slot, std::uint64_t gen) noexcept;
@@ -395,6 +399,11 @@ class Topic {
       }
     }
     if (try_commit(msg)) return {};
+    struct Blocking {  // retries below: a full pool is the returned error, not a log line each time
+      bool& flag;
+      explicit Blocking(bool& f) : flag(f) { flag = true; }
+      ~Blocking() { flag = false; }
+    } blocking(blocking_);
     const auto deadline = clock::now() + timeout;
     for (int i = 0; i < 256; ++i) {
       shm::cpu_relax();
@@ -407,8 +416,14 @@ class Topic {
     for (auto now = clock::now(); now < deadline; now = clock::now()) {
       std::this_thread::sleep_for(std::min<clock::duration>(std::chrono::microseconds(100), deadline - now));
       if (try_commit(msg)) return {};
+      // A subscriber that died with unread messages must not hold us back: reap (every 50 ms).
+      if (detail::reap_dead_participants(*core_) && try_commit(msg)) return {};
     }
     ++send_failures_;
+    if constexpr (kPooled) {
+      // The ring had room: what stayed full is the pool (subscribers keep every slot pinned).
+      if (writer_.has_space(reader_.token())) return std::unexpected(detail::pool_exhausted_error(*core_));
+    }
     return fail(Errc::Timeout, "topic '" + core_->name + "': ring stayed full for " +
                                    std::to_string(std::chrono::duration<double, std::milli>(timeout).count()) +
                                    " ms (a subscriber has " + std::to_string(core_->ring.capacity()) +
@@ -608,7 +623,9 @@ class Topic {
         if (((loans_ >> k) & 1u) != 0 && !pool.claimed({base + k, loan_gen_[k]})) loans_ &= ~(std::uint64_t{1} << k);
     }
     auto c = pool.claim(writer_.lane(), loans_);
-    if (!c) detail::report_pool_exhausted(*core_, ++pool_exhausted_);
+    // Every slot pinned: pins of processes that died are cleared (at most every 50 ms), then retry.
+    if (!c && detail::reap_dead_participants(*core_)) c = pool.claim(writer_.lane(), loans_);
+    if (!c && !blocking_) detail::report_pool_exhausted(*core_, ++pool_exhausted_);  // send_blocking reports its own
     return c;
   }
 
@@ -713,6 +730,7 @@ class Topic {
   std::uint64_t pool_lost_ = 0;       // descriptors whose slot was reused before we pinned it
   std::uint64_t pool_exhausted_ = 0;  // sends that found every slot of our lane pinned
   std::uint64_t inconsistent_ = 0;    // sends refused: metadata that does not describe the bytes
+  bool blocking_ = false;             // inside send_blocking's retries
   std::uint64_t loans_ = 0;           // bit k: slot k of our lane is lent (Loan) and not yet sent
   struct NoLoans {};
   [[no_unique_address]] std::conditional_t<kPooled, std::array<std::uint64_t, shm::kMaxPoolSlotsPerLane>, NoLoans>
