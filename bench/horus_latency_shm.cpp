@@ -2,8 +2,11 @@
 // floor measured in the same run.
 //
 //   * floor: one cache line bounced between two processes through a MAP_SHARED page;
-//   * horus Topic<CmdVel> (16 B), a 1 KiB message, and a 1920x1080 RGB Image: ping-pong between
-//     two processes (fork), one-way = RTT/2, p50/p99/p99.9;
+//   * horus Topic<CmdVel> (16 B), a 1 KiB message, and a 1920x1080 RGB Image through the pool
+//     (a loan: zero-copy; and send() of an existing image: one copy into the pool): ping-pong
+//     between two processes (fork), one-way = RTT/2, p50/p99/p99.9;
+//   * the baseline, iceoryx 2.0 from Debian (when found at build time): the same ping-pong for
+//     16 B, 1 KiB and a 6 MB chunk through a private iox-roudi this tool starts and stops;
 //   * throughput: CmdVel messages per second from one process to another, lossless
 //     (try_send until accepted).
 // Parent and child are pinned to two CPUs (--cpus). Blocks of floor and horus rounds are
@@ -29,6 +32,10 @@
 
 #include "bench_common.hpp"
 #include "horus/horus.hpp"
+#include "horus/messages.hpp"
+#ifdef HORUS_BENCH_ICEORYX
+#include "iox_baseline.hpp"
+#endif
 
 namespace hb = horus::bench;
 
@@ -144,6 +151,61 @@ std::vector<double> topic_rounds(std::uint64_t rounds, int cpu, const hb::TscClo
   return out;
 }
 
+// Ping-pong of a 1920x1080 RGB image through the pool. Zero-copy: each side loans a slot and
+// writes only the sequence number (in the first 8 bytes and the timestamp), as the iceoryx
+// baseline does. Copy: each side sends an existing image, copied into a slot.
+std::vector<double> image_rounds(std::uint64_t rounds, int cpu, const hb::TscClock& tsc, bool loan) {
+  using horus::msg::Image;
+  const std::string ping = unique("iping"), pong = unique("ipong");
+  const auto desc = *Image::describe(1080, 1920, horus::msg::ImageEncoding::Rgb8);
+  Shared* s = map_shared();
+  horus::Topic<Image> pong_sub(pong);
+  horus::Topic<Image> ping_pub(ping);
+  auto stamp = [](Image& img, std::uint64_t k) {
+    std::memcpy(img.data_mut().data(), &k, sizeof k);
+    img.set_timestamp_ns(k);
+  };
+  auto send = [&](horus::Topic<Image>& t, std::uint64_t k, const Image& frame) {
+    if (loan) {
+      auto l = t.loan(desc);
+      if (!l) throw std::runtime_error(l.error().message());
+      stamp(**l, k);
+      t.send(std::move(*l));
+    } else {
+      t.send(frame);
+    }
+  };
+  const pid_t child = spawn(cpu, [&] {
+    horus::Topic<Image> ping_sub(ping);
+    horus::Topic<Image> pong_pub(pong);
+    s->ready.v.store(1, std::memory_order_release);
+    for (std::uint64_t k = 0; k < rounds;) {
+      if (auto m = ping_sub.recv()) {
+        send(pong_pub, m->timestamp_ns(), *m);
+        ++k;
+      }
+    }
+  });
+  while (s->ready.v.load(std::memory_order_acquire) == 0) hb_relax();
+  Image frame(1080, 1920, horus::msg::ImageEncoding::Rgb8);
+  std::vector<double> out;
+  out.reserve(rounds);
+  for (std::uint64_t k = 0; k < rounds; ++k) {
+    if (!loan) stamp(frame, k);
+    const auto t0 = hb::TscClock::now();
+    send(ping_pub, k, frame);
+    for (;;) {
+      if (auto m = pong_sub.recv()) {
+        if (m->timestamp_ns() == k) break;
+      }
+    }
+    out.push_back(tsc.to_ns(hb::TscClock::now() - t0) / 2.0);
+  }
+  wait_child(child);
+  ::munmap(s, sizeof(Shared));
+  return out;
+}
+
 double throughput_cmdvel(std::uint64_t count, int cpu) {
   const std::string name = unique("tput");
   Shared* s = map_shared();
@@ -175,9 +237,12 @@ double p50(std::vector<double> v) { return hb::percentiles(v).p50; }
 }  // namespace
 
 int main(int argc, char** argv) {
+#ifdef HORUS_BENCH_ICEORYX
+  if (auto rc = hb::iox::child_main(argc, argv)) return *rc;  // the iceoryx ping and pong helpers
+#endif
   std::uint64_t rounds = 100000;
   int blocks = 10;
-  std::uint64_t image_rounds = 200;
+  std::uint64_t image_rounds_n = 2000;
   std::uint64_t tput = 2'000'000;
   std::vector<int> cpus{0, 1};
   bool quick = false;
@@ -185,16 +250,18 @@ int main(int argc, char** argv) {
   CLI::App app{"horus cross-process latency (shared memory) with the floor measured in the same run"};
   app.add_option("--rounds", rounds, "round trips per kind (split into blocks)");
   app.add_option("--blocks", blocks, "interleaved blocks")->check(CLI::Range(1, 100));
-  app.add_option("--image-rounds", image_rounds, "round trips of the 1920x1080 image");
+  app.add_option("--image-rounds", image_rounds_n, "round trips of the 1920x1080 image");
   app.add_option("--throughput", tput, "messages for the throughput run");
   app.add_option("--cpus", cpus, "parent and child CPU")->expected(2);
   app.add_flag("--quick", quick, "a short smoke run");
   app.add_option("--json", json_path, "also write the rows as JSON");
+  bool no_iceoryx = false;
+  app.add_flag("--no-iceoryx", no_iceoryx, "skip the iceoryx baseline");
   CLI11_PARSE(app, argc, argv);
   if (quick) {
     rounds = 4000;
     blocks = 2;
-    image_rounds = 10;
+    image_rounds_n = 100;
     tput = 100000;
   }
   hb::pin_to_cpu(cpus[0]);
@@ -202,8 +269,30 @@ int main(int argc, char** argv) {
   const int child_cpu = cpus[1];
   const std::uint64_t per_block = std::max<std::uint64_t>(500, rounds / static_cast<std::uint64_t>(blocks));
 
-  std::vector<double> floor_all, cmd_all, kb_all;
-  std::vector<double> cmd_ratio, kb_ratio;
+  std::vector<double> floor_all, cmd_all, kb_all, iox16_all, iox1k_all;
+  std::vector<double> cmd_ratio, kb_ratio, iox16_ratio, iox1k_ratio;
+  std::string iox_why = "not built (iceoryx_posh not found by CMake)";
+  bool iox = false;
+#ifdef HORUS_BENCH_ICEORYX
+  const std::optional<hb::iox::Roudi> roudi =
+      no_iceoryx ? std::nullopt : hb::iox::Roudi::start(&iox_why);  // stopped when main returns
+  iox = roudi.has_value();
+  if (no_iceoryx) iox_why = "skipped (--no-iceoryx)";
+  char self_buf[4096];
+  const ssize_t self_len = ::readlink("/proc/self/exe", self_buf, sizeof(self_buf) - 1);
+  const std::string self_exe = self_len > 0 ? std::string(self_buf, static_cast<std::size_t>(self_len)) : argv[0];
+  auto iox_block = [&](std::size_t bytes, std::uint64_t n) {
+    std::vector<double> v;
+    if (iox) {
+      v = hb::iox::pingpong(bytes, n, child_cpu, tsc, self_exe, &iox_why);
+      if (v.empty()) iox = false;  // reported below
+    }
+    return v;
+  };
+#else
+  (void)no_iceoryx;
+  auto iox_block = [](std::size_t, std::uint64_t) { return std::vector<double>{}; };
+#endif
   for (int b = 0; b < blocks; ++b) {
     auto f = floor_rounds(per_block, child_cpu, tsc);
     auto c = topic_rounds<horus::msg::CmdVel>(
@@ -222,22 +311,24 @@ int main(int argc, char** argv) {
           return m;
         },
         [](const bench_msg::Kilobyte& m) { return m.seq; });
+    auto i16 = iox_block(16, per_block);
+    auto i1k = iox_block(1024, per_block);
     const double fb = p50(f);
     cmd_ratio.push_back(p50(c) / fb);
     kb_ratio.push_back(p50(k) / fb);
+    if (!i16.empty() && !i1k.empty()) {
+      iox16_ratio.push_back(p50(i16) / p50(c));
+      iox1k_ratio.push_back(p50(i1k) / p50(k));
+      iox16_all.insert(iox16_all.end(), i16.begin(), i16.end());
+      iox1k_all.insert(iox1k_all.end(), i1k.begin(), i1k.end());
+    }
     floor_all.insert(floor_all.end(), f.begin(), f.end());
     cmd_all.insert(cmd_all.end(), c.begin(), c.end());
     kb_all.insert(kb_all.end(), k.begin(), k.end());
   }
-  const horus::msg::Image frame(1080, 1920, horus::msg::ImageEncoding::Rgb8);
-  auto img = topic_rounds<horus::msg::Image>(
-      image_rounds, child_cpu, tsc,
-      [&](std::uint64_t k) {
-        horus::msg::Image m = frame;
-        m.set_timestamp_ns(k);
-        return m;
-      },
-      [](const horus::msg::Image& m) { return m.timestamp_ns(); });
+  auto img = image_rounds(image_rounds_n, child_cpu, tsc, /*loan=*/true);
+  auto img_copy = image_rounds(std::max<std::uint64_t>(10, image_rounds_n / 4), child_cpu, tsc, /*loan=*/false);
+  auto iox_img = iox_block(1920 * 1080 * 3, image_rounds_n);
   const double rate = throughput_cmdvel(tput, child_cpu);
 
   auto median = [](std::vector<double> v) {
@@ -245,7 +336,7 @@ int main(int argc, char** argv) {
     return v[v.size() / 2];
   };
   const auto pf = hb::percentiles(floor_all), pc = hb::percentiles(cmd_all), pk = hb::percentiles(kb_all),
-             pi = hb::percentiles(img);
+             pi = hb::percentiles(img), pic = hb::percentiles(img_copy);
   fmt::print("horus cross-process latency, shared memory (CPUs {} and {}, {} round trips in {} blocks)\n\n", cpus[0],
              cpus[1], per_block * static_cast<std::uint64_t>(blocks), blocks);
   fmt::print("{:<44} {:>10} {:>10} {:>10} {:>10}\n", "one-way (RTT/2)", "p50 ns", "p99 ns", "p99.9 ns", "p50/floor*");
@@ -255,21 +346,41 @@ int main(int argc, char** argv) {
              median(cmd_ratio));
   fmt::print("{:<44} {:>10.1f} {:>10.1f} {:>10.1f} {:>9.2f}x\n", "horus 1 KiB message", pk.p50, pk.p99, pk.p999,
              median(kb_ratio));
-  fmt::print("{:<44} {:>10.0f} {:>10.0f} {:>10.0f} {:>10}\n", "horus Image 1920x1080 RGB (serialized today)",
-             pi.p50, pi.p99, pi.p999, "");
+  fmt::print("{:<44} {:>10.1f} {:>10.1f} {:>10.1f} {:>10}\n", "horus Image 1920x1080 RGB, loan (zero-copy)", pi.p50,
+             pi.p99, pi.p999, "");
+  fmt::print("{:<44} {:>10.0f} {:>10.0f} {:>10.0f} {:>10}\n", "horus Image 1920x1080 RGB, send() (one copy)", pic.p50,
+             pic.p99, pic.p999, "");
+  const bool have_iox = !iox16_all.empty() && !iox_img.empty();
+  double img_vs_iox = 0;
+  if (have_iox) {
+    const auto i16 = hb::percentiles(iox16_all), i1k = hb::percentiles(iox1k_all), iim = hb::percentiles(iox_img);
+    img_vs_iox = iim.p50 / pi.p50;
+    fmt::print("{:<44} {:>10.1f} {:>10.1f} {:>10.1f} {:>10}\n", "iceoryx 2.0 16 B (loan)", i16.p50, i16.p99, i16.p999, "");
+    fmt::print("{:<44} {:>10.1f} {:>10.1f} {:>10.1f} {:>10}\n", "iceoryx 2.0 1 KiB (loan)", i1k.p50, i1k.p99, i1k.p999, "");
+    fmt::print("{:<44} {:>10.1f} {:>10.1f} {:>10.1f} {:>10}\n", "iceoryx 2.0 6 MB image chunk (loan)", iim.p50, iim.p99,
+               iim.p999, "");
+    fmt::print("\nvs iceoryx (p50 iceoryx / p50 horus, median over blocks): CmdVel {:.1f}x, 1 KiB {:.1f}x, image "
+               "{:.1f}x lower with horus\n",
+               median(iox16_ratio), median(iox1k_ratio), img_vs_iox);
+  } else {
+    fmt::print("\niceoryx baseline: {}\n", iox_why);
+  }
   fmt::print("\nthroughput, lossless: {:.1f} M CmdVel/s\n", rate / 1e6);
   fmt::print("* median over {} blocks of (p50 / floor p50 of the same block)\n", blocks);
-  fmt::print("targets: CmdVel p50 <= 1.5x floor ({}), p99 <= 3x floor p99 ({}); throughput >= 20 M/s ({})\n",
+  fmt::print("targets: CmdVel p50 <= 1.5x floor ({}), p99 <= 3x floor p99 ({}); image p50 < 2 us ({}); throughput "
+             ">= 20 M/s ({}); p50 >= 3x lower than iceoryx ({})\n",
              median(cmd_ratio) <= 1.5 ? "met" : "missed", pc.p99 <= 3.0 * pf.p99 ? "met" : "missed",
-             rate >= 20e6 ? "met" : "missed");
+             pi.p50 < 2000.0 ? "met" : "missed", rate >= 20e6 ? "met" : "missed",
+             !have_iox ? "not measured"
+                       : (median(iox16_ratio) >= 3 && median(iox1k_ratio) >= 3 && img_vs_iox >= 3 ? "met" : "missed"));
   if (!json_path.empty()) {
     std::ofstream out(json_path);
     out << fmt::format(
         "{{\"floor\":{{\"p50\":{},\"p99\":{},\"p999\":{}}},\"cmdvel\":{{\"p50\":{},\"p99\":{},\"p999\":{},\"ratio\":{}}},"
-        "\"kib\":{{\"p50\":{},\"p99\":{},\"p999\":{},\"ratio\":{}}},\"image\":{{\"p50\":{},\"p99\":{}}},"
+        "\"kib\":{{\"p50\":{},\"p99\":{},\"p999\":{},\"ratio\":{}}},\"image\":{{\"p50\":{},\"p99\":{}}},\"image_copy\":{{\"p50\":{}}},"
         "\"throughput_msgs_per_s\":{}}}\n",
         pf.p50, pf.p99, pf.p999, pc.p50, pc.p99, pc.p999, median(cmd_ratio), pk.p50, pk.p99, pk.p999,
-        median(kb_ratio), pi.p50, pi.p99, rate);
+        median(kb_ratio), pi.p50, pi.p99, pic.p50, rate);
   }
   return 0;
 }

@@ -11,6 +11,7 @@ packages=(
   libboost-dev   # boost::lockfree::spsc_queue, the benchmark baseline (header-only)
   libmsgpack-cxx-dev   # GenericMessage payloads (MessagePack)
   libdlpack-dev        # Tensor::to_dlpack (the DLPack ABI header)
+  iceoryx libiceoryx-posh-dev   # iox-roudi and iceoryx 2.0: the baseline of horus-latency-shm
 )
 
 missing=()

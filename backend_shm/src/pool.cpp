@@ -1,5 +1,6 @@
 #include "horus/shm/pool.hpp"
 
+#include <algorithm>
 #include <limits>
 #include <new>
 
@@ -48,6 +49,7 @@ Pool Pool::format(void* region, const PoolConfig& cfg) noexcept {
   h->slots_offset = l.slots_offset;
   h->data_offset = l.data_offset;
   h->total_size = l.total;
+  h->participants.store(1, std::memory_order_relaxed);  // a process-local topic has participant 0
   auto* base = static_cast<std::byte*>(region);
   for (std::uint32_t i = 0; i < cfg.slots_per_lane * kMaxPublishers; ++i)
     new (base + l.slots_offset + i * sizeof(PoolSlot)) PoolSlot{};
@@ -78,9 +80,18 @@ Pool Pool::attach(void* region) noexcept {
 }
 
 bool Pool::pinned(const PoolSlot& s) const noexcept {
-  for (const auto& c : s.pins)
-    if (c.load(std::memory_order_seq_cst) != 0) return true;
+  // Sequentially consistent with admit(): a participant admitted before it pinned is counted.
+  const std::uint32_t n = std::min(hdr_->participants.load(std::memory_order_seq_cst), kMaxParticipants);
+  for (std::uint32_t p = 0; p < n; ++p)
+    if (s.pins[p].load(std::memory_order_seq_cst) != 0) return true;
   return false;
+}
+
+void Pool::admit(std::uint32_t p) const noexcept {
+  if (p >= kMaxParticipants) return;
+  std::uint32_t n = hdr_->participants.load(std::memory_order_seq_cst);
+  while (n < p + 1 && !hdr_->participants.compare_exchange_weak(n, p + 1, std::memory_order_seq_cst)) {
+  }
 }
 
 std::optional<Pool::Claim> Pool::claim(std::uint32_t lane, std::uint64_t busy) const noexcept {
@@ -135,6 +146,7 @@ bool Pool::abandon(const Claim& c) const noexcept {
 
 bool Pool::pin(std::uint32_t i, std::uint64_t gen, std::uint32_t p) const noexcept {
   if (i >= slot_count() || p >= kMaxParticipants || (gen & 1u) != 0) return false;
+  if (p >= hdr_->participants.load(std::memory_order_relaxed)) admit(p);  // writers must look at our pins
   PoolSlot& s = slots_[i];
   s.pins[p].fetch_add(1, std::memory_order_seq_cst);
   if (s.gen.load(std::memory_order_seq_cst) == gen) return true;

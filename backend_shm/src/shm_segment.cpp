@@ -360,6 +360,7 @@ std::expected<ShmSegment, SegmentError> ShmSegment::open(std::string_view ns, st
       e.start_time.store(self_start, std::memory_order_relaxed);
       e.pid.store(static_cast<std::uint32_t>(self), std::memory_order_release);
       seg.slot_ = i;
+      if (seg.pool_) seg.pool_.admit(i);
       return seg;
     }
     seg.slot_ = kMaxParticipants;

@@ -64,6 +64,8 @@ struct alignas(kCacheLine) PoolHeader {
   std::uint64_t slots_offset;  // PoolSlot table, from the pool's base
   std::uint64_t data_offset;   // slot data, from the pool's base
   std::uint64_t total_size;
+  // Participants 0 .. participants-1 may pin (a high-water mark): a writer checks only those.
+  alignas(kCacheLine) std::atomic<std::uint32_t> participants;
   alignas(kCacheLine) std::atomic<std::uint64_t> reused;     // unread messages lost to a slot's reuse
   alignas(kCacheLine) std::atomic<std::uint64_t> exhausted;  // sends refused: every slot of the lane pinned
 };
@@ -120,6 +122,8 @@ class Pool {
   /// pinned) when the slot was reused or `i` is out of range.
   bool pin(std::uint32_t i, std::uint64_t gen, std::uint32_t p) const noexcept;
   void unpin(std::uint32_t i, std::uint32_t p) const noexcept;
+  /// Participant `p` may pin from now on (call before its first pin()).
+  void admit(std::uint32_t p) const noexcept;
   /// Drops every pin of participant `p` (a process that died, or left).
   void release_participant(std::uint32_t p) const noexcept;
   /// Slots pinned by anyone now (for tools and tests).
