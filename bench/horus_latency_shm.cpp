@@ -327,7 +327,7 @@ int main(int argc, char** argv) {
     kb_all.insert(kb_all.end(), k.begin(), k.end());
   }
   auto img = image_rounds(image_rounds_n, child_cpu, tsc, /*loan=*/true);
-  auto img_copy = image_rounds(std::max<std::uint64_t>(10, image_rounds_n / 4), child_cpu, tsc, /*loan=*/false);
+  auto img_copy = image_rounds(std::clamp<std::uint64_t>(image_rounds_n / 4, 10, 300), child_cpu, tsc, /*loan=*/false);
   auto iox_img = iox_block(1920 * 1080 * 3, image_rounds_n);
   const double rate = throughput_cmdvel(tput, child_cpu);
 

@@ -14,7 +14,7 @@ ctest --preset default -j "$jobs"
 
 if [ "${HORUS_TEST_TSAN:-1}" != "0" ]; then
   cmake --preset tsan
-  cmake --build --preset tsan -j "$jobs" --target test_topic_concurrency test_topic_serialized
+  cmake --build --preset tsan -j "$jobs" --target test_topic_concurrency test_topic_serialized test_pool
   # TSan needs the classic address-space layout; kernels with more mmap randomness break it.
   run=()
   if command -v setarch >/dev/null; then run=(setarch "$(uname -m)" -R); fi

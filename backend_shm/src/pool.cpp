@@ -137,6 +137,9 @@ std::uint64_t Pool::publish(const Claim& c, std::uint64_t stamp) const noexcept 
 
 bool Pool::abandon(const Claim& c) const noexcept {
   PoolSlot& s = slots_[c.slot];
+  // Published already (the usual case, a sent loan): a load, not a locked write to a line
+  // subscribers are reading.
+  if (s.gen.load(std::memory_order_acquire) != c.gen) return false;
   std::uint64_t expected = c.gen;
   // c.gen + 1 is a generation no descriptor carries; stamp 0 makes the slot the first reused.
   if (!s.gen.compare_exchange_strong(expected, c.gen + 1, std::memory_order_acq_rel)) return false;

@@ -73,8 +73,11 @@ struct alignas(kCacheLine) PoolHeader {
 struct alignas(kCacheLine) PoolSlot {
   std::atomic<std::uint64_t> gen;    // even: stable; odd: being written
   std::atomic<std::uint64_t> stamp;  // lane head when last published (the oldest free slot is reused first)
-  std::atomic<std::uint32_t> pins[kMaxParticipants];
+  // The pins on lines of their own: subscribers write them, and a writer scanning its slots'
+  // stamps must not miss the cache on every slot a subscriber pinned.
+  alignas(kCacheLine) std::atomic<std::uint32_t> pins[kMaxParticipants];
 };
+static_assert(sizeof(PoolSlot) == 5 * kCacheLine, "a pool slot header is one line of state and four of pins");
 
 class Pool {
  public:
