@@ -56,6 +56,12 @@ nlohmann::json entry_json(const horus::discovery::TopicEntry& e) {
   j["message_size"] = e.message_size;
   j["serialized"] = e.serialized;
   j["capacity"] = e.capacity;
+  if (e.pooled)
+    j["pool"] = {{"slot_bytes", e.pool_slot_bytes},
+                 {"slots_per_publisher", e.pool_slots_per_publisher},
+                 {"pinned", e.pool_pinned},
+                 {"reused", e.pool_reused},
+                 {"exhausted", e.pool_exhausted}};
   j["segment"] = e.segment;
   j["segment_bytes"] = e.segment_bytes;
   j["publishers"] = e.publishers;
@@ -111,9 +117,17 @@ int cmd_info(const std::string& ns, const std::string& name) {
   }
   fmt::print("topic:        {}\n", e->topic);
   fmt::print("type:         {} (layout hash {:016x})\n", e->type_name, e->type_hash);
-  fmt::print("message:      {}\n", e->serialized ? fmt::format("serialized, at most {} bytes", e->message_size)
-                                                  : fmt::format("{} bytes, fixed size", e->message_size));
+  if (e->pooled)
+    fmt::print("message:      large data: a {}-byte descriptor, the bytes in a pool slot of at most {} bytes\n",
+               e->message_size, e->pool_slot_bytes);
+  else
+    fmt::print("message:      {}\n", e->serialized ? fmt::format("serialized, at most {} bytes", e->message_size)
+                                                    : fmt::format("{} bytes, fixed size", e->message_size));
   fmt::print("capacity:     {} slots per publisher\n", e->capacity);
+  if (e->pooled)
+    fmt::print("pool:         {} slots per publisher, {} pinned now; {} unread messages lost to slot reuse, {} "
+               "sends refused (every slot pinned)\n",
+               e->pool_slots_per_publisher, e->pool_pinned, e->pool_reused, e->pool_exhausted);
   fmt::print("segment:      /dev/shm/{} ({} bytes)\n", e->segment, e->segment_bytes);
   fmt::print("publishers:   {}\nsubscribers:  {}\n", e->publishers, e->subscribers);
   fmt::print("processes:    {}\n", processes_text(*e));

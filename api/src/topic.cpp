@@ -1,5 +1,6 @@
 #include <fmt/format.h>
 
+#include <pthread.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -245,6 +246,9 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
   core->serialized = type.serialized;
   core->backend = backend;
   core->pid = ::getpid();
+  (void)current_pid();  // registers the fork handler before any lease exists
+  if (pool_bytes != 0)
+    core->claimer = {static_cast<std::uint32_t>(core->pid), shm::process_start_time(core->pid)};
   if (backend == Backend::SharedMemory) {
     shm::SegmentSpec spec;
     spec.type_name = type.name;
@@ -369,13 +373,31 @@ bool reap_dead_participants(TopicCore& core) {
   return core.segment->reap_dead() != 0;
 }
 
+namespace {
+std::atomic<int> g_pid{0};
+void refresh_pid() noexcept { g_pid.store(static_cast<int>(::getpid()), std::memory_order_relaxed); }
+}  // namespace
+
+int current_pid() noexcept {
+  static const bool registered = [] {
+    refresh_pid();
+    ::pthread_atfork(nullptr, nullptr, &refresh_pid);
+    return true;
+  }();
+  (void)registered;
+  return g_pid.load(std::memory_order_relaxed);
+}
+
 void release_pin(const void* core, std::uint64_t slot, std::uint64_t participant) noexcept {
-  static_cast<const TopicCore*>(core)->pool.unpin(static_cast<std::uint32_t>(slot),
-                                                  static_cast<std::uint32_t>(participant));
+  const auto* c = static_cast<const TopicCore*>(core);
+  if (c->pid != current_pid()) return;  // a forked child's copy: the pin is its parent's
+  c->pool.unpin(static_cast<std::uint32_t>(slot), static_cast<std::uint32_t>(participant));
 }
 
 void release_loan(const void* core, std::uint64_t slot, std::uint64_t gen) noexcept {
-  static_cast<const TopicCore*>(core)->pool.abandon({static_cast<std::uint32_t>(slot), gen});
+  const auto* c = static_cast<const TopicCore*>(core);
+  if (c->pid != current_pid()) return;  // a forked child's copy: the loan is its parent's
+  c->pool.abandon({static_cast<std::uint32_t>(slot), gen});
 }
 
 void report_no_subscriber_slot(const TopicCore& core) {

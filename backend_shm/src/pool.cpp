@@ -1,5 +1,7 @@
 #include "horus/shm/pool.hpp"
 
+#include "horus/shm/shm_segment.hpp"  // process_alive
+
 #include <algorithm>
 #include <limits>
 #include <new>
@@ -94,17 +96,21 @@ void Pool::admit(std::uint32_t p) const noexcept {
   }
 }
 
-std::optional<Pool::Claim> Pool::claim(std::uint32_t lane, std::uint64_t busy) const noexcept {
+std::optional<Pool::Claim> Pool::claim(std::uint32_t lane, const Claimer& me, std::uint64_t max_stamp) const noexcept {
   const std::uint32_t n = hdr_->slots_per_lane;
   const std::uint32_t first = lane * n;
   // Candidates from the oldest: a lane has at most 64 slots, so a few passes over it are cheap.
-  std::uint64_t tried = busy;
+  std::uint64_t tried = 0;
   for (std::uint32_t attempt = 0; attempt < n; ++attempt) {
     std::uint32_t best = n;
     std::uint64_t best_stamp = std::numeric_limits<std::uint64_t>::max();
     for (std::uint32_t k = 0; k < n; ++k) {
       if ((tried >> k) & 1u) continue;
       const std::uint64_t st = slots_[first + k].stamp.load(std::memory_order_relaxed);
+      if (st > max_stamp) {
+        tried |= std::uint64_t{1} << k;
+        continue;
+      }
       if (st < best_stamp) {
         best_stamp = st;
         best = k;
@@ -114,9 +120,18 @@ std::optional<Pool::Claim> Pool::claim(std::uint32_t lane, std::uint64_t busy) c
     tried |= std::uint64_t{1} << best;
     PoolSlot& s = slots_[first + best];
     if (pinned(s)) continue;
-    const std::uint64_t old = s.gen.load(std::memory_order_relaxed);
-    // Even: stable. Odd and not ours: its writer died mid-write; no descriptor names it.
+    const std::uint64_t old = s.gen.load(std::memory_order_acquire);
+    if ((old & 1u) != 0) {
+      // Being written: a loan of a live process (ours included, even of a handle since closed)
+      // stays its own; a writer that died mid-write left it, and no descriptor names it.
+      const auto pid = s.claimer_pid.load(std::memory_order_relaxed);
+      const auto start = s.claimer_start.load(std::memory_order_relaxed);
+      if (pid == me.pid && start == me.start_time) continue;
+      if (process_alive(static_cast<pid_t>(pid), start)) continue;
+    }
     const std::uint64_t gen = (old & 1u) == 0 ? old + 1 : old + 2;
+    s.claimer_pid.store(me.pid, std::memory_order_relaxed);
+    s.claimer_start.store(me.start_time, std::memory_order_relaxed);
     s.gen.store(gen, std::memory_order_seq_cst);
     if (pinned(s)) {  // a subscriber pinned it meanwhile: leave it to them
       s.gen.store(old, std::memory_order_seq_cst);
@@ -124,7 +139,6 @@ std::optional<Pool::Claim> Pool::claim(std::uint32_t lane, std::uint64_t busy) c
     }
     return Claim{first + best, gen};
   }
-  hdr_->exhausted.fetch_add(1, std::memory_order_relaxed);
   return std::nullopt;
 }
 
@@ -140,11 +154,12 @@ bool Pool::abandon(const Claim& c) const noexcept {
   // Published already (the usual case, a sent loan): a load, not a locked write to a line
   // subscribers are reading.
   if (s.gen.load(std::memory_order_acquire) != c.gen) return false;
-  std::uint64_t expected = c.gen;
-  // c.gen + 1 is a generation no descriptor carries; stamp 0 makes the slot the first reused.
-  if (!s.gen.compare_exchange_strong(expected, c.gen + 1, std::memory_order_acq_rel)) return false;
+  // Only the claim's holder publishes it, and it is giving it back: stamp 0 (reused first) may
+  // be stored before the generation changes, never after (the slot could be taken by then).
   s.stamp.store(0, std::memory_order_relaxed);
-  return true;
+  std::uint64_t expected = c.gen;
+  // c.gen + 1 is a generation no descriptor carries.
+  return s.gen.compare_exchange_strong(expected, c.gen + 1, std::memory_order_acq_rel);
 }
 
 bool Pool::pin(std::uint32_t i, std::uint64_t gen, std::uint32_t p) const noexcept {

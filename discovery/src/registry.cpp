@@ -27,6 +27,15 @@ std::optional<TopicEntry> read_entry(const shm::SegmentInfo& info) {
   e.message_size = e.serialized ? shm::max_serialized_size(h.payload_size) : h.payload_size;
   e.capacity = h.capacity;
   e.created_unix_ns = h.created_unix_ns;
+  if (const shm::Pool pool = view->pool()) {
+    e.pooled = true;
+    e.pool_slot_bytes = pool.slot_bytes();
+    e.pool_slots_per_publisher = pool.slots_per_lane();
+    e.pool_pinned = pool.pinned_slots();
+    e.pool_reused = pool.header().reused.load(std::memory_order_relaxed);
+    e.pool_exhausted = pool.header().exhausted.load(std::memory_order_relaxed);
+    e.dropped += e.pool_reused;
+  }
   const shm::Ring ring = view->ring();
   e.messages_sent = ring.total_sent();
   e.dropped = ring.header().dropped_total.load(std::memory_order_relaxed) + ring.undetected_losses();

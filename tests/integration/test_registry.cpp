@@ -157,6 +157,40 @@ TEST(HorusCli, ListAndInfoShowTheTopicAndUnknownNamesAreErrors) {
   EXPECT_NE(out.find("not a standard horus message"), std::string::npos) << out;
 }
 
+TEST(Registry, ALargeDataTopicShowsItsPoolAndPinnedSlots) {
+  using horus::msg::Image;
+  const auto name = horus_test::unique_name("registry.pool");
+  auto pub = horus::Topic<Image>::with_capacity(name, 2, std::size_t{1} << 20);
+  ASSERT_TRUE(pub);
+  horus::Topic<Image> sub(name);
+  Image img(4, 6, horus::msg::ImageEncoding::Mono8);
+  pub->send(img);
+  pub->send(img);
+  auto held = sub.recv();  // pins one slot while it lives
+  ASSERT_TRUE(held);
+  auto e = horus::discovery::find_topic(ns(), name);
+  ASSERT_TRUE(e) << e.error();
+  EXPECT_TRUE(e->pooled);
+  EXPECT_EQ(e->pool_slot_bytes, std::uint64_t{1} << 20);
+  EXPECT_EQ(e->pool_slots_per_publisher, 4u);
+  EXPECT_EQ(e->pool_pinned, 1u);
+  EXPECT_EQ(e->message_size, sizeof(horus::msg::ImageDescriptor));
+  std::string out;
+  ASSERT_EQ(run(std::string(HORUS_CLI) + " topic info " + name, out), 0) << out;
+  EXPECT_NE(out.find("pool:         4 slots per publisher, 1 pinned now"), std::string::npos) << out;
+  // echo decodes an Image from another process (the CLI borrows the pool slot too).
+  std::thread sender([&] {
+    for (int i = 0; i < 200; ++i) {
+      pub->send(img);
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  });
+  const int rc = run(std::string(HORUS_CLI) + " topic echo " + name + " -n 1 --json --timeout 5", out);
+  sender.join();
+  ASSERT_EQ(rc, 0) << out;
+  EXPECT_NE(out.find("\"width\":6"), std::string::npos) << out;
+}
+
 TEST(HorusCli, HzReportsTheRateOfALiveTopic) {
   const auto name = horus_test::unique_name("cli_hz");
   horus::Topic<horus::msg::CmdVel> pub(name);

@@ -3,6 +3,9 @@
 // slot from being rewritten, exhaustion, and reuse counted as drops.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <atomic>
 #include <cstring>
 #include <deque>
@@ -12,6 +15,7 @@
 #include "horus/messages.hpp"
 #include "horus/shm/heap_region.hpp"
 #include "horus/shm/pool.hpp"
+#include "horus/shm/shm_segment.hpp"
 #include "horus/topic.hpp"
 #include "test_support.hpp"
 
@@ -23,6 +27,10 @@ using horus::msg::Image;
 using horus::msg::ImageEncoding;
 using horus::shm::Pool;
 using horus::shm::PoolConfig;
+
+Pool::Claimer me() {
+  return {static_cast<std::uint32_t>(::getpid()), horus::shm::process_start_time(::getpid())};
+}
 
 struct PoolFixture {
   explicit PoolFixture(PoolConfig cfg) : region(Pool::required_size(cfg)), pool(Pool::format(region.data(), cfg)) {}
@@ -46,7 +54,7 @@ TEST(Pool, ConfigIsCheckedAndTheHeaderValidated) {
 
 TEST(Pool, AClaimIsOddUntilPublishedAndPinsOnlyTheGenerationPublished) {
   PoolFixture f({4096, 4});
-  auto c = f.pool.claim(3, 0);
+  auto c = f.pool.claim(3, me());
   ASSERT_TRUE(c);
   EXPECT_EQ(c->slot / 4, 3u) << "a lane claims its own slots";
   EXPECT_EQ(c->gen % 2, 1u);
@@ -66,52 +74,60 @@ TEST(Pool, APinnedSlotIsNeverClaimedAndTheOldestFreeOneIsTaken) {
   PoolFixture f({4096, 4});
   std::vector<Pool::Claim> published;
   for (std::uint64_t i = 0; i < 4; ++i) {
-    auto c = f.pool.claim(0, 0);
+    auto c = f.pool.claim(0, me());
     ASSERT_TRUE(c);
     f.pool.publish(*c, i + 1);
-    published.push_back({c->slot, c->gen + 1});
+    published.push_back(Pool::Claim{c->slot, c->gen + 1});
   }
   // Every slot used once, in order; pin the oldest: the next claim takes the second oldest.
   ASSERT_TRUE(f.pool.pin(published[0].slot, published[0].gen, 0));
-  auto c = f.pool.claim(0, 0);
+  auto c = f.pool.claim(0, me());
   ASSERT_TRUE(c);
   EXPECT_EQ(c->slot, published[1].slot);
   f.pool.publish(*c, 5);
   // Pin the rest: nothing left, and the refusal is counted.
   for (std::size_t i = 2; i < 4; ++i) ASSERT_TRUE(f.pool.pin(published[i].slot, published[i].gen, 1));
   ASSERT_TRUE(f.pool.pin(c->slot, c->gen + 1, 1));
-  EXPECT_FALSE(f.pool.claim(0, 0));
-  EXPECT_EQ(f.pool.header().exhausted.load(), 1u);
+  EXPECT_FALSE(f.pool.claim(0, me()));  // (the caller counts the refusal, once per message)
   // A participant that dies releases everything it pinned.
   f.pool.release_participant(1);
   EXPECT_EQ(f.pool.pinned_slots(), 1u);
-  EXPECT_TRUE(f.pool.claim(0, 0));
+  EXPECT_TRUE(f.pool.claim(0, me()));
 }
 
-TEST(Pool, AnAbandonedClaimComesBackFirstAndADeadWritersOddSlotIsReused) {
+TEST(Pool, AnAbandonedClaimComesBackFirstAndOnlyADeadWritersSlotIsTakenOver) {
   PoolFixture f({4096, 2});
-  auto a = f.pool.claim(0, 0);
+  auto a = f.pool.claim(0, me());
   ASSERT_TRUE(a);
   f.pool.publish(*a, 1);
-  auto b = f.pool.claim(0, 0);
+  auto b = f.pool.claim(0, me());
   ASSERT_TRUE(b);
   EXPECT_NE(a->slot, b->slot);
   EXPECT_TRUE(f.pool.claimed(*b));
   EXPECT_TRUE(f.pool.abandon(*b));
   EXPECT_FALSE(f.pool.abandon(*b)) << "only once";
   EXPECT_FALSE(f.pool.claimed(*b));
-  auto c = f.pool.claim(0, 0);
+  auto c = f.pool.claim(0, me());
   ASSERT_TRUE(c);
   EXPECT_EQ(c->slot, b->slot) << "an abandoned slot is reused first";
-  // A writer that dies leaves the odd generation: a claim that is not in `busy` takes it over.
-  auto d = f.pool.claim(0, std::uint64_t{1} << (c->slot % 2));
+  // c stays claimed by this (live) process: never taken over, even by another claimer.
+  const Pool::Claimer other{static_cast<std::uint32_t>(::getpid()), me().start_time + 1};
+  auto d = f.pool.claim(0, other);
   ASSERT_TRUE(d);
   EXPECT_EQ(d->slot, a->slot);
-  auto e = f.pool.claim(0, std::uint64_t{1} << (d->slot % 2));
-  ASSERT_TRUE(e) << "slot " << c->slot << " was left odd by a 'dead' writer";
-  EXPECT_EQ(e->slot, c->slot);
-  EXPECT_EQ(e->gen % 2, 1u);
-  EXPECT_GT(e->gen, c->gen);
+  EXPECT_FALSE(f.pool.claim(0, other)) << "both slots are being written by live claimers";
+  // A claimer that died mid-write: its slot is taken over with a new odd generation.
+  const pid_t dead = ::fork();
+  if (dead == 0) ::_exit(0);
+  ::waitpid(dead, nullptr, 0);
+  PoolFixture g({4096, 2});
+  auto x = g.pool.claim(0, {static_cast<std::uint32_t>(dead), 12345});
+  auto y = g.pool.claim(0, {static_cast<std::uint32_t>(dead), 12345});
+  ASSERT_TRUE(x && y);
+  auto z = g.pool.claim(0, me());
+  ASSERT_TRUE(z) << "the dead writer's slots are free";
+  EXPECT_EQ(z->gen % 2, 1u);
+  EXPECT_GT(z->gen, std::max(x->gen, y->gen) - 1);
 }
 
 TEST(Pool, PinAndClaimRacingNeverBothWin) {
@@ -123,7 +139,7 @@ TEST(Pool, PinAndClaimRacingNeverBothWin) {
   std::atomic<std::uint64_t> torn{0}, pinned{0};
   std::thread writer([&] {
     for (std::uint32_t i = 1; !stop.load(std::memory_order_relaxed); ++i) {
-      auto c = f.pool.claim(0, 0);
+      auto c = f.pool.claim(0, me());
       if (!c) continue;
       std::memset(f.pool.data(c->slot), static_cast<int>(i & 0xff), 64);
       const auto gen = f.pool.publish(*c, i);
@@ -333,6 +349,95 @@ TEST_P(PoolTopic, AMessageWhoseSlotWasReusedCountsAsDropped) {
   EXPECT_FALSE(slow->recv());
   EXPECT_EQ(slow->dropped_count(), before + 1) << "the lost message is counted";
   EXPECT_GE(pub->dropped_count(), 1u);
+}
+
+TEST_P(PoolTopic, ALoanOutlivingItsTopicIsNeverRewritten) {
+  const auto name = horus_test::unique_name("pool.orphan");
+  auto sub = Topic<Image>::open(name, opts(2));
+  ASSERT_TRUE(sub);
+  std::optional<horus::Loan<Image>> orphan;
+  {
+    auto pub = Topic<Image>::open(name, opts(2));
+    ASSERT_TRUE(pub);
+    auto l = pub->loan(*Image::describe(8, 8, ImageEncoding::Mono8));
+    ASSERT_TRUE(l);
+    (*l)->fill({0xAA});
+    orphan.emplace(std::move(*l));
+  }  // the handle is gone, its lane free, the loan still lent
+  auto next = Topic<Image>::open(name, opts(2));
+  ASSERT_TRUE(next);
+  for (std::uint8_t i = 0; i < 12; ++i) {
+    Image img(8, 8, ImageEncoding::Mono8);
+    img.fill({i});
+    next->send(img);
+    while (sub->recv()) {
+    }
+  }
+  for (std::uint8_t b : (*orphan)->data()) ASSERT_EQ(b, 0xAA) << "the lent slot was reused";
+  next->send(std::move(*orphan));  // not this handle's: sent by copy
+  orphan.reset();
+  auto got = sub->recv();
+  ASSERT_TRUE(got);
+  EXPECT_EQ(got->data()[0], 0xAA);
+}
+
+TEST_P(PoolTopic, TrySendNeverTakesTheSlotOfAnUnreadMessage) {
+  const auto name = horus_test::unique_name("pool.trysend");
+  auto pub = Topic<Image>::open(name, opts(2));  // ring 2 per lane, pool 4 per lane
+  auto holder = Topic<Image>::open(name, opts(2));
+  auto slow = Topic<Image>::open(name, opts(2));
+  ASSERT_TRUE(pub && holder && slow);
+  std::vector<Image> held;
+  for (std::uint8_t i = 0; i < 3; ++i) {
+    ASSERT_TRUE(pub->try_send(gradient(4, 4, i)));
+    auto m = holder->recv();
+    ASSERT_TRUE(m);
+    held.push_back(std::move(*m));
+    while (slow->recv()) {
+    }
+  }
+  ASSERT_TRUE(pub->try_send(gradient(4, 4, 4)));  // the last free slot
+  ASSERT_TRUE(holder->recv());                    // read (and dropped) by the holder, not by `slow`
+  EXPECT_FALSE(pub->try_send(gradient(4, 4, 5)))  // would take message 4's slot: refused
+      << "the ring had room, the pool did not";
+  auto m = slow->recv();
+  ASSERT_TRUE(m);
+  EXPECT_EQ(*m, gradient(4, 4, 4));
+  EXPECT_EQ(slow->dropped_count(), 0u);
+  m.reset();
+  EXPECT_TRUE(pub->try_send(gradient(4, 4, 5)));  // read by all now: its slot may go
+  EXPECT_EQ(*slow->recv(), gradient(4, 4, 5));
+  // Message 5 unread by the holder, three slots pinned: send_blocking waits, then refuses once.
+  const auto before = pub->metrics().send_failures();
+  auto r = pub->send_blocking(gradient(4, 4, 6), std::chrono::milliseconds(2));
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().code(), horus::Errc::LimitReached) << r.error().message();
+  EXPECT_EQ(pub->metrics().send_failures(), before + 1);
+  EXPECT_EQ(pub->dropped_count(), 0u) << "nothing unread was lost";
+}
+
+TEST_P(PoolTopic, AForkedChildDroppingAnInheritedImageLeavesTheParentsPinAlone) {
+  const auto name = horus_test::unique_name("pool.fork");
+  auto pub = Topic<Image>::open(name, opts(2));
+  auto sub = Topic<Image>::open(name, opts(2));
+  ASSERT_TRUE(pub && sub);
+  pub->send(gradient(4, 4, 1));
+  auto held = sub->recv();
+  ASSERT_TRUE(held);
+  const auto pinned = [&] { return pub->loan(*Image::describe(4, 4, ImageEncoding::Rgb8)); };
+  const pid_t child = ::fork();
+  if (child == 0) {
+    held.reset();  // must not unpin the parent's slot
+    ::_exit(0);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  // The parent's image still pins its slot: four loans are possible only if it did not.
+  std::vector<horus::Loan<Image>> loans;
+  for (int i = 0; i < 4; ++i)
+    if (auto l = pinned()) loans.push_back(std::move(*l));
+  EXPECT_EQ(loans.size(), 3u) << "the parent's pin survived its child";
+  EXPECT_EQ(*held, gradient(4, 4, 1));
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, PoolTopic,

@@ -160,6 +160,7 @@ struct TopicCore {
   shm::Ring ring;
   shm::Pool pool;                // large data only
   std::uint32_t participant = 0;  // our index in the segment's participant table (what pins pool slots)
+  shm::Pool::Claimer claimer;     // this process, as the pool records who writes a slot
   std::atomic<std::int64_t> last_reap_ns{0};  // reap_dead_participants' rate limit
 };
 
@@ -184,6 +185,9 @@ void report_inconsistent(const TopicCore& core, std::uint64_t count);
 /// The error for the same, from send_blocking or loan().
 Error pool_exhausted_error(const TopicCore& core);
 
+/// This process's pid, cached (updated in a child after fork()): leases compare it with their
+/// topic's to do nothing in a forked child, which must not release its parent's pins.
+int current_pid() noexcept;
 /// Shared memory: releases what processes that died held (pins, lanes, subscriber entries), at
 /// most once per 50 ms per topic; true when some process was reaped.
 bool reap_dead_participants(TopicCore& core);
@@ -273,8 +277,6 @@ class Topic {
     pool_lost_ = other.pool_lost_;
     pool_exhausted_ = other.pool_exhausted_;
     inconsistent_ = other.inconsistent_;
-    loans_ = other.loans_;
-    loan_gen_ = other.loan_gen_;
     encoded_size_ = other.encoded_size_;
     scratch_ = std::move(other.scratch_);
     inbox_ = std::move(other.inbox_);
@@ -306,7 +308,7 @@ class Topic {
       }
       writer_.write_bytes(encoded());
     } else if constexpr (kPooled) {
-      if (!fits(msg) || !write_pooled(msg)) ++send_failures_;
+      if (!fits(msg) || !write_pooled(msg, claim_slot())) ++send_failures_;
     } else {
       writer_.write(msg);
     }
@@ -328,9 +330,6 @@ class Topic {
       return std::unexpected(detail::too_large_error(*core_, desc.data_size));
     auto claim = claim_slot();
     if (!claim) return std::unexpected(detail::pool_exhausted_error(*core_));
-    const std::uint32_t k = claim->slot % core_->pool.slots_per_lane();
-    loans_ |= std::uint64_t{1} << k;
-    loan_gen_[k] = claim->gen;
     ByteBuffer bytes = ByteBuffer::borrow(core_->pool.data(claim->slot), desc.data_size,
                                           ByteBuffer::Lease{core_, &detail::release_loan, claim->slot, claim->gen},
                                           /*writable=*/true);
@@ -360,8 +359,11 @@ class Topic {
       send(static_cast<const T&>(l.value_));
       return;
     }
+    if (!fits(l.value_)) {  // metadata edited so that it no longer describes the bytes
+      ++send_failures_;
+      return;  // the loan's slot is given back as it is destroyed
+    }
     publish(l.value_.descriptor(), l.claim_);
-    loans_ &= ~(std::uint64_t{1} << (l.claim_.slot % pool.slots_per_lane()));
   }
 
   /// Publishes only if no subscriber would lose an unread message; else gives the message back
@@ -398,12 +400,12 @@ class Topic {
                                                msg.descriptor().log_summary() + "); message not sent");
       }
     }
-    if (try_commit(msg)) return {};
-    struct Blocking {  // retries below: a full pool is the returned error, not a log line each time
+    struct Blocking {  // a full pool is the returned error (counted once), not a log line per retry
       bool& flag;
       explicit Blocking(bool& f) : flag(f) { flag = true; }
       ~Blocking() { flag = false; }
     } blocking(blocking_);
+    if (try_commit(msg)) return {};
     const auto deadline = clock::now() + timeout;
     for (int i = 0; i < 256; ++i) {
       shm::cpu_relax();
@@ -422,7 +424,11 @@ class Topic {
     ++send_failures_;
     if constexpr (kPooled) {
       // The ring had room: what stayed full is the pool (subscribers keep every slot pinned).
-      if (writer_.has_space(reader_.token())) return std::unexpected(detail::pool_exhausted_error(*core_));
+      if (writer_.has_space(reader_.token())) {
+        core_->pool.header().exhausted.fetch_add(1, std::memory_order_relaxed);
+        ++pool_exhausted_;
+        return std::unexpected(detail::pool_exhausted_error(*core_));
+      }
     }
     return fail(Errc::Timeout, "topic '" + core_->name + "': ring stayed full for " +
                                    std::to_string(std::chrono::duration<double, std::milli>(timeout).count()) +
@@ -482,7 +488,7 @@ class Topic {
     } else if constexpr (kPooled) {
       descriptor_type d;
       if (!reader_.read_latest(d)) return std::nullopt;
-      return adopt(d);
+      return adopt(d, /*count_loss=*/false);
     } else {
       Slot s;
       if (!reader_.read_latest(s.value)) return std::nullopt;
@@ -587,7 +593,14 @@ class Topic {
     if constexpr (kSerialized) {
       writer_.write_bytes(encoded());
     } else if constexpr (kPooled) {
-      return write_pooled(msg);
+      // Only slots every subscriber has read: a pool slot must not take an unread message away.
+      // The cached read limit may be old: look at the cursors again before giving up.
+      auto c = core_->pool.claim(writer_.lane(), core_->claimer, writer_.read_by_all());
+      if (!c) {
+        writer_.refresh_space(reader_.token());
+        c = claim_slot(writer_.read_by_all());
+      }
+      return write_pooled(msg, c);
     } else {
       writer_.write(msg);
     }
@@ -613,25 +626,22 @@ class Topic {
     return true;
   }
 
-  // Claims the oldest free slot of our lane; loans of ours that were sent or dropped stop
-  // counting as busy first.
-  std::optional<shm::Pool::Claim> claim_slot() {
+  // Claims the oldest free slot of our lane (with a stamp of at most max_stamp).
+  std::optional<shm::Pool::Claim> claim_slot(std::uint64_t max_stamp = ~std::uint64_t{0}) {
     const auto& pool = core_->pool;
-    if (loans_ != 0) {
-      const std::uint32_t base = writer_.lane() * pool.slots_per_lane();
-      for (std::uint32_t k = 0; k < pool.slots_per_lane(); ++k)
-        if (((loans_ >> k) & 1u) != 0 && !pool.claimed({base + k, loan_gen_[k]})) loans_ &= ~(std::uint64_t{1} << k);
-    }
-    auto c = pool.claim(writer_.lane(), loans_);
+    auto c = pool.claim(writer_.lane(), core_->claimer, max_stamp);
     // Every slot pinned: pins of processes that died are cleared (at most every 50 ms), then retry.
-    if (!c && detail::reap_dead_participants(*core_)) c = pool.claim(writer_.lane(), loans_);
-    if (!c && !blocking_) detail::report_pool_exhausted(*core_, ++pool_exhausted_);  // send_blocking reports its own
+    if (!c && detail::reap_dead_participants(*core_)) c = pool.claim(writer_.lane(), core_->claimer, max_stamp);
+    if (!c && !blocking_) count_exhausted();  // send_blocking counts once, at its end
     return c;
   }
+  void count_exhausted() {
+    core_->pool.header().exhausted.fetch_add(1, std::memory_order_relaxed);
+    detail::report_pool_exhausted(*core_, ++pool_exhausted_);
+  }
 
-  // Copies msg's bytes into a pool slot and publishes its descriptor.
-  bool write_pooled(const T& msg) {
-    auto c = claim_slot();
+  // Copies msg's bytes into the claimed pool slot (none: false) and publishes its descriptor.
+  bool write_pooled(const T& msg, const std::optional<shm::Pool::Claim>& c) {
     if (!c) return false;
     const auto bytes = msg.buffer().view();
     if (!bytes.empty()) std::memcpy(core_->pool.data(c->slot), bytes.data(), bytes.size());
@@ -649,7 +659,7 @@ class Topic {
 
   // A received descriptor: pins its slot and lends the bytes to a T (no copy). Nothing when the
   // slot was reused meanwhile (counted as a drop) or the descriptor is not valid (a decode failure).
-  std::optional<T> adopt(const descriptor_type& d) {
+  std::optional<T> adopt(const descriptor_type& d, bool count_loss = true) {
     const auto& pool = core_->pool;
     if (d.pool_id != 1 || d.slot_id >= pool.slot_count() || d.data_size > pool.slot_bytes()) [[unlikely]] {
       ++decode_failures_;
@@ -657,8 +667,10 @@ class Topic {
       return std::nullopt;
     }
     if (!pool.pin(d.slot_id, d.generation, core_->participant)) [[unlikely]] {
-      ++pool_lost_;
-      pool.header().reused.fetch_add(1, std::memory_order_relaxed);
+      if (count_loss) {  // read_latest polls the same message again: not a new loss each time
+        ++pool_lost_;
+        pool.header().reused.fetch_add(1, std::memory_order_relaxed);
+      }
       return std::nullopt;
     }
     ByteBuffer bytes = ByteBuffer::borrow(pool.data(d.slot_id), d.data_size,
@@ -731,10 +743,6 @@ class Topic {
   std::uint64_t pool_exhausted_ = 0;  // sends that found every slot of our lane pinned
   std::uint64_t inconsistent_ = 0;    // sends refused: metadata that does not describe the bytes
   bool blocking_ = false;             // inside send_blocking's retries
-  std::uint64_t loans_ = 0;           // bit k: slot k of our lane is lent (Loan) and not yet sent
-  struct NoLoans {};
-  [[no_unique_address]] std::conditional_t<kPooled, std::array<std::uint64_t, shm::kMaxPoolSlotsPerLane>, NoLoans>
-      loan_gen_{};  // generation of each lent slot
   // Serialized messages only: the encoding buffer and the last slot read.
   std::vector<std::byte> scratch_;
   std::size_t encoded_size_ = 0;

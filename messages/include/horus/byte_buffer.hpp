@@ -9,6 +9,10 @@
 //   * a loaned image (Topic::loan) borrows a pool slot writable: the publisher fills it in
 //     place, and sending it copies nothing.
 //
+// Like a vector's iterators, a span or pointer from data() of a read-only borrow is invalidated
+// by the first write (which copies the bytes and releases the slot): take views after writing
+// (`img.copy_from(img.data())` on a received image reads a released slot).
+//
 // Copying a ByteBuffer copies the bytes into owned storage (a copy never pins a pool slot);
 // moving it moves the borrow. When a borrowing buffer is destroyed, its lease is released,
 // which unpins the pool slot.
@@ -68,7 +72,14 @@ class ByteBuffer {
     }
     return *this;
   }
-  ByteBuffer(ByteBuffer&& o) noexcept { take(std::move(o)); }
+  ByteBuffer(ByteBuffer&& o) noexcept
+      : owned_(std::move(o.owned_)),
+        ptr_(std::exchange(o.ptr_, nullptr)),
+        size_(std::exchange(o.size_, 0)),
+        lease_(std::move(o.lease_)),
+        writable_(std::exchange(o.writable_, false)) {
+    o.lease_.release = nullptr;
+  }
   ByteBuffer& operator=(ByteBuffer&& o) noexcept {
     if (this != &o) {
       reset_borrow();
@@ -167,8 +178,7 @@ class ByteBuffer {
     writable_ = false;
   }
   void take(ByteBuffer&& o) noexcept {
-    owned_ = std::move(o.owned_);
-    o.owned_.clear();
+    owned_ = std::move(o.owned_);  // leaves o.owned_ empty (same allocator)
     ptr_ = std::exchange(o.ptr_, nullptr);
     size_ = std::exchange(o.size_, 0);
     lease_ = std::exchange(o.lease_, Lease{});

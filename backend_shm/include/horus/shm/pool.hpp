@@ -72,7 +72,10 @@ struct alignas(kCacheLine) PoolHeader {
 
 struct alignas(kCacheLine) PoolSlot {
   std::atomic<std::uint64_t> gen;    // even: stable; odd: being written
-  std::atomic<std::uint64_t> stamp;  // lane head when last published (the oldest free slot is reused first)
+  std::atomic<std::uint64_t> stamp;  // lane sequence + 1 when last published (the oldest free slot is reused first)
+  // The process writing the slot while gen is odd: its slot is taken over only once it is gone.
+  std::atomic<std::uint64_t> claimer_start;  // start time of the claiming process
+  std::atomic<std::uint32_t> claimer_pid;
   // The pins on lines of their own: subscribers write them, and a writer scanning its slots'
   // stamps must not miss the cache on every slot a subscriber pinned.
   alignas(kCacheLine) std::atomic<std::uint32_t> pins[kMaxParticipants];
@@ -85,6 +88,11 @@ class Pool {
   struct Claim {
     std::uint32_t slot = 0;
     std::uint64_t gen = 0;
+  };
+  /// Who claims: a process (pid and start time, see process_start_time()).
+  struct Claimer {
+    std::uint32_t pid = 0;
+    std::uint64_t start_time = 0;
   };
 
   Pool() = default;
@@ -108,10 +116,12 @@ class Pool {
   std::uint64_t offset_of(std::uint32_t i) const noexcept { return hdr_->data_offset + std::uint64_t{i} * hdr_->slot_stride; }
 
   // -- writing: only the owner of `lane` ----------------------------------------
-  /// Claims the free slot of `lane` published longest ago; `busy` has bit i set for slot i of
-  /// the lane when it is an outstanding loan of the caller (not free even though its generation
-  /// is odd). nullopt when every slot is pinned or loaned.
-  std::optional<Claim> claim(std::uint32_t lane, std::uint64_t busy) const noexcept;
+  /// Claims the free slot of `lane` published longest ago, among those whose stamp is at most
+  /// `max_stamp` (slots every subscriber has read: what try_send needs). A slot being written
+  /// (a loan) is free only when the process that claimed it is gone. nullopt when no slot is
+  /// free; the caller counts the refusal (PoolHeader::exhausted).
+  std::optional<Claim> claim(std::uint32_t lane, const Claimer& me,
+                             std::uint64_t max_stamp = ~std::uint64_t{0}) const noexcept;
   /// Makes a claimed slot's bytes visible; returns the generation descriptors must carry.
   std::uint64_t publish(const Claim& c, std::uint64_t stamp) const noexcept;
   /// Gives a claimed slot back unpublished (reused first); false (nothing done) when it was

@@ -454,6 +454,18 @@ class RingWriter {
     return head_ < space_limit_;
   }
 
+  /// Reads the subscribers' cursors again (has_space() caches what it read).
+  void refresh_space(std::uint64_t self_subscriber) noexcept {
+    space_limit_ = ring_.space_limit(lane_, head_, self_subscriber);
+  }
+
+  /// After has_space() returned true: every subscriber (but the caller's own) has read the
+  /// lane's messages below this sequence number.
+  std::uint64_t read_by_all() const noexcept {
+    const std::uint64_t cap = mask_ + 1;
+    return space_limit_ >= cap ? space_limit_ - cap : 0;
+  }
+
   /// Messages written through this writer (derived from the lane head: no counter on the hot path).
   std::uint64_t sent() const noexcept { return sent_before_ + (has_lane() ? head_ - claim_head_ : 0); }
 

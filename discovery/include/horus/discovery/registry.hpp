@@ -31,6 +31,13 @@ struct TopicEntry {
   std::uint64_t type_hash = 0;
   std::uint32_t message_size = 0;  // bytes (fixed-size) or the largest encoded message (serialized)
   bool serialized = false;
+  // Large data (Image, PointCloud, DepthImage, Tensor): the pool holding the bytes.
+  bool pooled = false;
+  std::uint64_t pool_slot_bytes = 0;     // largest message's bytes
+  std::uint32_t pool_slots_per_publisher = 0;
+  std::uint32_t pool_pinned = 0;         // slots pinned now by received messages
+  std::uint64_t pool_reused = 0;         // unread messages lost because their slot was reused
+  std::uint64_t pool_exhausted = 0;      // sends refused: every slot of the publisher pinned
   std::uint32_t capacity = 0;      // slots per publisher
   std::uint64_t segment_bytes = 0;
   std::uint64_t created_unix_ns = 0;
