@@ -166,7 +166,9 @@ bool process_alive(pid_t pid, std::uint64_t start_time) noexcept {
   if (::kill(pid, 0) != 0 && errno == ESRCH) return false;
   char state = 0;
   std::uint64_t start = 0;
-  if (!read_stat(pid, state, start)) return start_time == 0;  // no /proc: trust kill()
+  // Unreadable /proc entry (no /proc, hidepid, another user's process): kill() found it, so
+  // it may well be alive. Never reap what cannot be proven dead; the next look decides.
+  if (!read_stat(pid, state, start)) return true;
   if (state == 'Z' || state == 'X') return false;  // exited, not yet reaped by its parent
   return start_time == 0 || start == start_time;
 }
