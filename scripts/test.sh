@@ -23,6 +23,6 @@ fi
 
 if [ "${HORUS_TEST_ASAN:-1}" != "0" ]; then
   cmake --preset asan
-  cmake --build --preset asan -j "$jobs" --target test_codec test_topic_serialized
-  ctest --preset asan -R '^(Codec|SerializedTopic)\.'
+  cmake --build --preset asan -j "$jobs" --target test_codec test_topic_serialized test_pool
+  ctest --preset asan -R '^(Codec|SerializedTopic|Pool|Backends/PoolTopic)\.'
 fi
