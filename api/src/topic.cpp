@@ -258,6 +258,9 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
     spec.capacity = cfg.capacity;
     spec.capacity_required = capacity.has_value();
     spec.payload_required = !type.serialized || slot_size.has_value();
+    auto mode = shm::shm_mode_from_environment();
+    if (!mode) return fail(Errc::Config, mode.error().message);
+    spec.mode = *mode;
     if (pool_bytes != 0) {
       spec.pool_slot_bytes = pool_cfg.slot_bytes;
       spec.pool_slots_per_lane = pool_cfg.slots_per_lane;

@@ -127,6 +127,25 @@ std::expected<std::string, SegmentError> shm_namespace() {
   return std::string(ns);
 }
 
+std::expected<mode_t, SegmentError> shm_mode_from_environment() {
+  const char* env = std::getenv("HORUS_SHM_MODE");
+  if (env == nullptr || *env == '\0') return static_cast<mode_t>(0600);
+  const std::string_view v(env);
+  unsigned mode = 0;
+  bool ok = v.size() <= 4;
+  for (char c : v) {
+    if (c < '0' || c > '7') ok = false;
+    else mode = mode * 8 + static_cast<unsigned>(c - '0');
+  }
+  // Only read and write bits make sense for shared memory; the owner needs both.
+  if (!ok || (mode & ~0666u) != 0 || (mode & 0600u) != 0600u)
+    return std::unexpected(SegmentError{SegmentError::Kind::InvalidName,
+                                        "HORUS_SHM_MODE='" + std::string(v) +
+                                            "': expected an octal mode of read/write bits that keeps the owner's "
+                                            "(0600, 0640, 0660, 0666)"});
+  return static_cast<mode_t>(mode);
+}
+
 std::string segment_name(std::string_view ns, std::string_view topic) {
   return "/horus." + std::string(ns) + "." + std::string(topic);
 }

@@ -4,6 +4,7 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -174,6 +175,26 @@ TEST_F(ShmTopic, TwoNamespacesNeverShareATopic) {
   EXPECT_EQ(a.pub_count(), 1u);
   EXPECT_EQ(b->pub_count(), 0u);  // a's publisher is not on b's topic
   EXPECT_EQ(b->sub_count(), 1u);
+}
+
+TEST_F(ShmTopic, HorusShmModeWidensPermissionsAndABadValueIsNamed) {
+  const auto name = horus_test::unique_name("mode");
+  ::setenv("HORUS_SHM_MODE", "0660", 1);
+  auto t = Topic<Stamp>::open(name);
+  ::setenv("HORUS_SHM_MODE", "0755", 1);  // execute bits: not for shared memory
+  auto bad = Topic<Stamp>::open(horus_test::unique_name("mode"));
+  ::setenv("HORUS_SHM_MODE", "0066", 1);  // the owner cannot lock out itself
+  auto bad2 = Topic<Stamp>::open(horus_test::unique_name("mode"));
+  ::unsetenv("HORUS_SHM_MODE");
+  ASSERT_TRUE(t) << t.error().message();
+  struct stat st{};
+  ASSERT_EQ(::stat(("/dev/shm" + horus::shm::segment_name(*horus::shm::shm_namespace(), name)).c_str(), &st), 0);
+  EXPECT_EQ(st.st_mode & 0777, 0660u);
+  for (auto* r : {&bad, &bad2}) {
+    ASSERT_FALSE(*r);
+    EXPECT_EQ(r->error().code(), horus::Errc::Config);
+    EXPECT_NE(r->error().message().find("HORUS_SHM_MODE="), std::string::npos) << r->error().message();
+  }
 }
 
 TEST_F(ShmTopic, ManyPublisherAndSubscriberProcessesEachGetEveryMessageInPublisherOrder) {

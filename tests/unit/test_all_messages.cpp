@@ -18,6 +18,7 @@
 #include "horus/json.hpp"
 #include "horus/msg/all.hpp"
 #include "horus/topic.hpp"
+#include "process_support.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -149,6 +150,23 @@ TYPED_TEST(EveryMessage, RoundTripsThroughTheInProcessTopic) {
     EXPECT_EQ(pub->metrics().send_failures(), 1u);
     EXPECT_FALSE(sub.recv());
   }
+}
+
+TYPED_TEST(EveryMessage, CrossesProcessesThroughSharedMemory) {
+  const auto name = horus_test::unique_name("every.xproc");
+  auto sub = horus::Topic<TypeParam>::open(name, horus::TopicOptions{horus::Backend::SharedMemory, std::nullopt, std::nullopt});
+  ASSERT_TRUE(sub) << sub.error().message();
+  const TypeParam m = topic_sample<TypeParam>();
+  const pid_t child = horus_test::spawn([&] {
+    auto pub = horus::Topic<TypeParam>::open(name, horus::TopicOptions{horus::Backend::SharedMemory, std::nullopt, std::nullopt});
+    if (!pub) return 3;
+    pub->send(m);
+    return pub->metrics().send_failures() == 0 ? 0 : 4;
+  });
+  ASSERT_EQ(horus_test::wait_for(child), 0);
+  auto got = sub->recv();  // sent by a process that has exited since
+  ASSERT_TRUE(got);
+  EXPECT_TRUE(SameMessage(*got, m));
 }
 
 TYPED_TEST(EveryMessage, RoundTripsThroughJson) {
