@@ -359,7 +359,10 @@ class Topic {
       send(static_cast<const T&>(l.value_));
       return;
     }
-    if (!fits(l.value_)) {  // metadata edited so that it no longer describes the bytes
+    // Metadata edited (through reflection) so that it no longer describes the bytes: a cheap
+    // check here (a loan starts from a valid descriptor); receivers check the rest.
+    if (!l.value_.is_consistent()) [[unlikely]] {
+      detail::report_inconsistent(*core_, ++inconsistent_);
       ++send_failures_;
       return;  // the loan's slot is given back as it is destroyed
     }

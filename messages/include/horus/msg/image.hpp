@@ -326,20 +326,31 @@ class Image {
     if (desc.step < row || !detail::checked_mul(desc.step, desc.height, size)) return std::nullopt;
     if (size != desc.data_size || size > kMaxLargeDataBytes || bytes.size() != size) return std::nullopt;
     if (!detail::has_terminator(desc.frame_id)) return std::nullopt;
-    Image img;
-    img.width_ = desc.width;
-    img.height_ = desc.height;
-    img.encoding_ = desc.encoding;
-    img.step_ = desc.step;
-    img.frame_id_ = desc.frame_id;
-    img.timestamp_ns_ = desc.timestamp_ns;
+    std::optional<Image> img;
     if constexpr (std::is_same_v<std::remove_cvref_t<Bytes>, ByteBuffer>) {
-      img.data_ = std::move(bytes);
+      img.emplace(Key{}, desc, std::move(bytes));  // built in place: no default object overwritten
     } else {
-      img.data_.assign(bytes.begin(), bytes.end());
+      img.emplace(Key{}, desc, ByteBuffer(std::vector<std::uint8_t>(bytes.begin(), bytes.end())));
     }
     return img;
   }
+
+ public:
+  /// Only Image itself can name a Key: the constructor below is for build().
+  class Key {
+    friend class Image;
+    Key() = default;
+  };
+  Image(Key, const ImageDescriptor& desc, ByteBuffer&& bytes) noexcept
+      : width_(desc.width),
+        height_(desc.height),
+        encoding_(desc.encoding),
+        step_(desc.step),
+        frame_id_(desc.frame_id),
+        timestamp_ns_(desc.timestamp_ns),
+        data_(std::move(bytes)) {}
+
+ private:
 
  public:
 
