@@ -50,17 +50,7 @@ bool intact(const Image& img) {
   return !img.data().empty();
 }
 
-class ShmPool : public ::testing::Test {
- protected:
-  void SetUp() override { ::unsetenv("HORUS_BACKEND"); }
-  void TearDown() override {
-    const auto ns = horus::shm::shm_namespace();
-    ASSERT_TRUE(ns);
-    for (const auto& s : horus::shm::list_segments(*ns))
-      if (s.topic.find("." + std::to_string(::getpid()) + ".") != std::string::npos)
-        ADD_FAILURE() << "left in /dev/shm: " << s.name;
-  }
-};
+using ShmPool = horus_test::ShmProcessTest;  // HORUS_BACKEND unset; no /dev/shm leak after a test
 
 TEST_F(ShmPool, EveryLargeDataTypeCrossesProcessesAndALoanArrivesIntact) {
   using namespace horus::msg;

@@ -38,19 +38,7 @@ using horus_test::wait_for;
 using horus_test::Stamp;
 using shm_topic_test::Blob;
 
-class ShmTopic : public ::testing::Test {
- protected:
-  void SetUp() override { ::unsetenv("HORUS_BACKEND"); }
-  void TearDown() override {
-    // Every segment this test made is gone once its handles (and its children) are.
-    const auto ns = horus::shm::shm_namespace();
-    ASSERT_TRUE(ns);
-    const std::string mine = "test." + std::string(::testing::UnitTest::GetInstance()->current_test_info()->name());
-    for (const auto& s : horus::shm::list_segments(*ns))
-      if (s.topic.find("." + std::to_string(::getpid()) + ".") != std::string::npos)
-        ADD_FAILURE() << "left in /dev/shm: " << s.name << " (" << mine << ")";
-  }
-};
+using ShmTopic = horus_test::ShmProcessTest;  // HORUS_BACKEND unset; no /dev/shm leak after a test
 
 TEST_F(ShmTopic, AnotherProcessReceivesEveryMessageOnceInOrder) {
   const auto name = horus_test::unique_name("xproc");

@@ -9,10 +9,28 @@
 
 #include <gtest/gtest.h>
 
+#include "horus/shm/shm_segment.hpp"
+
 #include <chrono>
+#include <cstdlib>
+#include <string>
 #include <thread>
 
 namespace horus_test {
+
+/// A fixture for shared-memory tests between processes: HORUS_BACKEND unset, and after each
+/// test no segment this process made (topic names hold the pid) is left in /dev/shm.
+class ShmProcessTest : public ::testing::Test {
+ protected:
+  void SetUp() override { ::unsetenv("HORUS_BACKEND"); }
+  void TearDown() override {
+    const auto ns = horus::shm::shm_namespace();
+    ASSERT_TRUE(ns);
+    for (const auto& s : horus::shm::list_segments(*ns))
+      if (s.topic.find("." + std::to_string(::getpid()) + ".") != std::string::npos)
+        ADD_FAILURE() << "left in /dev/shm: " << s.name;
+  }
+};
 
 /// Runs f (returning an exit status) in a child process; an exception exits with 2.
 template <class F>
