@@ -36,6 +36,27 @@ int run(const std::string& cmd, std::string& out) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+// Calls send() every `period` on another thread until destroyed (a live publisher for the CLI).
+class Publishing {
+ public:
+  template <class Send>
+  Publishing(std::chrono::milliseconds period, Send send)
+      : thread_([this, period, send]() mutable {
+          for (int i = 0; !stop_.load(); ++i) {
+            send(i);
+            std::this_thread::sleep_for(period);
+          }
+        }) {}
+  ~Publishing() {
+    stop_ = true;
+    thread_.join();
+  }
+
+ private:
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
 TEST(Registry, ListsALiveTopicWithItsTypeCountsAndProcess) {
   const auto name = horus_test::unique_name("registry");
   horus::Topic<Stamp> pub(name), sub(name);
@@ -110,17 +131,12 @@ TEST(Registry, ATopicLeftByAKilledProcessIsStaleAndCleanRemovesIt) {
 TEST(HorusCli, EchoPrintsMessagesOfALiveTopicAsJson) {
   const auto name = horus_test::unique_name("cli_echo");
   horus::Topic<horus::msg::Pose2D> pub(name);
-  std::atomic<bool> stop{false};
-  std::thread t([&] {
-    for (int i = 0; !stop.load(); ++i) {
-      pub.send(horus::msg::Pose2D::make(i, 2.0, 0.5));
-      std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    }
-  });
   std::string out;
-  const int rc = run(std::string(HORUS_CLI) + " topic echo " + name + " --json -n 3 --timeout 20", out);
-  stop = true;
-  t.join();
+  int rc = 0;
+  {
+    Publishing p(std::chrono::milliseconds(2), [&](int i) { pub.send(horus::msg::Pose2D::make(i, 2.0, 0.5)); });
+    rc = run(std::string(HORUS_CLI) + " topic echo " + name + " --json -n 3 --timeout 20", out);
+  }
   ASSERT_EQ(rc, 0) << out;
   std::istringstream lines(out);
   std::string line;
@@ -179,14 +195,11 @@ TEST(Registry, ALargeDataTopicShowsItsPoolAndPinnedSlots) {
   ASSERT_EQ(run(std::string(HORUS_CLI) + " topic info " + name, out), 0) << out;
   EXPECT_NE(out.find("pool:         4 slots per publisher, 1 pinned now"), std::string::npos) << out;
   // echo decodes an Image from another process (the CLI borrows the pool slot too).
-  std::thread sender([&] {
-    for (int i = 0; i < 200; ++i) {
-      pub->send(img);
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-  });
-  const int rc = run(std::string(HORUS_CLI) + " topic echo " + name + " -n 1 --json --timeout 5", out);
-  sender.join();
+  int rc = 0;
+  {
+    Publishing p(std::chrono::milliseconds(10), [&](int) { pub->send(img); });
+    rc = run(std::string(HORUS_CLI) + " topic echo " + name + " -n 1 --json --timeout 5", out);
+  }
   ASSERT_EQ(rc, 0) << out;
   EXPECT_NE(out.find("\"width\":6"), std::string::npos) << out;
 }
@@ -194,17 +207,12 @@ TEST(Registry, ALargeDataTopicShowsItsPoolAndPinnedSlots) {
 TEST(HorusCli, HzReportsTheRateOfALiveTopic) {
   const auto name = horus_test::unique_name("cli_hz");
   horus::Topic<horus::msg::CmdVel> pub(name);
-  std::atomic<bool> stop{false};
-  std::thread t([&] {
-    while (!stop.load()) {
-      pub.send(horus::msg::CmdVel::make(1.0f, 0.0f));
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-  });
   std::string out;
-  const int rc = run(std::string(HORUS_CLI) + " topic hz " + name + " --duration 1.5 --window 0.5", out);
-  stop = true;
-  t.join();
+  int rc = 0;
+  {
+    Publishing p(std::chrono::milliseconds(10), [&](int) { pub.send(horus::msg::CmdVel::make(1.0f, 0.0f)); });
+    rc = run(std::string(HORUS_CLI) + " topic hz " + name + " --duration 1.5 --window 0.5", out);
+  }
   ASSERT_EQ(rc, 0) << out;
   EXPECT_NE(out.find("average rate:"), std::string::npos) << out;
   EXPECT_NE(out.find("std dev:"), std::string::npos) << out;

@@ -20,7 +20,6 @@
 // handles of a name share one ring.
 #pragma once
 
-#include <array>
 #include <chrono>
 #include <cstring>
 #include <cstdint>
