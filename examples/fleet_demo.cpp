@@ -1,6 +1,7 @@
 // The fleet demo: robots publish their heartbeat, pose and transform; a monitor prints a
 // live table of the fleet. Every robot is its own process; they meet the monitor through
-// shared-memory topics, with no broker. The same code runs on DDS/LCM as those backends land.
+// shared-memory topics, with no broker. With HORUS_BACKEND=cyclonedds or fastdds the same code
+// runs across hosts (robots on some, the monitor on another).
 //
 //   fleet_demo --robots 3 --duration 5            launch: robot processes + the monitor
 //   fleet_demo --role monitor --robots 3           only the monitor (start it before or after)
@@ -173,7 +174,7 @@ int run_monitor(int robots, double duration_s, double print_interval_s, const st
   std::uint64_t total = 0;
   for (const auto& r : fleet) {
     total += r.hb_count + r.pose_count + r.tf_count;
-    if (r.pose_count == 0 || r.hb_count == 0) ++silent;
+    if (r.pose_count == 0 || r.hb_count == 0 || r.tf_count == 0) ++silent;
   }
   fmt::print("\nreceived {} messages from {} robots; {} silent\n", total, robots, silent);
   return silent == 0 ? 0 : 1;

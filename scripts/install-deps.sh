@@ -12,6 +12,9 @@ packages=(
   libmsgpack-cxx-dev   # GenericMessage payloads (MessagePack)
   libdlpack-dev        # Tensor::to_dlpack (the DLPack ABI header)
   iceoryx libiceoryx-posh-dev   # iox-roudi and iceoryx 2.0: the baseline of horus-latency-shm
+  cyclonedds-dev cyclonedds-tools   # the cyclonedds backend; idlc for the interop tests
+  libfastrtps-dev libfastcdr-dev fastddsgen   # the fastdds backend; fastddsgen for the interop tests
+  iproute2   # ip netns: the multi-host tests make hosts out of network namespaces
 )
 
 missing=()

@@ -12,6 +12,9 @@
 
 #include "horus/topic.hpp"
 #include "log.hpp"
+#if defined(HORUS_HAVE_CYCLONEDDS) || defined(HORUS_HAVE_FASTDDS)
+#include "horus/dds/transports.hpp"
+#endif
 
 namespace horus {
 
@@ -34,8 +37,80 @@ std::string_view to_string(Backend b) noexcept {
   switch (b) {
     case Backend::InProcess: return "inproc";
     case Backend::SharedMemory: return "shm";
+    case Backend::CycloneDds: return "cyclonedds";
+    case Backend::FastDds: return "fastdds";
   }
   return "unknown";
+}
+
+bool backend_available(Backend b) noexcept {
+  switch (b) {
+    case Backend::InProcess:
+    case Backend::SharedMemory: return true;
+#ifdef HORUS_HAVE_CYCLONEDDS
+    case Backend::CycloneDds: return true;
+#else
+    case Backend::CycloneDds: return false;
+#endif
+#ifdef HORUS_HAVE_FASTDDS
+    case Backend::FastDds: return true;
+#else
+    case Backend::FastDds: return false;
+#endif
+  }
+  return false;
+}
+
+namespace net {
+std::string_view to_string(Reliability r) noexcept {
+  return r == Reliability::Reliable ? "reliable" : "best effort";
+}
+std::string_view to_string(Durability d) noexcept {
+  return d == Durability::TransientLocal ? "transient local" : "volatile";
+}
+}  // namespace net
+
+Result<std::string> dds_topic_name(std::string_view topic) {
+  if (auto ok = validate_topic_name(topic); !ok) return std::unexpected(std::move(ok.error()));
+  if (const auto pos = topic.find('-'); pos != std::string_view::npos)
+    return fail(Errc::InvalidName,
+                fmt::format("topic '{}': '-' at position {} cannot be carried by DDS (topic names there allow letters, "
+                            "digits, '_' and '/'); use '_' for a topic on the cyclonedds or fastdds backend",
+                            topic, pos));
+  std::string out = "horus/";
+  for (char c : topic) out += c == '.' ? '/' : c;
+  return out;
+}
+
+Result<net::Config> network_config_from_environment() {
+  net::Config config;
+  if (const char* env = std::getenv("HORUS_DOMAIN_ID"); env != nullptr && *env != '\0') {
+    const std::string_view v(env);
+    std::uint32_t id = 0;
+    bool ok = v.size() <= 3;
+    for (char c : v) {
+      ok = ok && c >= '0' && c <= '9';
+      if (ok) id = id * 10 + static_cast<std::uint32_t>(c - '0');
+    }
+    if (!ok || id > 232)
+      return fail(Errc::Config, fmt::format("HORUS_DOMAIN_ID={}: expected a DDS domain id, an integer from 0 to 232 "
+                                            "(the RTPS port mapping has no room above 232)",
+                                            v));
+    config.domain_id = id;
+  }
+  if (const char* env = std::getenv("HORUS_DDS_LOCALHOST"); env != nullptr && *env != '\0') {
+    const std::string_view v(env);
+    if (v == "1" || v == "true" || v == "yes" || v == "on") {
+      config.localhost_only = true;
+    } else if (v == "0" || v == "false" || v == "no" || v == "off") {
+      config.localhost_only = false;
+    } else {
+      return fail(Errc::Config, fmt::format("HORUS_DDS_LOCALHOST={}: expected 1, true, yes, on (loopback only) or "
+                                            "0, false, no, off (the LAN)",
+                                            v));
+    }
+  }
+  return config;
 }
 
 namespace {
@@ -82,11 +157,21 @@ Result<Backend> backend_from_environment() {
   const std::string_view v(env);
   if (v == "auto" || v == "shm") return Backend::SharedMemory;
   if (v == "inproc") return Backend::InProcess;
-  if (v == "cyclonedds" || v == "fastdds" || v == "lcm")
-    return fail(Errc::Config, fmt::format("HORUS_BACKEND={}: this build has no {} backend yet; expected auto, shm "
-                                          "or inproc",
-                                          v, v));
-  return fail(Errc::Config, fmt::format("HORUS_BACKEND={}: unknown backend; expected auto, shm or inproc", v));
+  for (Backend b : {Backend::CycloneDds, Backend::FastDds}) {
+    if (v != to_string(b)) continue;
+    if (!backend_available(b))
+      return fail(Errc::Config, fmt::format("HORUS_BACKEND={}: this build of horus has no {} backend (its Debian "
+                                            "package was missing when horus was built; scripts/install-deps.sh "
+                                            "installs it)",
+                                            v, v));
+    return b;
+  }
+  if (v == "lcm")
+    return fail(Errc::Config, "HORUS_BACKEND=lcm: this build has no lcm backend yet; expected auto, shm, inproc, "
+                              "cyclonedds or fastdds");
+  return fail(Errc::Config, fmt::format("HORUS_BACKEND={}: unknown backend; expected auto, shm, inproc, cyclonedds "
+                                        "or fastdds",
+                                        v));
 }
 
 namespace detail {
@@ -170,9 +255,14 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
     if (!env) return std::unexpected(std::move(env.error()));
     backend = *env;
   }
+  if (!backend_available(backend))
+    return fail(Errc::Config, fmt::format("topic '{}': this build of horus has no {} backend (its Debian package was "
+                                          "missing when horus was built)",
+                                          name, to_string(backend)));
 
-  // Topics are told apart by name and namespace: "" for process-local ones, the shared-memory
-  // namespace for the others (so one process can use a name in two namespaces).
+  // Topics are told apart by name and namespace: the shared-memory namespace for shared-memory
+  // topics (so one process can use a name in two namespaces), "" for the others (in-process
+  // and network topics keep a ring in this process).
   std::string ns;
   if (backend == Backend::SharedMemory) {
     auto n = shm::shm_namespace();
@@ -186,7 +276,7 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
   {
     // The same name on the other backend, in this process: one backend per topic.
     std::string other_ns;
-    if (backend == Backend::InProcess) {
+    if (backend != Backend::SharedMemory) {
       if (auto n = shm::shm_namespace()) other_ns = *n;
     }
     const std::string other = std::string(name) + '\0' + other_ns;
@@ -202,6 +292,11 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
   if (auto it = reg.topics.find(key); it != reg.topics.end()) {
     auto core = it->second.lock();
     if (core && core->pid != ::getpid()) core.reset();  // inherited through fork(): attach anew
+    if (core && core->backend != backend)
+      return fail(Errc::ConfigMismatch,
+                  fmt::format("topic '{}' is open in this process on backend '{}'; cannot open it on '{}' (one "
+                              "backend per topic and process)",
+                              name, to_string(core->backend), to_string(backend)));
     if (core) {
       if (core->type_hash != type.hash || core->type_name != type.name || core->serialized != type.serialized ||
           (!type.serialized && core->payload_size != type.size))
@@ -401,6 +496,98 @@ void release_loan(const void* core, std::uint64_t slot, std::uint64_t gen) noexc
   const auto* c = static_cast<const TopicCore*>(core);
   if (c->pid != current_pid()) return;  // a forked child's copy: the loan is its parent's
   c->pool.abandon({static_cast<std::uint32_t>(slot), gen});
+}
+
+// ---------------------------------------------------------------------------
+// Network backends.
+
+struct NetworkState final : net::Listener {
+  TopicCore* core = nullptr;
+  std::shared_ptr<net::Transport> transport;
+  std::unique_ptr<net::Endpoint> endpoint;
+  std::mutex mutex;  // one sample at a time into the bridge
+  std::atomic<std::uint64_t> errors{0};
+
+  void on_sample(const net::Sample& sample) override {
+    std::lock_guard lock(mutex);
+    if (core->sink != nullptr) core->sink(core->bridge.get(), sample);
+  }
+  void on_error(std::string_view message) override {
+    core->net_errors.fetch_add(1, std::memory_order_relaxed);
+    const auto n = errors.fetch_add(1, std::memory_order_relaxed) + 1;
+    if (n <= 16 || n % 1024 == 0) log().error("{} [{}]", message, transport->name());
+  }
+};
+
+void NetworkStateDeleter::operator()(NetworkState* s) const noexcept {
+  if (s == nullptr) return;
+  s->endpoint.reset();  // no callback after this
+  delete s;
+}
+
+namespace {
+Result<std::shared_ptr<net::Transport>> transport_for(Backend backend, const net::Config& config) {
+  switch (backend) {
+#ifdef HORUS_HAVE_CYCLONEDDS
+    case Backend::CycloneDds: return dds::cyclone_transport(config);
+#endif
+#ifdef HORUS_HAVE_FASTDDS
+    case Backend::FastDds: return dds::fastdds_transport(config);
+#endif
+    default: break;
+  }
+  (void)config;
+  return fail(Errc::Config, fmt::format("this build of horus has no {} backend", to_string(backend)));
+}
+}  // namespace
+
+Result<void> attach_network(TopicCore& core, const net::Qos& qos) {
+  if (core.net) return {};
+  auto config = network_config_from_environment();
+  if (!config) return std::unexpected(std::move(config.error()));
+  auto transport = transport_for(core.backend, *config);
+  if (!transport) return std::unexpected(std::move(transport.error()));
+  std::unique_ptr<NetworkState, NetworkStateDeleter> state(new NetworkState());
+  state->core = &core;
+  state->transport = std::move(*transport);
+  auto wire = dds_topic_name(core.name);
+  if (!wire) return std::unexpected(std::move(wire.error()));
+  net::EndpointSpec spec;
+  spec.topic = core.name;
+  spec.wire_topic = std::move(*wire);
+  spec.type_name = core.type_name;
+  spec.type_hash = core.type_hash;
+  spec.qos = qos;
+  auto endpoint = state->transport->open(spec, *state);
+  if (!endpoint) return std::unexpected(std::move(endpoint.error()));
+  state->endpoint = std::move(*endpoint);
+  core.net = std::move(state);
+  return {};
+}
+
+Result<void> network_write(TopicCore& core, std::size_t body_size, const net::BodyWriter& writer) {
+  return core.net->endpoint->write(body_size, writer);
+}
+
+std::uint32_t network_publishers(const TopicCore& core) noexcept {
+  return core.net ? core.net->endpoint->matched_publishers() : 0;
+}
+
+std::uint32_t network_subscribers(const TopicCore& core) noexcept {
+  return core.net ? core.net->endpoint->matched_subscribers() : 0;
+}
+
+void report_network_decode_failure(TopicCore& core, const std::string& what) {
+  const auto n = core.net_decode_failures.fetch_add(1, std::memory_order_relaxed) + 1;
+  if (n == 1 || n % 1024 == 0)
+    log().error("topic '{}': a {} sample from the network does not decode as XCDR1 ({}); dropped ({} so far)",
+                core.name, core.type_name, what, n);
+}
+
+void report_network_send_failure(const TopicCore& core, const Error& error, std::uint64_t count) {
+  if (count == 1 || count % 1024 == 0)
+    log().error("topic '{}': the {} backend did not send a {} sample: {} ({} so far)", core.name,
+                to_string(core.backend), core.type_name, error.message(), count);
 }
 
 void report_no_subscriber_slot(const TopicCore& core) {

@@ -14,87 +14,25 @@
 #include <vector>
 
 #include "horus/codec.hpp"
+#include "horus/dds/cdr.hpp"
 #include "horus/format.hpp"
 #include "horus/json.hpp"
 #include "horus/msg/all.hpp"
 #include "horus/topic.hpp"
+#include "message_samples.hpp"
 #include "process_support.hpp"
 #include "test_support.hpp"
 
 namespace {
 
-// ---------------------------------------------------------------------------
-// A message with a distinct, valid value in every field (reflection-driven), so that a
-// path that drops, reorders or truncates a field shows up as a difference.
-
-struct Filler {
-  std::uint64_t k = 1;
-
-  template <class V>
-  void fill(V& v) {
-    using namespace horus::reflect;
-    if constexpr (std::is_same_v<V, bool>) {
-      v = (k++ % 2) == 1;
-    } else if constexpr (detail::is_char_array<V>::value) {
-      horus::set_fixed_str(v, fmt::format("t{}", k++).substr(0, std::tuple_size_v<V> - 1));
-    } else if constexpr (std::is_same_v<V, char>) {
-      v = static_cast<char>('a' + k++ % 26);
-    } else if constexpr (std::is_integral_v<V>) {
-      v = static_cast<V>(k++ % 100 + 1);
-    } else if constexpr (std::is_floating_point_v<V>) {
-      v = static_cast<V>(static_cast<double>(k++ % 1000) * 0.5 + 0.25);
-    } else if constexpr (ReflectedEnum<V>) {
-      const auto values = enum_values<V>();
-      v = values[k++ % values.size()].value;
-    } else if constexpr (std::is_enum_v<V>) {
-      v = static_cast<V>(1);
-    } else if constexpr (std::is_same_v<V, std::string>) {
-      v = fmt::format("s{}", k++);
-    } else if constexpr (detail::is_std_array<V>::value) {
-      for (auto& e : v) fill(e);
-    } else if constexpr (detail::is_std_vector<V>::value) {
-      v.resize(3);
-      for (auto& e : v) fill(e);
-    } else {
-      for_each_field(v, [&](std::string_view, auto& f) { fill(f); });
-    }
-  }
-};
-
-template <class T>
-T sample() {
-  T m{};
-  Filler f;
-  f.fill(m);
-  return m;
-}
-
-template <class T>
-::testing::AssertionResult SameMessage(const T& a, const T& b) {
-  if constexpr (std::equality_comparable<T>) {
-    if (!(a == b)) return ::testing::AssertionFailure() << "operator== says they differ: " << horus::to_string(a)
-                                                        << "\n vs " << horus::to_string(b);
-  }
-  if (horus::to_json(a) != horus::to_json(b))
-    return ::testing::AssertionFailure() << "JSON differs: " << horus::to_json(a).dump() << "\n vs "
-                                         << horus::to_json(b).dump();
-  return ::testing::AssertionSuccess();
-}
-
-template <class... T>
-::testing::Types<T...> to_gtest(horus::msg::TypeList<T...>);
-using AllTypes = decltype(to_gtest(horus::msg::AllMessages{}));
+using horus_test::AllTypes;
+using horus_test::SameMessage;
+using horus_test::sample;
+using horus_test::topic_sample;
+using horus_test::TypeNames;
 
 template <class T>
 class EveryMessage : public ::testing::Test {};
-
-struct TypeNames {
-  template <class T>
-  static std::string GetName(int) {
-    const std::string_view q = horus::type_name<T>();
-    return std::string(q.substr(q.rfind("::") + 2));
-  }
-};
 TYPED_TEST_SUITE(EveryMessage, AllTypes, TypeNames);
 
 TYPED_TEST(EveryMessage, IsComparableAndDefaultConstructible) {
@@ -102,34 +40,6 @@ TYPED_TEST(EveryMessage, IsComparableAndDefaultConstructible) {
   static_assert(std::is_default_constructible_v<TypeParam>);
   EXPECT_TRUE(TypeParam{} == TypeParam{});
   EXPECT_FALSE(sample<TypeParam>() == TypeParam{});
-}
-
-// A large-data message whose metadata describes its bytes (the reflection sample's sizes do
-// not agree with each other), with a distinct byte pattern and the sample's text and stamps.
-template <class T>
-T topic_sample() {
-  using namespace horus::msg;
-  T m;
-  if constexpr (std::is_same_v<T, Image>) {
-    m = Image(3, 5, ImageEncoding::Rgb8);
-    m.set_frame_id("cam");
-    m.set_timestamp_ns(42);
-  } else if constexpr (std::is_same_v<T, PointCloud>) {
-    m = PointCloud::make(7, 4, TensorDtype::F32);
-    m.set_timestamp_ns(42);
-  } else if constexpr (std::is_same_v<T, DepthImage>) {
-    m = DepthImage::millimeters(4, 6);
-    m.set_timestamp_ns(42);
-  } else if constexpr (std::is_same_v<T, Tensor>) {
-    m = Tensor({2, 3, 4}, TensorDtype::U16);
-  } else {
-    return sample<T>();
-  }
-  if constexpr (horus::PoolMessage<T>) {
-    auto bytes = m.data_mut();
-    for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = static_cast<std::uint8_t>(i * 7 + 3);
-  }
-  return m;
 }
 
 TYPED_TEST(EveryMessage, RoundTripsThroughTheInProcessTopic) {
@@ -184,6 +94,19 @@ TYPED_TEST(EveryMessage, RoundTripsThroughTheLocalCodec) {
   auto back = horus::codec::decode<TypeParam>(bytes);
   ASSERT_TRUE(back) << back.error();
   EXPECT_TRUE(SameMessage(*back, m));
+}
+
+TYPED_TEST(EveryMessage, RoundTripsThroughXcdr1AndRefusesEveryTruncation) {
+  const TypeParam m = sample<TypeParam>();
+  const auto bytes = horus::cdr::encode(m);
+  EXPECT_EQ(bytes.size(), horus::cdr::encoded_size(m));
+  auto back = horus::cdr::decode<TypeParam>(bytes);
+  ASSERT_TRUE(back) << back.error();
+  EXPECT_TRUE(SameMessage(*back, m));
+  // Cut anywhere (short of 3 bytes of possible padding): an error, never a crash.
+  const std::size_t step = std::max<std::size_t>(1, bytes.size() / 512);
+  for (std::size_t n = 0; n + 3 < bytes.size(); n += step)
+    EXPECT_FALSE(horus::cdr::decode<TypeParam>(std::span(bytes.data(), n))) << "decoded from " << n << " bytes";
 }
 
 TYPED_TEST(EveryMessage, FormatsWithItsNameAndLogsASummary) {

@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <expected>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -35,7 +36,10 @@
 #include "horus/byte_buffer.hpp"
 #include "horus/codec.hpp"
 #include "horus/error.hpp"
+#include "horus/dds/cdr.hpp"
 #include "horus/metrics.hpp"
+#include "horus/network.hpp"
+#include "horus/qos.hpp"
 #include "horus/reflect.hpp"
 #include "horus/shm/heap_region.hpp"
 #include "horus/shm/pool.hpp"
@@ -48,8 +52,18 @@ namespace horus {
 ///   InProcess     a ring in this process's memory (HORUS_BACKEND=inproc, or per topic in code)
 ///   SharedMemory  a ring in a POSIX shared-memory segment that every process of this host
 ///                 (and HORUS_NAMESPACE) opening the name attaches to; the default
-enum class Backend { InProcess, SharedMemory };
+///   CycloneDds    Cyclone DDS over UDP: other processes and hosts of the DDS domain
+///                 (HORUS_BACKEND=cyclonedds); handles of this process share an in-process ring
+///   FastDds       the same through Fast DDS (HORUS_BACKEND=fastdds); both speak DDSI-RTPS
+///                 and XCDR1, so a Cyclone DDS process and a Fast DDS process talk
+enum class Backend { InProcess, SharedMemory, CycloneDds, FastDds };
 std::string_view to_string(Backend b) noexcept;
+
+/// True for the backends that reach other hosts (DDS).
+constexpr bool is_network(Backend b) noexcept { return b == Backend::CycloneDds || b == Backend::FastDds; }
+
+/// True when this build of horus has backend b (DDS backends need their Debian packages at build time).
+bool backend_available(Backend b) noexcept;
 
 /// Per-topic choices made in code (they take precedence over the environment).
 struct TopicOptions {
@@ -57,11 +71,24 @@ struct TopicOptions {
   std::optional<std::uint32_t> capacity;  // slots per publisher, a power of two
   std::optional<std::size_t> slot_size;   // serialized messages: the largest encoded message;
                                           // large data: the largest message's bytes (pool slot)
+  // Network backends only (the defaults come from net::default_qos<T>, horus/qos.hpp):
+  std::optional<net::Reliability> reliability = std::nullopt;
+  std::optional<net::Durability> durability = std::nullopt;
 };
 
-/// The backend HORUS_BACKEND selects (auto|shm|inproc; unset means auto = shm); an error
-/// names a bad value and lists the valid ones.
+/// The backend HORUS_BACKEND selects (auto|shm|inproc|cyclonedds|fastdds; unset means auto =
+/// shm); an error names a bad value and lists the valid ones.
 Result<Backend> backend_from_environment();
+
+/// The network settings of this process: HORUS_DOMAIN_ID (DDS domain, 0 to 232, default 0)
+/// and HORUS_DDS_LOCALHOST (1/true/yes: loopback only, no multicast; 0/false/no or unset: the
+/// LAN). An error names the variable, its value and what is expected.
+Result<net::Config> network_config_from_environment();
+
+/// The DDS topic name of a horus topic: "horus/" + the name with '.' made '/'
+/// ("fleet.robot_1.pose" -> "horus/fleet/robot_1/pose"). DDS topic names allow letters,
+/// digits, '_' and '/' only, so a name with '-' is an error (InvalidName) on DDS backends.
+Result<std::string> dds_topic_name(std::string_view topic);
 
 /// Longest topic name accepted.
 inline constexpr std::size_t kMaxTopicNameLength = 128;
@@ -145,6 +172,11 @@ struct TypeInfo {
   std::uint64_t pool_bytes = 0;  // large data: default bytes per pool slot (0: no pool)
 };
 
+struct NetworkState;  // topic.cpp: the transport, the endpoint and its listener
+struct NetworkStateDeleter {
+  void operator()(NetworkState* s) const noexcept;
+};
+
 /// The shared state of one topic in this process: its ring and the memory it lives in.
 struct TopicCore {
   std::string name;
@@ -161,6 +193,16 @@ struct TopicCore {
   std::uint32_t participant = 0;  // our index in the segment's participant table (what pins pool slots)
   shm::Pool::Claimer claimer;     // this process, as the pool records who writes a slot
   std::atomic<std::int64_t> last_reap_ns{0};  // reap_dead_participants' rate limit
+
+  // Network backends. Received samples are decoded by `sink` and written into the ring by
+  // `bridge`, a handle of this topic that only publishes. Declared last: the endpoint (net)
+  // goes first, so no callback runs once the bridge and the ring are gone.
+  std::mutex net_mutex;
+  std::atomic<std::uint64_t> net_decode_failures{0};  // samples that did not decode
+  std::atomic<std::uint64_t> net_errors{0};           // incompatible endpoints reported
+  std::unique_ptr<void, void (*)(void*)> bridge{nullptr, nullptr};
+  void (*sink)(void* bridge, const net::Sample& sample) = nullptr;
+  std::unique_ptr<NetworkState, NetworkStateDeleter> net;
 };
 
 /// Finds or creates the topic `name` for a message type; checks name, type and configuration.
@@ -183,6 +225,19 @@ void report_pool_exhausted(const TopicCore& core, std::uint64_t count);
 void report_inconsistent(const TopicCore& core, std::uint64_t count);
 /// The error for the same, from send_blocking or loan().
 Error pool_exhausted_error(const TopicCore& core);
+
+/// Network backends: creates the topic's endpoint (once per core; the caller holds net_mutex
+/// and has set bridge and sink).
+Result<void> attach_network(TopicCore& core, const net::Qos& qos);
+/// Sends one sample through the topic's endpoint.
+Result<void> network_write(TopicCore& core, std::size_t body_size, const net::BodyWriter& writer);
+/// Remote endpoints matched with this process's (0 without a network backend).
+std::uint32_t network_publishers(const TopicCore& core) noexcept;
+std::uint32_t network_subscribers(const TopicCore& core) noexcept;
+/// Logs (first and every 1024th) a received sample that did not decode, and counts it.
+void report_network_decode_failure(TopicCore& core, const std::string& what);
+/// Logs (first and every 1024th) a sample the network backend refused to send.
+void report_network_send_failure(const TopicCore& core, const Error& error, std::uint64_t count);
 
 /// This process's pid, cached (updated in a child after fork()): leases compare it with their
 /// topic's to do nothing in a forked child, which must not release its parent's pins.
@@ -275,6 +330,8 @@ class Topic {
     undelivered_ = other.undelivered_;
     pool_lost_ = other.pool_lost_;
     pool_exhausted_ = other.pool_exhausted_;
+    networked_ = other.networked_;
+    net_send_failures_ = other.net_send_failures_;
     inconsistent_ = other.inconsistent_;
     encoded_size_ = other.encoded_size_;
     scratch_ = std::move(other.scratch_);
@@ -294,23 +351,7 @@ class Topic {
   /// only when all kMaxPublishers lanes are taken, or (serialized T) when it encodes to more
   /// than max_message_size() bytes; it is then counted in metrics().send_failures() and logged.
   [[gnu::always_inline]] void send(const T& msg) {
-    if (!writer_.has_lane()) [[unlikely]] {
-      if (!become_publisher()) {
-        ++send_failures_;
-        return;
-      }
-    }
-    if constexpr (kSerialized) {
-      if (!encode(msg)) {
-        ++send_failures_;
-        return;
-      }
-      writer_.write_bytes(encoded());
-    } else if constexpr (kPooled) {
-      if (!fits(msg) || !write_pooled(msg, claim_slot())) ++send_failures_;
-    } else {
-      writer_.write(msg);
-    }
+    if (send_local(msg) && networked_) [[unlikely]] network_send(msg);
   }
 
   /// Large data: lends a slot of the topic's pool for a message described by `desc` (e.g.
@@ -366,6 +407,7 @@ class Topic {
       return;  // the loan's slot is given back as it is destroyed
     }
     publish(l.value_.descriptor(), l.claim_);
+    if (networked_) [[unlikely]] network_send(l.value_);
   }
 
   /// Publishes only if no subscriber would lose an unread message; else gives the message back
@@ -522,14 +564,30 @@ class Topic {
     if constexpr (kPooled) n += core_->pool.header().reused.load(std::memory_order_relaxed);
     return n;
   }
-  /// Publishers currently holding a lane of this topic.
-  std::uint32_t pub_count() const noexcept { return core_->ring.publisher_count(); }
-  /// Handles currently subscribed to this topic.
-  std::uint32_t sub_count() const noexcept { return core_->ring.subscriber_count(); }
+  /// Publishers currently holding a lane of this topic; on a network backend, this process's
+  /// publishing handles plus the remote writers matched with it.
+  std::uint32_t pub_count() const noexcept {
+    if (!core_->bridge) return core_->ring.publisher_count();
+    // The bridge (which writes what arrives into the ring) holds a lane once a sample arrived.
+    const auto* bridge = static_cast<const Topic*>(core_->bridge.get());
+    return core_->ring.publisher_count() - (bridge->writer_.has_lane() ? 1 : 0) + detail::network_publishers(*core_);
+  }
+  /// Handles currently subscribed to this topic; on a network backend, plus the remote readers
+  /// matched with this process.
+  std::uint32_t sub_count() const noexcept {
+    return core_->ring.subscriber_count() + (core_->net ? detail::network_subscribers(*core_) : 0);
+  }
   TopicMetrics metrics() const noexcept {
     return TopicMetrics(writer_.sent(), reader_.delivered() - undelivered_, send_failures_, recv_failures_,
-                        dropped_count(), core_->ring.total_sent(), decode_failures_ + reader_.corrupt());
+                        dropped_count(), core_->ring.total_sent(),
+                        decode_failures_ + reader_.corrupt() +
+                            core_->net_decode_failures.load(std::memory_order_relaxed));
   }
+  /// Network backends: problems the backend reported for this topic in this process (a remote
+  /// endpoint with another message type under the same DDS topic, an incompatible QoS, a sample
+  /// that is not XCDR1); each is also logged. Samples that do not decode count in
+  /// metrics().decode_failures().
+  std::uint64_t network_errors() const noexcept { return core_->net_errors.load(std::memory_order_relaxed); }
   /// Slots per publisher lane.
   std::uint32_t capacity() const noexcept { return core_->ring.capacity(); }
   /// Largest message the topic carries: sizeof(T), or for a serialized T the largest encoded size.
@@ -565,13 +623,98 @@ class Topic {
                                           std::to_string(shm::kMaxSubscribers) +
                                           " subscribing handles; close some before opening more");
     }
+    if (is_network(topic.core_->backend)) {
+      if (auto ok = topic.connect_network(options); !ok) return std::unexpected(std::move(ok.error()));
+      topic.networked_ = true;
+    }
     return topic;
+  }
+
+  // Network backends, first handle of the topic in this process: a bridge handle that writes
+  // received samples into the ring, then the endpoint (so no sample arrives before the bridge).
+  Result<void> connect_network(const TopicOptions& options) {
+    auto& core = *core_;
+    std::lock_guard lock(core.net_mutex);
+    if (core.net) return {};
+    if (!core.bridge) {
+      // Non-owning: the core owns the bridge, and destroys it after the endpoint.
+      std::shared_ptr<detail::TopicCore> self(std::shared_ptr<void>(), &core);
+      core.bridge = std::unique_ptr<void, void (*)(void*)>(new Topic(std::move(self)),
+                                                           [](void* p) { delete static_cast<Topic*>(p); });
+      core.sink = &network_sink;
+    }
+    net::Qos qos{net::default_qos<T>::reliability, net::default_qos<T>::durability, core.ring.capacity()};
+    if (options.reliability) qos.reliability = *options.reliability;
+    if (options.durability) qos.durability = *options.durability;
+    return detail::attach_network(core, qos);
+  }
+
+  // A sample from the network (one at a time per topic): decoded and written into the ring.
+  static void network_sink(void* bridge, const net::Sample& sample) {
+    auto& b = *static_cast<Topic*>(bridge);
+    auto m = cdr::decode<T>(sample.body, sample.little_endian);
+    if (!m) {
+      detail::report_network_decode_failure(*b.core_, m.error());
+      return;
+    }
+    b.send_local(*m);
+  }
+
+  // Encodes msg as XCDR1 straight into the backend's buffer.
+  void network_send(const T& msg) {
+    std::size_t n = 0;
+    try {
+      n = cdr::encoded_size(msg);
+    } catch (const std::length_error& e) {
+      ++send_failures_;
+      detail::report_network_send_failure(*core_, Error(Errc::MessageTooLarge, e.what()), ++net_send_failures_);
+      return;
+    }
+    const net::BodyWriter writer{[](void* ctx, std::span<std::byte> body) {
+                                   // Cannot throw: body has encoded_size(msg) bytes. Called from
+                                   // the backend's C code, so nothing may escape regardless.
+                                   try {
+                                     cdr::encode(*static_cast<const T*>(ctx), body);
+                                   } catch (...) {
+                                     std::memset(body.data(), 0, body.size());
+                                   }
+                                 },
+                                 const_cast<void*>(static_cast<const void*>(&msg))};
+    if (auto ok = detail::network_write(*core_, n, writer); !ok) [[unlikely]] {
+      ++send_failures_;
+      detail::report_network_send_failure(*core_, ok.error(), ++net_send_failures_);
+    }
   }
 
   static constexpr std::size_t payload_bytes() noexcept {
     if constexpr (kPooled) return sizeof(descriptor_type);
     else if constexpr (kSerialized) return default_slot_bytes<T>;
     else return sizeof(T);
+  }
+
+  // Writes msg into the local ring (and pool); false when it was refused (counted).
+  [[gnu::always_inline]] bool send_local(const T& msg) {
+    if (!writer_.has_lane()) [[unlikely]] {
+      if (!become_publisher()) {
+        ++send_failures_;
+        return false;
+      }
+    }
+    if constexpr (kSerialized) {
+      if (!encode(msg)) {
+        ++send_failures_;
+        return false;
+      }
+      writer_.write_bytes(encoded());
+    } else if constexpr (kPooled) {
+      if (!fits(msg) || !write_pooled(msg, claim_slot())) {
+        ++send_failures_;
+        return false;
+      }
+    } else {
+      writer_.write(msg);
+    }
+    return true;
   }
 
   static Topic value_or_throw(Result<Topic> r) {
@@ -589,8 +732,15 @@ class Topic {
     return try_commit(msg);
   }
 
-  // Writes msg (for a serialized T: the bytes encode() left in scratch_) if there is space.
+  // Writes msg if there is space, then sends it to the network (network backends).
   bool try_commit(const T& msg) {
+    if (!try_commit_local(msg)) return false;
+    if (networked_) [[unlikely]] network_send(msg);
+    return true;
+  }
+
+  // Writes msg (for a serialized T: the bytes encode() left in scratch_) if there is space.
+  bool try_commit_local(const T& msg) {
     if (!writer_.has_space(reader_.token())) return false;
     if constexpr (kSerialized) {
       writer_.write_bytes(encoded());
@@ -745,6 +895,8 @@ class Topic {
   std::uint64_t pool_exhausted_ = 0;  // sends that found every slot of our lane pinned
   std::uint64_t inconsistent_ = 0;    // sends refused: metadata that does not describe the bytes
   bool blocking_ = false;             // inside send_blocking's retries
+  bool networked_ = false;                 // a user handle of a network topic (not the bridge)
+  std::uint64_t net_send_failures_ = 0;    // samples the network backend refused
   // Serialized messages only: the encoding buffer and the last slot read.
   std::vector<std::byte> scratch_;
   std::size_t encoded_size_ = 0;

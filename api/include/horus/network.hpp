@@ -1,0 +1,102 @@
+// The byte-level interface between Topic<T> and a network backend (Cyclone DDS, Fast DDS, LCM).
+//
+// Topic<T> encodes a message with the backend's codec (XCDR1 for DDS) straight into the
+// buffer the backend provides, and decodes what arrives into the topic's local ring. A
+// backend moves bytes only: it never sees T. One Transport per process and configuration
+// (a DDS participant); one Endpoint per topic and process (a writer and a reader).
+//
+// This header includes no DDS or LCM header: <horus/topic.hpp> stays fast to compile.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "horus/error.hpp"
+
+namespace horus::net {
+
+/// Whether a lost sample is sent again (reliable) or not (best effort).
+enum class Reliability : std::uint8_t { BestEffort, Reliable };
+/// Whether a late-joining subscriber gets the last `depth` samples (transient local) or not.
+enum class Durability : std::uint8_t { Volatile, TransientLocal };
+
+std::string_view to_string(Reliability r) noexcept;
+std::string_view to_string(Durability d) noexcept;
+
+struct Qos {
+  Reliability reliability = Reliability::Reliable;
+  Durability durability = Durability::Volatile;
+  std::uint32_t depth = 16;  // history depth (KEEP_LAST), from the topic's capacity
+};
+
+/// Process-wide settings of a transport (one participant per distinct Config).
+struct Config {
+  std::uint32_t domain_id = 0;  // DDS domain (HORUS_DOMAIN_ID)
+  bool localhost_only = false;  // loopback only, no multicast (HORUS_DDS_LOCALHOST=1)
+  bool operator==(const Config&) const = default;
+};
+
+/// One topic as a backend sees it.
+struct EndpointSpec {
+  std::string topic;       // the horus topic name ("fleet.robot_1.pose")
+  std::string wire_topic;  // the backend's topic or channel name ("horus/fleet/robot_1/pose")
+  std::string type_name;   // the wire type name ("horus::msg::Pose2D")
+  std::uint64_t type_hash = 0;
+  Qos qos;
+};
+
+/// A sample that arrived: the serialized body (for DDS: the XCDR1 bytes after the 4-byte
+/// encapsulation header, final padding removed) and its byte order. Valid during the call only.
+struct Sample {
+  std::span<const std::byte> body;
+  bool little_endian = true;
+};
+
+/// What an endpoint reports to its topic. Calls come from the backend's threads, one at a
+/// time per endpoint (the transport serializes them), never after the endpoint is destroyed.
+class Listener {
+ public:
+  virtual void on_sample(const Sample& sample) = 0;
+  /// Something the user must hear about: a remote endpoint of another type on our topic, an
+  /// incompatible QoS, a sample that is not valid XCDR1. The message names the topic and
+  /// both sides. Counted and logged by the topic.
+  virtual void on_error(std::string_view message) = 0;
+
+ protected:
+  ~Listener() = default;
+};
+
+/// Fills the body of a sample to be sent: exactly `body.size()` bytes.
+struct BodyWriter {
+  void (*fill)(void* context, std::span<std::byte> body);
+  void* context;
+};
+
+/// One topic of one process: a writer and a reader. Destroying it stops its callbacks first.
+class Endpoint {
+ public:
+  virtual ~Endpoint() = default;
+  /// Sends one sample of `body_size` bytes, filled in place by `writer`.
+  virtual Result<void> write(std::size_t body_size, const BodyWriter& writer) = 0;
+  /// Remote writers matched with our reader (other processes and hosts).
+  virtual std::uint32_t matched_publishers() const = 0;
+  /// Remote readers matched with our writer.
+  virtual std::uint32_t matched_subscribers() const = 0;
+};
+
+/// One backend in one process (a DDS participant, an LCM instance).
+class Transport {
+ public:
+  virtual ~Transport() = default;
+  /// "cyclonedds", "fastdds", "lcm".
+  virtual std::string_view name() const noexcept = 0;
+  /// Creates the writer and reader of a topic. Samples this process writes are not delivered
+  /// back to it (the topic's local ring already has them).
+  virtual Result<std::unique_ptr<Endpoint>> open(const EndpointSpec& spec, Listener& listener) = 0;
+};
+
+}  // namespace horus::net

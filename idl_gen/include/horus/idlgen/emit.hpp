@@ -1,0 +1,54 @@
+// The emitters of horus-idlgen: one per output format, each a function of the Model.
+//
+//   emit_idl(model)  OMG IDL 4 for DDS (idlc, fastddsgen): one .idl per file of the model,
+//                    modules from the C++ namespaces, @final structs (XCDR1), enums, fixed
+//                    arrays, unbounded sequences and strings (mapping.hpp has the table).
+//
+// The text is a contract with third-party programs: it changes only with kInterfaceVersion
+// (the lock test compares it with interfaces.lock).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "horus/idlgen/model.hpp"
+
+namespace horus::idlgen {
+
+/// Bumped whenever the emitted text of an existing type changes.
+inline constexpr int kInterfaceVersion = 1;
+
+struct OutputFile {
+  std::string name;  // "geometry.idl"
+  std::string text;
+};
+
+struct IdlOptions {
+  std::string guard_prefix = "HORUS_MSG";  // include guards: <prefix>_<FILE>_IDL_
+  std::vector<std::string> only_files;     // emit these files only (empty: all); the others are
+                                           // known to exist (a user's messages #include horus's)
+};
+
+/// One .idl per file of the model. Throws std::invalid_argument when a name cannot be
+/// spelled in IDL (it names the type and field).
+std::vector<OutputFile> emit_idl(const Model& model, const IdlOptions& options = {});
+
+/// One emitted definition (a struct, an enum, with the typedefs it needs): what the lock
+/// file fingerprints, type by type.
+struct Definition {
+  std::string type;  // qualified name
+  std::string file;  // "geometry.idl"
+  std::string text;
+};
+std::vector<Definition> idl_definitions(const Model& model, const IdlOptions& options = {});
+
+/// IDL spelling of a name that collides with an IDL keyword (case-insensitively): "_name"
+/// (an escaped identifier; generated code still calls it `name`). Others are unchanged.
+std::string idl_identifier(std::string_view name);
+
+/// 64-bit FNV-1a of a text (the lock file's fingerprint of an emitted file).
+std::uint64_t fingerprint(std::string_view text) noexcept;
+
+}  // namespace horus::idlgen

@@ -1,0 +1,201 @@
+#include "horus/idlgen/cli.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+
+namespace horus::idlgen {
+namespace {
+
+struct Lock {
+  int version = -1;
+  std::map<std::string, std::pair<std::string, std::uint64_t>> types;  // type -> (file, fingerprint)
+};
+
+bool read_text(const std::filesystem::path& path, std::string& out) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  out = ss.str();
+  return true;
+}
+
+bool write_text(const std::filesystem::path& path, const std::string& text) {
+  std::string old;
+  if (read_text(path, old) && old == text) return true;  // unchanged: keep the timestamp
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << text;
+  return static_cast<bool>(out);
+}
+
+// Parses a lock file; an error names the line.
+bool parse_lock(const std::string& text, const std::string& path, Lock& lock) {
+  std::istringstream in(text);
+  std::string line;
+  int n = 0;
+  while (std::getline(in, line)) {
+    ++n;
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream ls(line);
+    std::string a, b, c;
+    ls >> a >> b >> c;
+    if (a == "version" && c.empty()) {
+      try {
+        lock.version = std::stoi(b);
+        continue;
+      } catch (const std::exception&) {
+      }
+    } else if (!a.empty() && !b.empty() && c.starts_with("0x")) {
+      try {
+        lock.types[a] = {b, std::stoull(c.substr(2), nullptr, 16)};
+        continue;
+      } catch (const std::exception&) {
+      }
+    }
+    std::fprintf(stderr, "horus-idlgen: %s:%d: '%s' is not a lock line; expected 'version N' or '<type> <file> 0x<fingerprint>'\n",
+                 path.c_str(), n, line.c_str());
+    return false;
+  }
+  if (lock.version < 0) {
+    std::fprintf(stderr, "horus-idlgen: %s has no 'version N' line\n", path.c_str());
+    return false;
+  }
+  return true;
+}
+
+std::string lock_text(const std::vector<Definition>& defs) {
+  std::string out =
+      "# horus-idlgen lock: the fingerprint of every emitted interface type. Third-party programs build\n"
+      "# against these definitions, so the lock test fails when one changes. To change a type on\n"
+      "# purpose, bump kInterfaceVersion (idl_gen/include/horus/idlgen/emit.hpp) and run\n"
+      "#   horus-idlgen --update-lock <this file>\n";
+  out += "version " + std::to_string(kInterfaceVersion) + "\n";
+  char buf[32];
+  for (const auto& d : defs) {
+    std::snprintf(buf, sizeof(buf), "0x%016llx", static_cast<unsigned long long>(fingerprint(d.text)));
+    out += d.type + " " + d.file + " " + buf + "\n";
+  }
+  return out;
+}
+
+// Differences between the lock and what is emitted now, one line each.
+std::vector<std::string> compare(const Lock& lock, const std::vector<Definition>& defs, bool& changed) {
+  std::vector<std::string> out;
+  changed = false;
+  std::map<std::string, int> seen;
+  for (const auto& d : defs) {
+    seen[d.type] = 1;
+    auto it = lock.types.find(d.type);
+    if (it == lock.types.end()) {
+      out.push_back("new type " + d.type + " (" + d.file + ") is not in the lock");
+    } else if (it->second.second != fingerprint(d.text) || it->second.first != d.file) {
+      changed = true;
+      out.push_back("type " + d.type + " (" + d.file + ") changed since the lock (interface version " +
+                    std::to_string(lock.version) + ")");
+    }
+  }
+  for (const auto& [type, v] : lock.types)
+    if (!seen.contains(type)) {
+      changed = true;
+      out.push_back("type " + type + " (" + v.first + ") is in the lock but no longer emitted");
+    }
+  return out;
+}
+
+int usage() {
+  std::fprintf(stderr,
+               "usage: horus-idlgen --out DIR | --print FILE | --list | --check-lock LOCK | --update-lock LOCK\n");
+  return 2;
+}
+
+}  // namespace
+
+int run_cli(const Model& model, int argc, char** argv, const IdlOptions& options) {
+  if (argc != 2 && argc != 3) return usage();
+  const std::string cmd = argv[1];
+  const std::string arg = argc == 3 ? argv[2] : "";
+  try {
+    if (cmd == "--list" && argc == 2) {
+      for (const auto& d : idl_definitions(model, options)) std::printf("%s %s\n", d.file.c_str(), d.type.c_str());
+      return 0;
+    }
+    if (argc != 3) return usage();
+    if (cmd == "--out") {
+      std::error_code ec;
+      std::filesystem::create_directories(arg, ec);
+      if (ec) {
+        std::fprintf(stderr, "horus-idlgen: cannot create %s: %s\n", arg.c_str(), ec.message().c_str());
+        return 1;
+      }
+      for (const auto& f : emit_idl(model, options))
+        if (!write_text(std::filesystem::path(arg) / f.name, f.text)) {
+          std::fprintf(stderr, "horus-idlgen: cannot write %s/%s\n", arg.c_str(), f.name.c_str());
+          return 1;
+        }
+      return 0;
+    }
+    if (cmd == "--print") {
+      for (const auto& f : emit_idl(model, options))
+        if (f.name == arg || f.name == arg + ".idl") {
+          std::fputs(f.text.c_str(), stdout);
+          return 0;
+        }
+      std::fprintf(stderr, "horus-idlgen: no file '%s'; --list shows them\n", arg.c_str());
+      return 1;
+    }
+    if (cmd == "--check-lock" || cmd == "--update-lock") {
+      const auto defs = idl_definitions(model, options);
+      std::string text;
+      Lock lock;
+      const bool exists = read_text(arg, text);
+      if (exists && !parse_lock(text, arg, lock)) return 1;
+      if (cmd == "--check-lock") {
+        if (!exists) {
+          std::fprintf(stderr, "horus-idlgen: cannot read lock file %s\n", arg.c_str());
+          return 1;
+        }
+        bool changed = false;
+        const auto diffs = compare(lock, defs, changed);
+        if (lock.version != kInterfaceVersion)
+          std::fprintf(stderr, "horus-idlgen: %s is for interface version %d, the generator is version %d\n",
+                       arg.c_str(), lock.version, kInterfaceVersion);
+        for (const auto& d : diffs) std::fprintf(stderr, "horus-idlgen: %s\n", d.c_str());
+        if (diffs.empty() && lock.version == kInterfaceVersion) return 0;
+        std::fprintf(stderr, "horus-idlgen: the emitted interfaces differ from %s.%s Run: horus-idlgen --update-lock %s\n",
+                     arg.c_str(),
+                     changed && lock.version == kInterfaceVersion
+                         ? " A type changed: bump kInterfaceVersion (idl_gen/include/horus/idlgen/emit.hpp) first."
+                         : "",
+                     arg.c_str());
+        return 1;
+      }
+      if (exists) {
+        bool changed = false;
+        const auto diffs = compare(lock, defs, changed);
+        if (changed && lock.version == kInterfaceVersion) {
+          for (const auto& d : diffs) std::fprintf(stderr, "horus-idlgen: %s\n", d.c_str());
+          std::fprintf(stderr,
+                       "horus-idlgen: refusing to update %s: existing types changed but kInterfaceVersion is still %d; "
+                       "bump it (idl_gen/include/horus/idlgen/emit.hpp) so peers can tell the versions apart\n",
+                       arg.c_str(), kInterfaceVersion);
+          return 1;
+        }
+      }
+      if (!write_text(arg, lock_text(defs))) {
+        std::fprintf(stderr, "horus-idlgen: cannot write %s\n", arg.c_str());
+        return 1;
+      }
+      return 0;
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s\n", e.what());
+    return 1;
+  }
+  return usage();
+}
+
+}  // namespace horus::idlgen

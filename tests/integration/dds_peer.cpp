@@ -1,0 +1,156 @@
+// horus_dds_peer: the other process of the DDS tests (and of the multi-host tests). The backend
+// comes from HORUS_BACKEND, the domain from HORUS_DOMAIN_ID. It runs until its deadline or
+// until stdin closes (the test that started it ended), so it never outlives a test for long.
+//
+//   horus_dds_peer echo <prefix> <seconds>
+//       for every standard message T: receives on <prefix>.<T> and sends it back on <prefix>.<T>.echo
+//   horus_dds_peer publish-pose <topic> <seconds>
+//       publishes a Pose2D (x = sequence number) every 20 ms
+//   horus_dds_peer raw <dds-topic> <dds-type> <seconds>
+//       a raw DDS writer (the byte-level transport, no horus codec): every 20 ms, a malformed
+//       sample, then a valid Pose2D with x = 42 (tests that bad samples are counted and later
+//       good ones still arrive)
+#include <poll.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <thread>
+#include <tuple>
+#include <vector>
+
+#include "horus/dds/cdr.hpp"
+#include "horus/dds/transports.hpp"
+#include "horus/msg/all.hpp"
+#include "horus/topic.hpp"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// True when stdin was closed (or says "quit").
+bool parent_gone() {
+  pollfd p{0, POLLIN, 0};
+  if (::poll(&p, 1, 0) <= 0) return false;
+  char c;
+  return ::read(0, &c, 1) <= 0 || c == 'q';
+}
+
+std::string short_name(std::string_view q) { return std::string(q.substr(q.rfind("::") + 2)); }
+
+template <class T>
+struct Echo {
+  horus::Topic<T> in;
+  horus::Topic<T> out;
+  void pump() {
+    while (auto m = in.recv()) out.send(*m);
+  }
+};
+
+template <class... T>
+int echo_all(const std::string& prefix, Clock::time_point deadline, horus::msg::TypeList<T...>) {
+  std::tuple<std::optional<Echo<T>>...> echoes;
+  bool ok = true;
+  auto open = [&]<class M>(std::optional<Echo<M>>& e) {
+    const std::string base = prefix + "." + short_name(horus::type_name<M>());
+    auto in = horus::Topic<M>::open(base);
+    auto out = horus::Topic<M>::open(base + ".echo");
+    if (!in || !out) {
+      std::fprintf(stderr, "horus_dds_peer: %s\n", (!in ? in.error() : out.error()).message().c_str());
+      ok = false;
+      return;
+    }
+    e.emplace(Echo<M>{std::move(*in), std::move(*out)});
+  };
+  std::apply([&](auto&... e) { (open(e), ...); }, echoes);
+  if (!ok) return 3;
+  std::printf("ready\n");
+  std::fflush(stdout);
+  while (Clock::now() < deadline && !parent_gone()) {
+    std::apply([&](auto&... e) { (e->pump(), ...); }, echoes);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return 0;
+}
+
+int publish_pose(const std::string& topic, Clock::time_point deadline) {
+  auto pub = horus::Topic<horus::msg::Pose2D>::open(topic);
+  if (!pub) {
+    std::fprintf(stderr, "horus_dds_peer: %s\n", pub.error().message().c_str());
+    return 3;
+  }
+  std::printf("ready\n");
+  std::fflush(stdout);
+  for (std::uint64_t i = 0; Clock::now() < deadline && !parent_gone(); ++i) {
+    pub->send(horus::msg::Pose2D{static_cast<double>(i), 0.0, 0.0, i});
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return 0;
+}
+
+struct NoListener final : horus::net::Listener {
+  void on_sample(const horus::net::Sample&) override {}
+  void on_error(std::string_view) override {}
+};
+
+int raw_writer(const std::string& wire_topic, const std::string& type, Clock::time_point deadline) {
+  horus::Result<std::shared_ptr<horus::net::Transport>> t = horus::fail(horus::Errc::Config, "no DDS backend");
+  const char* backend = std::getenv("HORUS_BACKEND");
+  auto config = horus::network_config_from_environment();
+  if (!config) return 3;
+#ifdef HORUS_HAVE_CYCLONEDDS
+  if (backend != nullptr && std::string_view(backend) == "cyclonedds") t = horus::dds::cyclone_transport(*config);
+#endif
+#ifdef HORUS_HAVE_FASTDDS
+  if (backend != nullptr && std::string_view(backend) == "fastdds") t = horus::dds::fastdds_transport(*config);
+#endif
+  if (!t) {
+    std::fprintf(stderr, "horus_dds_peer: %s\n", t.error().message().c_str());
+    return 3;
+  }
+  NoListener listener;
+  horus::net::EndpointSpec spec{"raw", wire_topic, type, 0, {}};
+  auto ep = (*t)->open(spec, listener);
+  if (!ep) {
+    std::fprintf(stderr, "horus_dds_peer: %s\n", ep.error().message().c_str());
+    return 3;
+  }
+  std::printf("ready\n");
+  std::fflush(stdout);
+  const auto good = horus::cdr::encode(horus::msg::Pose2D{42.0, 1.0, 2.0, 7});
+  std::vector<std::vector<std::byte>> bad = {
+      {},                                                  // empty
+      std::vector<std::byte>(good.begin(), good.begin() + 5),  // truncated
+      std::vector<std::byte>(200, std::byte{0xab}),        // too long
+  };
+  auto fill = [](void* ctx, std::span<std::byte> body) {
+    const auto* v = static_cast<const std::vector<std::byte>*>(ctx);
+    if (!v->empty()) std::memcpy(body.data(), v->data(), v->size());
+  };
+  for (std::size_t i = 0; Clock::now() < deadline && !parent_gone(); ++i) {
+    const auto& b = bad[i % bad.size()];
+    (void)(*ep)->write(b.size(), horus::net::BodyWriter{fill, const_cast<std::vector<std::byte>*>(&b)});
+    (void)(*ep)->write(good.size(), horus::net::BodyWriter{fill, const_cast<std::vector<std::byte>*>(&good)});
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 4) {
+    std::fprintf(stderr, "usage: horus_dds_peer echo <prefix> <s> | publish-pose <topic> <s> | raw <topic> <type> <s>\n");
+    return 2;
+  }
+  const std::string mode = argv[1];
+  const auto deadline = Clock::now() + std::chrono::seconds(std::atoi(argv[argc - 1]));
+  if (mode == "echo") return echo_all(argv[2], deadline, horus::msg::AllMessages{});
+  if (mode == "publish-pose") return publish_pose(argv[2], deadline);
+  if (mode == "raw" && argc == 5) return raw_writer(argv[2], argv[3], deadline);
+  std::fprintf(stderr, "horus_dds_peer: unknown mode '%s'\n", mode.c_str());
+  return 2;
+}

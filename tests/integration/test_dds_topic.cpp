@@ -1,0 +1,224 @@
+// Topics on the DDS backends (Cyclone DDS, Fast DDS) between real processes on loopback
+// (HORUS_DDS_LOCALHOST=1, a domain per test process): every message type round-trips, across
+// vendors too; incompatible peers and malformed samples are reported; bad settings are errors.
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <string>
+#include <thread>
+#include <tuple>
+#include <vector>
+
+#include "horus/msg/all.hpp"
+#include "horus/topic.hpp"
+#include "dds_support.hpp"
+#include "message_samples.hpp"
+#include "test_support.hpp"
+
+extern char** environ;
+
+namespace {
+
+using horus::Backend;
+using horus_test::on;
+using horus_test::Peer;
+using horus_test::round_trip_all;
+using namespace std::chrono_literals;
+
+// Loopback only, and a domain of our own (tests of other processes run at the same time).
+class DdsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ::setenv("HORUS_DDS_LOCALHOST", "1", 1);
+    ::setenv("HORUS_DOMAIN_ID", std::to_string(1 + ::getpid() % 200).c_str(), 1);
+    ::unsetenv("HORUS_BACKEND");
+  }
+};
+
+#define REQUIRE_BACKEND(b)                                                                          \
+  if (!horus::backend_available(b))                                                                 \
+  GTEST_SKIP() << "this build has no " << horus::to_string(b) << " backend (install its Debian package and rebuild)"
+
+
+struct Pair {
+  Backend mine;
+  Backend peer;
+};
+
+class DdsPairs : public DdsTest, public ::testing::WithParamInterface<Pair> {};
+
+TEST_P(DdsPairs, EveryMessageTypeRoundTripsFieldByField) {
+  REQUIRE_BACKEND(GetParam().mine);
+  REQUIRE_BACKEND(GetParam().peer);
+  const auto prefix = horus_test::unique_name("dds.every");
+  Peer peer(GetParam().peer, {"echo", prefix, "120"});
+  ASSERT_TRUE(peer.ready()) << "the peer did not start";
+  const auto failures = round_trip_all(GetParam().mine, prefix, horus::msg::AllMessages{});
+  for (const auto& f : failures) ADD_FAILURE() << f;
+  EXPECT_EQ(peer.stop(), 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, DdsPairs,
+                         ::testing::Values(Pair{Backend::CycloneDds, Backend::CycloneDds},
+                                           Pair{Backend::FastDds, Backend::FastDds},
+                                           Pair{Backend::CycloneDds, Backend::FastDds},
+                                           Pair{Backend::FastDds, Backend::CycloneDds}),
+                         [](const auto& param_info) {
+                           return std::string(horus::to_string(param_info.param.mine)) + "_to_" +
+                                  std::string(horus::to_string(param_info.param.peer));
+                         });
+
+// ---------------------------------------------------------------------------
+// One backend at a time.
+
+class DdsBackend : public DdsTest, public ::testing::WithParamInterface<Backend> {};
+
+TEST_P(DdsBackend, HandlesOfOneProcessGetEachMessageOnce) {
+  REQUIRE_BACKEND(GetParam());
+  const auto name = horus_test::unique_name("dds.once");
+  horus::Topic<horus::msg::Pose2D> pub = horus::Topic<horus::msg::Pose2D>::open(name, on(GetParam())).value();
+  horus::Topic<horus::msg::Pose2D> sub = horus::Topic<horus::msg::Pose2D>::open(name, on(GetParam())).value();
+  EXPECT_EQ(pub.backend(), GetParam());
+  for (int i = 0; i < 10; ++i) pub.send(horus::msg::Pose2D{double(i), 0, 0, std::uint64_t(i)});
+  for (int i = 0; i < 10; ++i) {
+    auto m = sub.recv();
+    ASSERT_TRUE(m);
+    EXPECT_EQ(m->x, i);
+  }
+  // Nothing comes back through the network (no self-delivery).
+  std::this_thread::sleep_for(300ms);
+  EXPECT_FALSE(sub.recv());
+}
+
+TEST_P(DdsBackend, CountsRemoteEndpointsInPubAndSubCount) {
+  REQUIRE_BACKEND(GetParam());
+  const auto name = horus_test::unique_name("dds.count");
+  auto sub = horus::Topic<horus::msg::Pose2D>::open(name, on(GetParam()));
+  ASSERT_TRUE(sub) << sub.error().message();
+  EXPECT_EQ(sub->pub_count(), 0u);
+  Peer peer(GetParam(), {"publish-pose", name, "60"});
+  ASSERT_TRUE(peer.ready());
+  horus_test::Deadline d(20s);
+  std::optional<horus::msg::Pose2D> got;
+  while (!d.expired() && !got) {
+    got = sub->recv();
+    std::this_thread::sleep_for(5ms);
+  }
+  ASSERT_TRUE(got) << "nothing from the peer in 20 s";
+  EXPECT_EQ(sub->pub_count(), 1u) << "the peer's writer";
+  // This handle, plus the peer's reader: every endpoint has a writer and a reader.
+  EXPECT_GE(sub->sub_count(), 1u);
+  EXPECT_EQ(peer.stop(), 0);
+  horus_test::Deadline gone(20s);
+  while (!gone.expired() && sub->pub_count() != 0) std::this_thread::sleep_for(10ms);
+  EXPECT_EQ(sub->pub_count(), 0u) << "the peer left";
+}
+
+TEST_P(DdsBackend, AnotherMessageTypeOnTheSameTopicIsReported) {
+  REQUIRE_BACKEND(GetParam());
+  const auto name = horus_test::unique_name("dds.mismatch");
+  auto sub = horus::Topic<horus::msg::CmdVel>::open(name, on(GetParam()));
+  ASSERT_TRUE(sub) << sub.error().message();
+  Peer peer(GetParam(), {"publish-pose", name, "60"});  // Pose2D under the same DDS topic
+  ASSERT_TRUE(peer.ready());
+  horus_test::Deadline d(20s);
+  while (!d.expired() && sub->network_errors() == 0) std::this_thread::sleep_for(10ms);
+  EXPECT_GT(sub->network_errors(), 0u) << "the type mismatch was not reported";
+  EXPECT_FALSE(sub->recv()) << "a Pose2D must never arrive as a CmdVel";
+  EXPECT_EQ(peer.stop(), 0);
+}
+
+TEST_P(DdsBackend, MalformedSamplesAreCountedAndLaterGoodOnesStillArrive) {
+  REQUIRE_BACKEND(GetParam());
+  const auto name = horus_test::unique_name("dds.malformed");
+  auto sub = horus::Topic<horus::msg::Pose2D>::open(name, on(GetParam()));
+  ASSERT_TRUE(sub) << sub.error().message();
+  Peer peer(GetParam(), {"raw", horus::dds_topic_name(name).value(), "horus::msg::Pose2D", "60"});
+  ASSERT_TRUE(peer.ready());
+  horus_test::Deadline d(20s);
+  int good = 0;
+  while (!d.expired() && (good < 3 || sub->metrics().decode_failures() < 3)) {
+    while (auto m = sub->recv()) {
+      EXPECT_EQ(m->x, 42.0);
+      EXPECT_EQ(m->timestamp_ns, 7u);
+      ++good;
+    }
+    std::this_thread::sleep_for(5ms);
+  }
+  EXPECT_GE(good, 3);
+  EXPECT_GE(sub->metrics().decode_failures(), 3u);
+  EXPECT_EQ(peer.stop(), 0);
+}
+
+TEST_P(DdsBackend, ALatchedTopicReachesALateJoiner) {
+  REQUIRE_BACKEND(GetParam());
+  const auto prefix = horus_test::unique_name("dds.latched");
+  // OccupancyGrid is transient local: the peer, started after the map was sent, still gets it.
+  auto map = horus::Topic<horus::msg::OccupancyGrid>::open(prefix + ".OccupancyGrid", on(GetParam()));
+  auto echo = horus::Topic<horus::msg::OccupancyGrid>::open(prefix + ".OccupancyGrid.echo", on(GetParam()));
+  ASSERT_TRUE(map && echo);
+  const auto sent = horus_test::sample<horus::msg::OccupancyGrid>();
+  map->send(sent);
+  Peer peer(GetParam(), {"echo", prefix, "60"});
+  ASSERT_TRUE(peer.ready());
+  horus_test::Deadline d(30s);
+  std::optional<horus::msg::OccupancyGrid> got;
+  while (!d.expired() && !(got = echo->recv())) std::this_thread::sleep_for(5ms);
+  ASSERT_TRUE(got) << "the late joiner did not get the map";
+  EXPECT_TRUE(horus_test::SameMessage(*got, sent));
+  EXPECT_EQ(peer.stop(), 0);
+}
+
+TEST_P(DdsBackend, BadSettingsAreClearErrors) {
+  REQUIRE_BACKEND(GetParam());
+  const auto name = horus_test::unique_name("dds.bad");
+  ::setenv("HORUS_DOMAIN_ID", "233", 1);
+  auto t = horus::Topic<horus::msg::Pose2D>::open(name, on(GetParam()));
+  ASSERT_FALSE(t);
+  EXPECT_EQ(t.error().code(), horus::Errc::Config);
+  EXPECT_NE(t.error().message().find("HORUS_DOMAIN_ID=233"), std::string::npos) << t.error().message();
+  ::setenv("HORUS_DOMAIN_ID", "seven", 1);
+  EXPECT_FALSE(horus::Topic<horus::msg::Pose2D>::open(name, on(GetParam())));
+  ::setenv("HORUS_DOMAIN_ID", "7", 1);
+  ::setenv("HORUS_DDS_LOCALHOST", "maybe", 1);
+  t = horus::Topic<horus::msg::Pose2D>::open(name, on(GetParam()));
+  ASSERT_FALSE(t);
+  EXPECT_NE(t.error().message().find("HORUS_DDS_LOCALHOST=maybe"), std::string::npos) << t.error().message();
+  ::setenv("HORUS_DDS_LOCALHOST", "1", 1);
+  t = horus::Topic<horus::msg::Pose2D>::open(name + "-dash", on(GetParam()));
+  ASSERT_FALSE(t);
+  EXPECT_EQ(t.error().code(), horus::Errc::InvalidName);
+  EXPECT_NE(t.error().message().find("'-'"), std::string::npos) << t.error().message();
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, DdsBackend, ::testing::Values(Backend::CycloneDds, Backend::FastDds),
+                         [](const auto& param_info) { return std::string(horus::to_string(param_info.param)); });
+
+TEST_F(DdsTest, BackendNamesAreCheckedInTheEnvironment) {
+  ::setenv("HORUS_BACKEND", "cyclone", 1);
+  auto b = horus::backend_from_environment();
+  ASSERT_FALSE(b);
+  EXPECT_NE(b.error().message().find("expected auto, shm, inproc, cyclonedds or fastdds"), std::string::npos)
+      << b.error().message();
+  for (Backend want : {Backend::CycloneDds, Backend::FastDds}) {
+    ::setenv("HORUS_BACKEND", std::string(horus::to_string(want)).c_str(), 1);
+    b = horus::backend_from_environment();
+    if (horus::backend_available(want)) {
+      ASSERT_TRUE(b) << b.error().message();
+      EXPECT_EQ(*b, want);
+    } else {
+      EXPECT_FALSE(b);
+    }
+  }
+  ::unsetenv("HORUS_BACKEND");
+}
+
+}  // namespace

@@ -1,0 +1,35 @@
+# The emitted .idl files go through the real IDL compilers with no error and no warning:
+#   cmake -DTOOL=idlc|fastddsgen -DIDL_DIR=<build>/idl -DWORK_DIR=<dir> -P check_idl_tools.cmake
+# Exits 77 (a skip) when the tool is not installed.
+find_program(_tool ${TOOL})
+if(NOT _tool)
+  message("SKIP: ${TOOL} is not installed (Debian: cyclonedds-tools for idlc, fastddsgen for fastddsgen)")
+  cmake_language(EXIT 77)
+endif()
+file(REMOVE_RECURSE ${WORK_DIR})
+file(MAKE_DIRECTORY ${WORK_DIR})
+file(GLOB _idl ${IDL_DIR}/*.idl)
+list(LENGTH _idl _n)
+if(_n EQUAL 0)
+  message(FATAL_ERROR "no .idl file in ${IDL_DIR}")
+endif()
+if(TOOL STREQUAL "idlc")
+  foreach(f IN LISTS _idl)
+    execute_process(COMMAND ${_tool} -I ${IDL_DIR} ${f} WORKING_DIRECTORY ${WORK_DIR}
+                    RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 120)
+    if(NOT rc EQUAL 0 OR NOT "${out}${err}" STREQUAL "")
+      message(FATAL_ERROR "idlc ${f}: exit ${rc}\n${out}${err}")
+    endif()
+  endforeach()
+else()
+  execute_process(COMMAND ${_tool} -replace -d ${WORK_DIR} -I ${IDL_DIR} ${_idl} WORKING_DIRECTORY ${WORK_DIR}
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 300)
+  # fastddsgen exits 0 even on some errors: read what it says. Its progress lines are not findings.
+  string(REGEX REPLACE "(^|\n)(Processing|Generating|Adding|Loading|openjdk)[^\n]*" "" rest "${out}${err}")
+  string(TOLOWER "${rest}" lower)
+  if(NOT rc EQUAL 0 OR lower MATCHES "error|warning|exception|not supported")
+    message(FATAL_ERROR "fastddsgen: exit ${rc}\n${out}${err}")
+  endif()
+endif()
+list(LENGTH _idl n)
+message("${TOOL}: ${n} files accepted without a diagnostic")

@@ -1,0 +1,212 @@
+// Hosts made of network namespaces, for tests that need a real network between processes:
+//
+//   horus_test::NetnsLan lan(3);              // hosts 10.213.<n>.1 .. .3 on one bridge
+//   if (!lan.ok()) GTEST_SKIP() << lan.why();
+//   auto p = lan.spawn(0, {"/path/prog", "arg"}, {"HORUS_BACKEND=cyclonedds"});
+//
+// Each host is a namespace with its loopback up and one veth (eth0) plugged into a bridge that
+// lives in a namespace of its own, so the machine's own interfaces are never touched. eth0 has
+// an address on a private /24 and a multicast route (DDS and LCM discovery use multicast).
+// Everything is deleted by the destructor, and namespaces left by a test process that died
+// (their name holds its pid) are deleted by the next one. The hosts still share /dev/shm:
+// the backends must not use shared memory between them (horus's DDS backends never do).
+#pragma once
+
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+#include <thread>
+#include <vector>
+
+extern char** environ;
+
+namespace horus_test {
+
+/// Runs argv (no shell), waits at most `timeout`; its exit status, or -1.
+inline int run_command(const std::vector<std::string>& args, std::chrono::seconds timeout = std::chrono::seconds(30)) {
+  std::vector<char*> argv;
+  std::vector<std::string> copy = args;
+  for (auto& a : copy) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", 0x1 /*O_WRONLY*/, 0);
+  posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", 0x1, 0);
+  pid_t pid = 0;
+  const int rc = ::posix_spawnp(&pid, argv[0], &fa, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&fa);
+  if (rc != 0) return -1;
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  int status = 0;
+  while (::waitpid(pid, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, &status, 0);
+      return -1;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/// A process started in a namespace host; killed (SIGTERM, then SIGKILL) if still running at
+/// destruction. Its stdout goes to a file the test can read.
+class HostProcess {
+ public:
+  HostProcess() = default;
+  HostProcess(pid_t pid, std::string out) : pid_(pid), out_(std::move(out)) {}
+  HostProcess(HostProcess&& o) noexcept : pid_(o.pid_), out_(std::move(o.out_)) { o.pid_ = -1; }
+  HostProcess& operator=(HostProcess&&) = delete;
+  ~HostProcess() {
+    if (pid_ > 0) {
+      ::kill(pid_, SIGTERM);
+      (void)wait(std::chrono::seconds(5));
+    }
+    if (!out_.empty()) std::remove(out_.c_str());
+  }
+  /// Waits at most `timeout` (then kills it); the exit status, 128 + signal, or -1.
+  int wait(std::chrono::seconds timeout) {
+    if (pid_ <= 0) return -1;
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    int status = 0;
+    while (::waitpid(pid_, &status, WNOHANG) == 0) {
+      if (std::chrono::steady_clock::now() > deadline) {
+        ::kill(pid_, SIGKILL);
+        ::waitpid(pid_, &status, 0);
+        pid_ = -1;
+        return -1;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    pid_ = -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  }
+  /// What it printed on stdout and stderr so far.
+  std::string output() const {
+    std::string text;
+    if (FILE* f = std::fopen(out_.c_str(), "r")) {
+      char buf[4096];
+      std::size_t n;
+      while ((n = std::fread(buf, 1, sizeof(buf), f)) > 0) text.append(buf, n);
+      std::fclose(f);
+    }
+    return text;
+  }
+
+ private:
+  pid_t pid_ = -1;
+  std::string out_;
+};
+
+class NetnsLan {
+ public:
+  explicit NetnsLan(int hosts) {
+    if (::geteuid() != 0) {
+      why_ = "needs root to create network namespaces (ip netns)";
+      return;
+    }
+    if (run_command({"ip", "netns", "list"}) != 0) {
+      why_ = "'ip netns' is not available (Debian: iproute2)";
+      return;
+    }
+    remove_stale();
+    prefix_ = "hx" + std::to_string(::getpid());
+    subnet_ = "10.213." + std::to_string(::getpid() % 250 + 1);
+    bridge_ns_ = prefix_ + "b";
+    if (!sh({"ip", "netns", "add", bridge_ns_}) ||
+        !sh({"ip", "-n", bridge_ns_, "link", "add", "br0", "type", "bridge", "mcast_snooping", "0"}) ||
+        !sh({"ip", "-n", bridge_ns_, "link", "set", "br0", "up"})) {
+      why_ = "could not create the bridge namespace";
+      return;
+    }
+    for (int i = 1; i <= hosts; ++i) {
+      const std::string ns = prefix_ + "h" + std::to_string(i);
+      const std::string veth = prefix_ + "v" + std::to_string(i);
+      const std::string peer = prefix_ + "p" + std::to_string(i);
+      const std::string addr = subnet_ + "." + std::to_string(i) + "/24";
+      const bool ok = sh({"ip", "netns", "add", ns}) && (hosts_.push_back(ns), true) &&
+                      sh({"ip", "link", "add", veth, "type", "veth", "peer", "name", peer}) &&
+                      sh({"ip", "link", "set", veth, "netns", ns}) &&
+                      sh({"ip", "link", "set", peer, "netns", bridge_ns_}) &&
+                      sh({"ip", "-n", ns, "link", "set", veth, "name", "eth0"}) &&
+                      sh({"ip", "-n", ns, "addr", "add", addr, "dev", "eth0"}) &&
+                      sh({"ip", "-n", ns, "link", "set", "eth0", "up"}) &&
+                      sh({"ip", "-n", ns, "link", "set", "lo", "up"}) &&
+                      sh({"ip", "-n", ns, "route", "add", "224.0.0.0/4", "dev", "eth0"}) &&
+                      sh({"ip", "-n", bridge_ns_, "link", "set", peer, "master", "br0"}) &&
+                      sh({"ip", "-n", bridge_ns_, "link", "set", peer, "up"});
+      if (!ok) {
+        why_ = "could not create host " + ns + " (veth, address or route)";
+        return;
+      }
+    }
+    ok_ = true;
+  }
+  ~NetnsLan() {
+    for (const auto& ns : hosts_) run_command({"ip", "netns", "del", ns});
+    if (!bridge_ns_.empty()) run_command({"ip", "netns", "del", bridge_ns_});
+  }
+  NetnsLan(const NetnsLan&) = delete;
+  NetnsLan& operator=(const NetnsLan&) = delete;
+
+  bool ok() const noexcept { return ok_; }
+  const std::string& why() const noexcept { return why_; }
+  /// The namespace and address of host i (0-based).
+  const std::string& host(int i) const { return hosts_.at(static_cast<std::size_t>(i)); }
+  std::string address(int i) const { return subnet_ + "." + std::to_string(i + 1); }
+
+  /// Starts argv on host i with extra environment entries ("NAME=value").
+  HostProcess spawn(int i, const std::vector<std::string>& args, const std::vector<std::string>& env_extra) const {
+    std::vector<std::string> full = {"ip", "netns", "exec", host(i), "env"};
+    full.insert(full.end(), env_extra.begin(), env_extra.end());
+    full.insert(full.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& a : full) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    const std::string out = "/tmp/" + prefix_ + "_" + std::to_string(counter_++) + ".log";
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), 0x241 /*O_WRONLY|O_CREAT|O_TRUNC*/, 0600);
+    posix_spawn_file_actions_adddup2(&fa, 1, 2);
+    pid_t pid = -1;
+    if (::posix_spawnp(&pid, "ip", &fa, nullptr, argv.data(), environ) != 0) pid = -1;
+    posix_spawn_file_actions_destroy(&fa);
+    return HostProcess(pid, out);
+  }
+
+ private:
+  static bool sh(const std::vector<std::string>& args) { return run_command(args) == 0; }
+
+  // Namespaces of test processes that died without cleaning up: "hx<pid>..." with <pid> gone.
+  static void remove_stale() {
+    FILE* p = ::popen("ip netns list 2>/dev/null", "r");
+    if (p == nullptr) return;
+    char line[256];
+    std::vector<std::string> stale;
+    while (std::fgets(line, sizeof(line), p) != nullptr) {
+      std::string name(line);
+      name = name.substr(0, name.find_first_of(" \n"));
+      if (name.rfind("hx", 0) != 0) continue;
+      const long pid = std::strtol(name.c_str() + 2, nullptr, 10);
+      if (pid > 0 && ::kill(static_cast<pid_t>(pid), 0) != 0) stale.push_back(name);
+    }
+    ::pclose(p);
+    for (const auto& ns : stale) run_command({"ip", "netns", "del", ns});
+  }
+
+  bool ok_ = false;
+  std::string why_;
+  std::string prefix_;
+  std::string subnet_;
+  std::string bridge_ns_;
+  std::vector<std::string> hosts_;
+  mutable int counter_ = 0;
+};
+
+}  // namespace horus_test

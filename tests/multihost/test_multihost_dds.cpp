@@ -1,0 +1,37 @@
+// The fleet on three hosts (network namespaces on a bridge): robots on two hosts publish
+// Heartbeat, Pose2D and TransformStamped over DDS; the monitor on the third receives all of
+// them. Skips when not root or without `ip netns`.
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "horus/topic.hpp"
+#include "netns.hpp"
+
+namespace {
+
+using namespace std::chrono_literals;
+
+class MultiHost : public ::testing::TestWithParam<horus::Backend> {};
+
+TEST_P(MultiHost, AMonitorOnAThirdHostReceivesTwoRobots) {
+  if (!horus::backend_available(GetParam()))
+    GTEST_SKIP() << "this build has no " << horus::to_string(GetParam()) << " backend";
+  horus_test::NetnsLan lan(3);
+  if (!lan.ok()) GTEST_SKIP() << "no namespace hosts: " << lan.why();
+  const std::vector<std::string> env = {"HORUS_BACKEND=" + std::string(horus::to_string(GetParam())),
+                                        "HORUS_DOMAIN_ID=" + std::to_string(1 + ::getpid() % 200),
+                                        "HORUS_DDS_LOCALHOST=0"};
+  auto robot1 = lan.spawn(0, {FLEET_DEMO, "--role", "robot", "--id", "1", "--duration", "30"}, env);
+  auto robot2 = lan.spawn(1, {FLEET_DEMO, "--role", "robot", "--id", "2", "--duration", "30"}, env);
+  auto monitor = lan.spawn(2, {FLEET_DEMO, "--role", "monitor", "--robots", "2", "--duration", "8"}, env);
+  const int rc = monitor.wait(60s);
+  const std::string out = monitor.output();
+  EXPECT_EQ(rc, 0) << "the monitor on " << lan.host(2) << " said:\n" << out << "\nrobot 1:\n" << robot1.output();
+  EXPECT_NE(out.find("from 2 robots; 0 silent"), std::string::npos) << out;
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, MultiHost, ::testing::Values(horus::Backend::CycloneDds, horus::Backend::FastDds),
+                         [](const auto& param_info) { return std::string(horus::to_string(param_info.param)); });
+
+}  // namespace
