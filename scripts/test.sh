@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Sets up everything, builds, and runs every test: the default build (all tests), then the
 # concurrency tests again under ThreadSanitizer, and the decoders of untrusted bytes (the
-# codec, serialized topics) under AddressSanitizer + UBSan. HORUS_TEST_TSAN=0 / HORUS_TEST_ASAN=0
+# local codec, the XCDR1 codec, serialized topics) under AddressSanitizer + UBSan. HORUS_TEST_TSAN=0 / HORUS_TEST_ASAN=0
 # skip those passes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -23,6 +23,6 @@ fi
 
 if [ "${HORUS_TEST_ASAN:-1}" != "0" ]; then
   cmake --preset asan
-  cmake --build --preset asan -j "$jobs" --target test_codec test_topic_serialized test_pool
-  ctest --preset asan -R '^(Codec|SerializedTopic|Pool|Backends/PoolTopic)\.'
+  cmake --build --preset asan -j "$jobs" --target test_codec test_cdr test_topic_serialized test_pool
+  ctest --preset asan -R '^(Codec|Cdr|SerializedTopic|Pool|Backends/PoolTopic)\.'
 fi

@@ -1,0 +1,382 @@
+/* raw_cyclone_pingpong: the raw Cyclone DDS baseline of the DDS latency benchmark. A plain
+ * Cyclone DDS C program over what idlc generates from horus's .idl files (geometry.idl,
+ * vision.idl, horus_bench.idl); no horus code. Its twin is raw_fastdds_pingpong.cpp: same
+ * command line, topics, QoS and loop, so the two (and horus) are compared like for like.
+ *
+ *   raw-cyclone-pingpong pong <domain> <type> <seconds>
+ *   raw-cyclone-pingpong ping <domain> <type> <round_trips> <warmup>
+ *     type: cmdvel | kilobyte | image   (image: 1920x1080 RGB8, 6,220,800 bytes of data)
+ *
+ * pong takes every sample of horus/bench/<type>/ping and writes that same sample back on
+ * horus/bench/<type>/pong. It prints "ready" once its endpoints exist and stops after
+ * <seconds>, when its stdin (a pipe) reaches EOF, or on a sample whose seq is UINT64_MAX.
+ * ping waits for both matches (30 s), runs <warmup> then <round_trips> round trips, stops the
+ * pong and prints one line:
+ *   RESULT impl=raw-cyclone type=<type> n=<round_trips> p50_ns= p99_ns= p999_ns= mean_ns= [lost=<k>]
+ * with the one-way latency (RTT/2). A round trip with no answer within 2 s is lost.
+ *
+ * UDP only (no shared memory); BENCH_LOCALHOST=1: loopback only, unicast discovery.
+ * Exit: 0 ok, 2 usage, 3 setup failure. */
+#define _GNU_SOURCE
+#include <errno.h>
+#include <inttypes.h>
+#include <pthread.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <dds/dds.h>
+
+#include "geometry.h"
+#include "horus_bench.h"
+#include "vision.h"
+
+enum { kCmdVel, kKilobyte, kImage };
+enum { kImageWidth = 1920, kImageHeight = 1080, kImageStep = kImageWidth * 3 };
+#define kImageBytes ((uint32_t)kImageStep * kImageHeight)
+#define kStopSeq UINT64_MAX
+#define kLostAfterNs 2000000000ull
+#define kMatchDeadlineNs 30000000000ull
+
+static const char* kLocalhostXml =
+    "<CycloneDDS><Domain Id=\"any\"><General>"
+    "<Interfaces><NetworkInterface address=\"127.0.0.1\" multicast=\"false\"/></Interfaces>"
+    "<AllowMulticast>false</AllowMulticast></General>"
+    "<Discovery><ParticipantIndex>auto</ParticipantIndex><MaxAutoParticipantIndex>40</MaxAutoParticipantIndex>"
+    "<Peers><Peer Address=\"127.0.0.1\"/></Peers></Discovery>"
+    "<Internal><SocketReceiveBufferSize min=\"default\" max=\"8MiB\"/>"
+    "<SocketSendBufferSize min=\"64KiB\" max=\"4MiB\"/></Internal>"
+    "<SharedMemory><Enable>false</Enable></SharedMemory>"
+    "</Domain></CycloneDDS>";
+
+static const char* kLanXml =
+    "<CycloneDDS><Domain Id=\"any\">"
+    "<Internal><SocketReceiveBufferSize min=\"default\" max=\"8MiB\"/>"
+    "<SocketSendBufferSize min=\"64KiB\" max=\"4MiB\"/></Internal>"
+    "<SharedMemory><Enable>false</Enable></SharedMemory>"
+    "</Domain></CycloneDDS>";
+
+static uint64_t now_ns(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (uint64_t)ts.tv_sec * 1000000000ull + (uint64_t)ts.tv_nsec;
+}
+
+static int usage(void) {
+  fprintf(stderr,
+          "usage: raw-cyclone-pingpong pong <domain> <type> <seconds>\n"
+          "       raw-cyclone-pingpong ping <domain> <type> <round_trips> <warmup>\n"
+          "  type: cmdvel | kilobyte | image\n"
+          "  BENCH_LOCALHOST=1: loopback only\n");
+  return 2;
+}
+
+static int parse_u64(const char* s, uint64_t* out) {
+  char* end = NULL;
+  errno = 0;
+  if (s == NULL || *s == '\0' || *s == '-') return 0;
+  unsigned long long v = strtoull(s, &end, 10);
+  if (errno != 0 || *end != '\0') return 0;
+  *out = (uint64_t)v;
+  return 1;
+}
+
+/* The sequence-number field of each type (the stop signal is UINT64_MAX there). */
+static uint64_t* seq_field(int type, void* sample) {
+  switch (type) {
+    case kCmdVel: return &((horus_msg_CmdVel*)sample)->stamp_nanos;
+    case kKilobyte: return &((horus_bench_Kilobyte*)sample)->seq;
+    default: return &((horus_msg_Image*)sample)->timestamp_ns;
+  }
+}
+
+/* A zeroed sample the reader deserializes into (an Image's sequence grows once, then is reused). */
+static void* alloc_sample(int type) {
+  switch (type) {
+    case kCmdVel: return calloc(1, sizeof(horus_msg_CmdVel));
+    case kKilobyte: return calloc(1, sizeof(horus_bench_Kilobyte));
+    default: return calloc(1, sizeof(horus_msg_Image));
+  }
+}
+
+/* ---- stdin watcher: a guard condition raised when the parent closes our stdin pipe ---------- */
+
+static dds_entity_t g_stdin_guard;
+
+static void* stdin_watch(void* arg) {
+  (void)arg;
+  char buf[256];
+  for (;;) {
+    ssize_t n = read(STDIN_FILENO, buf, sizeof buf);
+    if (n > 0) continue;
+    if (n < 0 && errno == EINTR) continue;
+    break; /* EOF or error: the parent is gone */
+  }
+  dds_set_guardcondition(g_stdin_guard, true);
+  return NULL;
+}
+
+/* Only a pipe or socket is watched: /dev/null or a file would end at once, and reading a
+ * terminal from a background job would stop the process (SIGTTIN). */
+static int stdin_is_pipe(void) {
+  struct stat st;
+  if (fstat(STDIN_FILENO, &st) != 0) return 0;
+  return S_ISFIFO(st.st_mode) || S_ISSOCK(st.st_mode);
+}
+
+/* ---- setup ---------------------------------------------------------------------------------- */
+
+struct endpoints {
+  dds_entity_t domain, participant, writer, reader, waitset, readcond;
+};
+
+static int setup(struct endpoints* ep, uint32_t domain_id, int type, const char* type_name, int is_ping) {
+  const char* env = getenv("BENCH_LOCALHOST");
+  const int localhost = env != NULL && env[0] != '\0' && strcmp(env, "0") != 0;
+  const dds_topic_descriptor_t* desc = type == kCmdVel     ? &horus_msg_CmdVel_desc
+                                       : type == kKilobyte ? &horus_bench_Kilobyte_desc
+                                                           : &horus_msg_Image_desc;
+  char ping_name[64], pong_name[64];
+  snprintf(ping_name, sizeof ping_name, "horus/bench/%s/ping", type_name);
+  snprintf(pong_name, sizeof pong_name, "horus/bench/%s/pong", type_name);
+
+  memset(ep, 0, sizeof *ep);
+  ep->domain = dds_create_domain((dds_domainid_t)domain_id, localhost ? kLocalhostXml : kLanXml);
+  if (ep->domain < 0) {
+    fprintf(stderr, "raw-cyclone: dds_create_domain(%u): %s\n", domain_id, dds_strretcode(ep->domain));
+    return 0;
+  }
+  ep->participant = dds_create_participant((dds_domainid_t)domain_id, NULL, NULL);
+  if (ep->participant < 0) {
+    fprintf(stderr, "raw-cyclone: dds_create_participant: %s\n", dds_strretcode(ep->participant));
+    return 0;
+  }
+  dds_entity_t ping_topic = dds_create_topic(ep->participant, desc, ping_name, NULL, NULL);
+  dds_entity_t pong_topic = dds_create_topic(ep->participant, desc, pong_name, NULL, NULL);
+  if (ping_topic < 0 || pong_topic < 0) {
+    fprintf(stderr, "raw-cyclone: dds_create_topic: %s\n", dds_strretcode(ping_topic < 0 ? ping_topic : pong_topic));
+    return 0;
+  }
+
+  dds_qos_t* qos = dds_create_qos();
+  dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
+  dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
+  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 16);
+  const dds_data_representation_id_t xcdr1 = DDS_DATA_REPRESENTATION_XCDR1;
+  dds_qset_data_representation(qos, 1, &xcdr1);
+  ep->reader = dds_create_reader(ep->participant, is_ping ? pong_topic : ping_topic, qos, NULL);
+  ep->writer = dds_create_writer(ep->participant, is_ping ? ping_topic : pong_topic, qos, NULL);
+  dds_delete_qos(qos);
+  if (ep->reader < 0 || ep->writer < 0) {
+    fprintf(stderr, "raw-cyclone: creating the reader/writer: %s\n",
+            dds_strretcode(ep->reader < 0 ? ep->reader : ep->writer));
+    return 0;
+  }
+
+  ep->waitset = dds_create_waitset(ep->participant);
+  ep->readcond = dds_create_readcondition(ep->reader, DDS_ANY_STATE);
+  if (ep->waitset < 0 || ep->readcond < 0 || dds_waitset_attach(ep->waitset, ep->readcond, ep->readcond) < 0) {
+    fprintf(stderr, "raw-cyclone: creating the waitset\n");
+    return 0;
+  }
+  return 1;
+}
+
+/* ---- pong ----------------------------------------------------------------------------------- */
+
+static int run_pong(struct endpoints* ep, int type, uint64_t seconds) {
+  g_stdin_guard = dds_create_guardcondition(ep->participant);
+  if (g_stdin_guard < 0 || dds_waitset_attach(ep->waitset, g_stdin_guard, g_stdin_guard) < 0) {
+    fprintf(stderr, "raw-cyclone: creating the guard condition\n");
+    return 3;
+  }
+  if (stdin_is_pipe()) {
+    pthread_t th;
+    if (pthread_create(&th, NULL, stdin_watch, NULL) == 0) pthread_detach(th);
+  }
+  void* sample = alloc_sample(type);
+  void* buf[1] = {sample};
+  dds_sample_info_t info;
+  printf("ready\n");
+  fflush(stdout);
+
+  const uint64_t end = now_ns() + seconds * 1000000000ull;
+  int stop = 0;
+  while (!stop) {
+    const uint64_t now = now_ns();
+    if (now >= end) break;
+    dds_attach_t xs[2];
+    const dds_return_t n = dds_waitset_wait(ep->waitset, xs, 2, (dds_duration_t)(end - now));
+    for (dds_return_t i = 0; i < n; i++)
+      if (xs[i] == (dds_attach_t)g_stdin_guard) stop = 1;
+    while (!stop && dds_take(ep->reader, buf, &info, 1, 1) > 0) {
+      if (!info.valid_data) continue;
+      if (*seq_field(type, sample) == kStopSeq) {
+        stop = 1;
+        break;
+      }
+      dds_write(ep->writer, sample);
+    }
+  }
+  dds_sample_free(sample, type == kCmdVel     ? &horus_msg_CmdVel_desc
+                          : type == kKilobyte ? &horus_bench_Kilobyte_desc
+                                              : &horus_msg_Image_desc,
+                  DDS_FREE_ALL);
+  return 0;
+}
+
+/* ---- ping ----------------------------------------------------------------------------------- */
+
+static int wait_matched(struct endpoints* ep) {
+  const uint64_t deadline = now_ns() + kMatchDeadlineNs;
+  for (;;) {
+    dds_publication_matched_status_t pm;
+    dds_subscription_matched_status_t sm;
+    if (dds_get_publication_matched_status(ep->writer, &pm) == 0 &&
+        dds_get_subscription_matched_status(ep->reader, &sm) == 0 && pm.current_count > 0 && sm.current_count > 0)
+      return 1;
+    if (now_ns() >= deadline) return 0;
+    dds_sleepfor(DDS_MSECS(10));
+  }
+}
+
+/* One round trip: write seq, wait for the pong sample with that seq (older ones are skipped).
+ * Returns the RTT in ns, or 0 when nothing came back within 2 s. */
+static uint64_t round_trip(struct endpoints* ep, int type, void* out, void* in, uint64_t seq) {
+  void* buf[1] = {in};
+  dds_sample_info_t info;
+  *seq_field(type, out) = seq;
+  const uint64_t t0 = now_ns();
+  dds_write(ep->writer, out);
+  const uint64_t deadline = t0 + kLostAfterNs;
+  for (;;) {
+    while (dds_take(ep->reader, buf, &info, 1, 1) > 0) {
+      if (info.valid_data && *seq_field(type, in) == seq) return now_ns() - t0;
+    }
+    const uint64_t now = now_ns();
+    if (now >= deadline) return 0;
+    dds_waitset_wait(ep->waitset, NULL, 0, (dds_duration_t)(deadline - now));
+  }
+}
+
+static int cmp_u64(const void* a, const void* b) {
+  const uint64_t x = *(const uint64_t*)a, y = *(const uint64_t*)b;
+  return x < y ? -1 : x > y;
+}
+
+/* Nearest rank: the ceil(p * n)-th smallest. */
+static uint64_t percentile(const uint64_t* sorted, uint64_t n, double p) {
+  if (n == 0) return 0;
+  uint64_t rank = (uint64_t)(p * (double)n);
+  if ((double)rank < p * (double)n) rank++;
+  if (rank < 1) rank = 1;
+  if (rank > n) rank = n;
+  return sorted[rank - 1];
+}
+
+static int run_ping(struct endpoints* ep, int type, const char* type_name, uint64_t round_trips, uint64_t warmup) {
+  void* out = alloc_sample(type);
+  void* in = alloc_sample(type);
+  uint64_t* rtt = malloc((round_trips ? round_trips : 1) * sizeof(uint64_t));
+  if (out == NULL || in == NULL || rtt == NULL) {
+    fprintf(stderr, "raw-cyclone: out of memory\n");
+    return 3;
+  }
+  /* The payload: constant, prepared once (the image buffer is ours, not released by Cyclone). */
+  if (type == kCmdVel) {
+    ((horus_msg_CmdVel*)out)->linear = 0.5f;
+    ((horus_msg_CmdVel*)out)->angular = -0.25f;
+  } else if (type == kKilobyte) {
+    horus_bench_Kilobyte* k = out;
+    for (size_t i = 0; i < sizeof k->payload; i++) k->payload[i] = (uint8_t)i;
+  } else {
+    horus_msg_Image* img = out;
+    img->width = kImageWidth;
+    img->height = kImageHeight;
+    img->encoding = horus_msg_ImageEncoding_Rgb8;
+    img->step = kImageStep;
+    strcpy(img->frame_id, "camera");
+    img->data._buffer = malloc(kImageBytes);
+    if (img->data._buffer == NULL) {
+      fprintf(stderr, "raw-cyclone: out of memory\n");
+      return 3;
+    }
+    for (uint32_t i = 0; i < kImageBytes; i++) img->data._buffer[i] = (uint8_t)(i * 7u);
+    img->data._length = img->data._maximum = kImageBytes;
+    img->data._release = false;
+  }
+
+  if (!wait_matched(ep)) {
+    fprintf(stderr, "raw-cyclone: no pong matched on horus/bench/%s/{ping,pong} within 30 s\n", type_name);
+    return 3;
+  }
+
+  uint64_t seq = 0;
+  for (uint64_t i = 0; i < warmup; i++) (void)round_trip(ep, type, out, in, seq++);
+  uint64_t got = 0, lost = 0;
+  for (uint64_t i = 0; i < round_trips; i++) {
+    const uint64_t r = round_trip(ep, type, out, in, seq++);
+    if (r == 0)
+      lost++;
+    else
+      rtt[got++] = r;
+  }
+
+  /* Stop the pong; let the sample be acknowledged before the domain goes. */
+  *seq_field(type, out) = kStopSeq;
+  dds_write(ep->writer, out);
+  dds_wait_for_acks(ep->writer, DDS_SECS(2));
+
+  qsort(rtt, got, sizeof *rtt, cmp_u64);
+  long double sum = 0;
+  for (uint64_t i = 0; i < got; i++) sum += (long double)rtt[i];
+  const uint64_t mean = got ? (uint64_t)(sum / (long double)got / 2.0L + 0.5L) : 0;
+  printf("RESULT impl=raw-cyclone type=%s n=%" PRIu64 " p50_ns=%" PRIu64 " p99_ns=%" PRIu64 " p999_ns=%" PRIu64
+         " mean_ns=%" PRIu64,
+         type_name, round_trips, percentile(rtt, got, 0.50) / 2, percentile(rtt, got, 0.99) / 2,
+         percentile(rtt, got, 0.999) / 2, mean);
+  if (lost > 0) printf(" lost=%" PRIu64, lost);
+  printf("\n");
+  fflush(stdout);
+
+  if (type == kImage) free(((horus_msg_Image*)out)->data._buffer);
+  free(out);
+  dds_sample_free(in, type == kCmdVel     ? &horus_msg_CmdVel_desc
+                      : type == kKilobyte ? &horus_bench_Kilobyte_desc
+                                          : &horus_msg_Image_desc,
+                  DDS_FREE_ALL);
+  free(rtt);
+  return 0;
+}
+
+int main(int argc, char** argv) {
+  if (argc < 2) return usage();
+  const int is_ping = strcmp(argv[1], "ping") == 0;
+  const int is_pong = strcmp(argv[1], "pong") == 0;
+  if ((!is_ping && !is_pong) || argc != (is_ping ? 6 : 5)) return usage();
+  uint64_t domain = 0, a = 0, b = 0;
+  if (!parse_u64(argv[2], &domain) || domain > 232 || !parse_u64(argv[4], &a) || (is_ping && !parse_u64(argv[5], &b)))
+    return usage();
+  int type;
+  if (strcmp(argv[3], "cmdvel") == 0)
+    type = kCmdVel;
+  else if (strcmp(argv[3], "kilobyte") == 0)
+    type = kKilobyte;
+  else if (strcmp(argv[3], "image") == 0)
+    type = kImage;
+  else
+    return usage();
+
+  struct endpoints ep;
+  int rc;
+  if (!setup(&ep, (uint32_t)domain, type, argv[3], is_ping))
+    rc = 3;
+  else
+    rc = is_ping ? run_ping(&ep, type, argv[3], a, b) : run_pong(&ep, type, a);
+  if (ep.domain > 0) dds_delete(ep.domain);
+  return rc;
+}

@@ -1,0 +1,104 @@
+#!/usr/bin/env bash
+# DDS ping-pong latency: horus over Cyclone DDS and Fast DDS against the raw libraries (programs
+# built from idlc / fastddsgen output of the same IDL, no horus), same QoS, same transport
+# settings (UDP only, no shared memory), in the same run, on one host (loopback) and between
+# two network-namespace hosts joined by a veth pair (root needed for that part).
+#
+#   bench/dds/run_dds_bench.sh [--quick] [--local-only] [--rounds N] [--build-dir DIR]
+#
+# Prints one table per setting: one-way latency (RTT/2) p50 / p99 / p99.9 in microseconds, the
+# median over rounds (raw and horus alternate), and horus p50 / raw p50.
+set -euo pipefail
+here="$(cd "$(dirname "$0")" && pwd)"
+build="$here/../../build/default"
+quick=0
+local_only=0
+rounds=3
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --quick) quick=1 ;;
+    --local-only) local_only=1 ;;
+    --rounds) rounds="$2"; shift ;;
+    --build-dir) build="$2"; shift ;;
+    *) echo "usage: $0 [--quick] [--local-only] [--rounds N] [--build-dir DIR]" >&2; exit 2 ;;
+  esac
+  shift
+done
+bin="$build/bench"
+domain=$(( 1 + $$ % 200 ))
+if [ "$quick" = 1 ]; then n_small=2000; n_image=30; rounds=1; else n_small=20000; n_image=200; fi
+
+impls=()
+[ -x "$bin/raw-cyclone-pingpong" ] && impls+=("raw-cyclone")
+[ -x "$bin/horus-dds-pingpong" ] && impls+=("horus-cyclonedds")
+[ -x "$bin/raw-fastdds-pingpong" ] && impls+=("raw-fastdds")
+[ -x "$bin/horus-dds-pingpong" ] && impls+=("horus-fastdds")
+[ ${#impls[@]} -gt 0 ] || { echo "no ping-pong programs in $bin (build first)" >&2; exit 1; }
+
+# command prefix for an implementation
+prog() {
+  case "$1" in
+    raw-cyclone) echo "$bin/raw-cyclone-pingpong" ;;
+    raw-fastdds) echo "$bin/raw-fastdds-pingpong" ;;
+    horus-cyclonedds) echo "env HORUS_BACKEND=cyclonedds $bin/horus-dds-pingpong" ;;
+    horus-fastdds) echo "env HORUS_BACKEND=fastdds $bin/horus-dds-pingpong" ;;
+  esac
+}
+
+ns1="" ns2=""
+cleanup() {
+  pkill -f "pingpong pong $domain " 2>/dev/null || true
+  [ -n "$ns1" ] && ip netns del "$ns1" 2>/dev/null || true
+  [ -n "$ns2" ] && ip netns del "$ns2" 2>/dev/null || true
+}
+trap cleanup EXIT
+
+make_hosts() {
+  ns1="hbench$$a"; ns2="hbench$$b"
+  ip netns add "$ns1" && ip netns add "$ns2" &&
+  ip link add "hb$$a" type veth peer name "hb$$b" &&
+  ip link set "hb$$a" netns "$ns1" && ip link set "hb$$b" netns "$ns2" &&
+  ip -n "$ns1" addr add 10.214.0.1/24 dev "hb$$a" && ip -n "$ns2" addr add 10.214.0.2/24 dev "hb$$b" &&
+  for ns in "$ns1" "$ns2"; do ip -n "$ns" link set lo up; done &&
+  ip -n "$ns1" link set "hb$$a" up && ip -n "$ns2" link set "hb$$b" up &&
+  ip -n "$ns1" route add 224.0.0.0/4 dev "hb$$a" && ip -n "$ns2" route add 224.0.0.0/4 dev "hb$$b"
+}
+
+# one ping-pong: prints the RESULT line (or a FAILED line)
+one() {  # setting impl type
+  local setting="$1" impl="$2" type="$3" n warm p
+  p="$(prog "$impl")"
+  if [ "$type" = image ]; then n=$n_image; warm=10; else n=$n_small; warm=500; fi
+  local in1="" in2="" envs="BENCH_LOCALHOST=1"
+  if [ "$setting" = netns ]; then in1="ip netns exec $ns1"; in2="ip netns exec $ns2"; envs="BENCH_LOCALHOST=0"; fi
+  # pong: stdin held open by a sleep (it stops at EOF, at the stop sample, or after 300 s)
+  ( sleep 320 | $in2 env $envs $p pong $domain "$type" 300 >/dev/null 2>&1 & )
+  sleep 0.5
+  local out
+  out=$($in1 env $envs timeout 300 $p ping $domain "$type" $n $warm 2>&1 | grep RESULT || echo "FAILED impl=$impl type=$type")
+  pkill -f "pingpong pong $domain $type" 2>/dev/null || true
+  sleep 0.3
+  echo "$out"
+}
+
+run_setting() {
+  local setting="$1" results=""
+  for type in cmdvel kilobyte image; do
+    for r in $(seq 1 "$rounds"); do
+      for impl in "${impls[@]}"; do
+        results+="$(one "$setting" "$impl" "$type") round=$r"$'\n'
+      done
+    done
+  done
+  echo "$results" | python3 "$here/dds_table.py" "$setting"
+}
+
+echo "horus DDS latency (one-way = RTT/2), $rounds round(s), domain $domain, $(nproc) CPUs"
+run_setting local
+if [ "$local_only" = 0 ]; then
+  if [ "$(id -u)" = 0 ] && make_hosts; then
+    run_setting netns
+  else
+    echo "(namespace hosts skipped: needs root and ip netns)"
+  fi
+fi
