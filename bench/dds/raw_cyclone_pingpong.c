@@ -5,6 +5,8 @@
  *
  *   raw-cyclone-pingpong pong <domain> <type> <seconds>
  *   raw-cyclone-pingpong ping <domain> <type> <round_trips> <warmup>
+ *   raw-cyclone-pingpong sink <domain> <type> <seconds>      throughput: counts what arrives on
+ *   raw-cyclone-pingpong source <domain> <type> <seconds>    horus/bench/<type>/tput, sent back to back
  *     type: cmdvel | kilobyte | image   (image: 1920x1080 RGB8, 6,220,800 bytes of data)
  *
  * pong takes every sample of horus/bench/<type>/ping and writes that same sample back on
@@ -15,12 +17,25 @@
  *   RESULT impl=raw-cyclone type=<type> n=<round_trips> p50_ns= p99_ns= p999_ns= mean_ns= [lost=<k>]
  * with the one-way latency (RTT/2). A round trip with no answer within 2 s is lost.
  *
+ * sink prints "ready", counts the samples of horus/bench/<type>/tput until one whose seq is
+ * UINT64_MAX (or <seconds>, or EOF on its stdin pipe), and prints
+ *   RESULT impl=raw-cyclone type=<type> mode=tput received=<n> seconds=<s> rate=<msgs/s> mbps=<MB/s> wait=..
+ * timed from the first to the last counted sample; MB are payload bytes (cmdvel 16, kilobyte
+ * 1024, image 6,220,800 a sample), as horus-dds-pingpong counts them. source waits for a
+ * matched reader (30 s), writes back to back for <seconds>, then the stop sample 3 times.
+ *
+ * Receiving: a waitset on a read condition by default; BENCH_POLL=1: dds_take in a loop with
+ * sched_yield() between empty takes, as horus-dds-pingpong receives (its recv() does not block).
+ * Both RESULT lines end in wait=waitset or wait=poll.
+ *
  * UDP only (no shared memory); BENCH_LOCALHOST=1: loopback only, unicast discovery.
  * Exit: 0 ok, 2 usage, 3 setup failure. */
 #define _GNU_SOURCE
 #include <errno.h>
 #include <inttypes.h>
 #include <pthread.h>
+#include <sched.h>
+#include <stdatomic.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -36,6 +51,7 @@
 #include "vision.h"
 
 enum { kCmdVel, kKilobyte, kImage };
+enum { kPing, kPong, kSink, kSource };
 enum { kImageWidth = 1920, kImageHeight = 1080, kImageStep = kImageWidth * 3 };
 #define kImageBytes ((uint32_t)kImageStep * kImageHeight)
 #define kStopSeq UINT64_MAX
@@ -60,6 +76,9 @@ static const char* kLanXml =
     "<SharedMemory><Enable>false</Enable></SharedMemory>"
     "</Domain></CycloneDDS>";
 
+/* BENCH_POLL=1: receive by polling dds_take (sched_yield() between empty takes), no waitset. */
+static int g_poll;
+
 static uint64_t now_ns(void) {
   struct timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -70,8 +89,10 @@ static int usage(void) {
   fprintf(stderr,
           "usage: raw-cyclone-pingpong pong <domain> <type> <seconds>\n"
           "       raw-cyclone-pingpong ping <domain> <type> <round_trips> <warmup>\n"
+          "       raw-cyclone-pingpong sink <domain> <type> <seconds>\n"
+          "       raw-cyclone-pingpong source <domain> <type> <seconds>\n"
           "  type: cmdvel | kilobyte | image\n"
-          "  BENCH_LOCALHOST=1: loopback only\n");
+          "  BENCH_LOCALHOST=1: loopback only; BENCH_POLL=1: receive by polling, not a waitset\n");
   return 2;
 }
 
@@ -103,9 +124,50 @@ static void* alloc_sample(int type) {
   }
 }
 
+static const dds_topic_descriptor_t* descriptor(int type) {
+  return type == kCmdVel ? &horus_msg_CmdVel_desc : type == kKilobyte ? &horus_bench_Kilobyte_desc : &horus_msg_Image_desc;
+}
+
+/* Payload bytes a sample carries, as horus-dds-pingpong counts them for its MB/s. */
+static uint64_t payload_bytes(int type) {
+  return type == kCmdVel ? 16u : type == kKilobyte ? 1024u : (uint64_t)kImageBytes;
+}
+
+/* The constant payload of a written sample, prepared once (the image buffer is ours, not
+ * released by Cyclone; free_out releases it). Returns 0 when out of memory. */
+static int fill_out(int type, void* out) {
+  if (type == kCmdVel) {
+    ((horus_msg_CmdVel*)out)->linear = 0.5f;
+    ((horus_msg_CmdVel*)out)->angular = -0.25f;
+  } else if (type == kKilobyte) {
+    horus_bench_Kilobyte* k = out;
+    for (size_t i = 0; i < sizeof k->payload; i++) k->payload[i] = (uint8_t)i;
+  } else {
+    horus_msg_Image* img = out;
+    img->width = kImageWidth;
+    img->height = kImageHeight;
+    img->encoding = horus_msg_ImageEncoding_Rgb8;
+    img->step = kImageStep;
+    strcpy(img->frame_id, "camera");
+    img->data._buffer = malloc(kImageBytes);
+    if (img->data._buffer == NULL) return 0;
+    for (uint32_t i = 0; i < kImageBytes; i++) img->data._buffer[i] = (uint8_t)(i * 7u);
+    img->data._length = img->data._maximum = kImageBytes;
+    img->data._release = false;
+  }
+  return 1;
+}
+
+static void free_out(int type, void* out) {
+  if (out == NULL) return;
+  if (type == kImage) free(((horus_msg_Image*)out)->data._buffer);
+  free(out);
+}
+
 /* ---- stdin watcher: a guard condition raised when the parent closes our stdin pipe ---------- */
 
 static dds_entity_t g_stdin_guard;
+static atomic_int g_stdin_eof; /* the same news for a polling loop */
 
 static void* stdin_watch(void* arg) {
   (void)arg;
@@ -116,7 +178,8 @@ static void* stdin_watch(void* arg) {
     if (n < 0 && errno == EINTR) continue;
     break; /* EOF or error: the parent is gone */
   }
-  dds_set_guardcondition(g_stdin_guard, true);
+  atomic_store(&g_stdin_eof, 1);
+  if (g_stdin_guard > 0) dds_set_guardcondition(g_stdin_guard, true);
   return NULL;
 }
 
@@ -128,20 +191,37 @@ static int stdin_is_pipe(void) {
   return S_ISFIFO(st.st_mode) || S_ISSOCK(st.st_mode);
 }
 
+/* Watches stdin (when a pipe) from a detached thread; the guard, when the waitset exists. */
+static int watch_stdin(dds_entity_t participant, dds_entity_t waitset) {
+  if (waitset > 0) {
+    g_stdin_guard = dds_create_guardcondition(participant);
+    if (g_stdin_guard < 0 || dds_waitset_attach(waitset, g_stdin_guard, g_stdin_guard) < 0) {
+      fprintf(stderr, "raw-cyclone: creating the guard condition\n");
+      return 0;
+    }
+  }
+  if (stdin_is_pipe()) {
+    pthread_t th;
+    if (pthread_create(&th, NULL, stdin_watch, NULL) == 0) pthread_detach(th);
+  }
+  return 1;
+}
+
 /* ---- setup ---------------------------------------------------------------------------------- */
 
 struct endpoints {
   dds_entity_t domain, participant, writer, reader, waitset, readcond;
 };
 
-static int setup(struct endpoints* ep, uint32_t domain_id, int type, const char* type_name, int is_ping) {
+/* ping: writer on .../ping, reader on .../pong; pong the reverse; sink: a reader on .../tput;
+ * source: a writer on .../tput. The waitset (and read condition) only when waiting on one. */
+static int setup(struct endpoints* ep, uint32_t domain_id, int type, const char* type_name, int role) {
   const char* env = getenv("BENCH_LOCALHOST");
   const int localhost = env != NULL && env[0] != '\0' && strcmp(env, "0") != 0;
-  const dds_topic_descriptor_t* desc = type == kCmdVel     ? &horus_msg_CmdVel_desc
-                                       : type == kKilobyte ? &horus_bench_Kilobyte_desc
-                                                           : &horus_msg_Image_desc;
+  const dds_topic_descriptor_t* desc = descriptor(type);
   char ping_name[64], pong_name[64];
-  snprintf(ping_name, sizeof ping_name, "horus/bench/%s/ping", type_name);
+  const int tput = role == kSink || role == kSource;
+  snprintf(ping_name, sizeof ping_name, "horus/bench/%s/%s", type_name, tput ? "tput" : "ping");
   snprintf(pong_name, sizeof pong_name, "horus/bench/%s/pong", type_name);
 
   memset(ep, 0, sizeof *ep);
@@ -155,8 +235,9 @@ static int setup(struct endpoints* ep, uint32_t domain_id, int type, const char*
     fprintf(stderr, "raw-cyclone: dds_create_participant: %s\n", dds_strretcode(ep->participant));
     return 0;
   }
+  /* sink/source: ping_topic is .../tput and there is no pong topic. */
   dds_entity_t ping_topic = dds_create_topic(ep->participant, desc, ping_name, NULL, NULL);
-  dds_entity_t pong_topic = dds_create_topic(ep->participant, desc, pong_name, NULL, NULL);
+  dds_entity_t pong_topic = tput ? ping_topic : dds_create_topic(ep->participant, desc, pong_name, NULL, NULL);
   if (ping_topic < 0 || pong_topic < 0) {
     fprintf(stderr, "raw-cyclone: dds_create_topic: %s\n", dds_strretcode(ping_topic < 0 ? ping_topic : pong_topic));
     return 0;
@@ -168,8 +249,8 @@ static int setup(struct endpoints* ep, uint32_t domain_id, int type, const char*
   dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 16);
   const dds_data_representation_id_t xcdr1 = DDS_DATA_REPRESENTATION_XCDR1;
   dds_qset_data_representation(qos, 1, &xcdr1);
-  ep->reader = dds_create_reader(ep->participant, is_ping ? pong_topic : ping_topic, qos, NULL);
-  ep->writer = dds_create_writer(ep->participant, is_ping ? ping_topic : pong_topic, qos, NULL);
+  if (role != kSource) ep->reader = dds_create_reader(ep->participant, role == kPing ? pong_topic : ping_topic, qos, NULL);
+  if (role != kSink) ep->writer = dds_create_writer(ep->participant, role == kPong ? pong_topic : ping_topic, qos, NULL);
   dds_delete_qos(qos);
   if (ep->reader < 0 || ep->writer < 0) {
     fprintf(stderr, "raw-cyclone: creating the reader/writer: %s\n",
@@ -177,6 +258,7 @@ static int setup(struct endpoints* ep, uint32_t domain_id, int type, const char*
     return 0;
   }
 
+  if (role == kSource || g_poll) return 1;
   ep->waitset = dds_create_waitset(ep->participant);
   ep->readcond = dds_create_readcondition(ep->reader, DDS_ANY_STATE);
   if (ep->waitset < 0 || ep->readcond < 0 || dds_waitset_attach(ep->waitset, ep->readcond, ep->readcond) < 0) {
@@ -189,15 +271,7 @@ static int setup(struct endpoints* ep, uint32_t domain_id, int type, const char*
 /* ---- pong ----------------------------------------------------------------------------------- */
 
 static int run_pong(struct endpoints* ep, int type, uint64_t seconds) {
-  g_stdin_guard = dds_create_guardcondition(ep->participant);
-  if (g_stdin_guard < 0 || dds_waitset_attach(ep->waitset, g_stdin_guard, g_stdin_guard) < 0) {
-    fprintf(stderr, "raw-cyclone: creating the guard condition\n");
-    return 3;
-  }
-  if (stdin_is_pipe()) {
-    pthread_t th;
-    if (pthread_create(&th, NULL, stdin_watch, NULL) == 0) pthread_detach(th);
-  }
+  if (!watch_stdin(ep->participant, ep->waitset)) return 3;
   void* sample = alloc_sample(type);
   void* buf[1] = {sample};
   dds_sample_info_t info;
@@ -206,7 +280,17 @@ static int run_pong(struct endpoints* ep, int type, uint64_t seconds) {
 
   const uint64_t end = now_ns() + seconds * 1000000000ull;
   int stop = 0;
-  while (!stop) {
+  while (g_poll && !stop) {
+    if (dds_take(ep->reader, buf, &info, 1, 1) > 0) {
+      if (!info.valid_data) continue;
+      if (*seq_field(type, sample) == kStopSeq) break;
+      dds_write(ep->writer, sample);
+      continue;
+    }
+    if (now_ns() >= end || atomic_load_explicit(&g_stdin_eof, memory_order_relaxed)) break;
+    sched_yield();
+  }
+  while (!g_poll && !stop) {
     const uint64_t now = now_ns();
     if (now >= end) break;
     dds_attach_t xs[2];
@@ -222,10 +306,7 @@ static int run_pong(struct endpoints* ep, int type, uint64_t seconds) {
       dds_write(ep->writer, sample);
     }
   }
-  dds_sample_free(sample, type == kCmdVel     ? &horus_msg_CmdVel_desc
-                          : type == kKilobyte ? &horus_bench_Kilobyte_desc
-                                              : &horus_msg_Image_desc,
-                  DDS_FREE_ALL);
+  dds_sample_free(sample, descriptor(type), DDS_FREE_ALL);
   return 0;
 }
 
@@ -259,7 +340,10 @@ static uint64_t round_trip(struct endpoints* ep, int type, void* out, void* in, 
     }
     const uint64_t now = now_ns();
     if (now >= deadline) return 0;
-    dds_waitset_wait(ep->waitset, NULL, 0, (dds_duration_t)(deadline - now));
+    if (g_poll)
+      sched_yield();
+    else
+      dds_waitset_wait(ep->waitset, NULL, 0, (dds_duration_t)(deadline - now));
   }
 }
 
@@ -286,28 +370,10 @@ static int run_ping(struct endpoints* ep, int type, const char* type_name, uint6
     fprintf(stderr, "raw-cyclone: out of memory\n");
     return 3;
   }
-  /* The payload: constant, prepared once (the image buffer is ours, not released by Cyclone). */
-  if (type == kCmdVel) {
-    ((horus_msg_CmdVel*)out)->linear = 0.5f;
-    ((horus_msg_CmdVel*)out)->angular = -0.25f;
-  } else if (type == kKilobyte) {
-    horus_bench_Kilobyte* k = out;
-    for (size_t i = 0; i < sizeof k->payload; i++) k->payload[i] = (uint8_t)i;
-  } else {
-    horus_msg_Image* img = out;
-    img->width = kImageWidth;
-    img->height = kImageHeight;
-    img->encoding = horus_msg_ImageEncoding_Rgb8;
-    img->step = kImageStep;
-    strcpy(img->frame_id, "camera");
-    img->data._buffer = malloc(kImageBytes);
-    if (img->data._buffer == NULL) {
-      fprintf(stderr, "raw-cyclone: out of memory\n");
-      return 3;
-    }
-    for (uint32_t i = 0; i < kImageBytes; i++) img->data._buffer[i] = (uint8_t)(i * 7u);
-    img->data._length = img->data._maximum = kImageBytes;
-    img->data._release = false;
+  /* The payload: constant, prepared once. */
+  if (!fill_out(type, out)) {
+    fprintf(stderr, "raw-cyclone: out of memory\n");
+    return 3;
   }
 
   if (!wait_matched(ep)) {
@@ -340,24 +406,115 @@ static int run_ping(struct endpoints* ep, int type, const char* type_name, uint6
          type_name, round_trips, percentile(rtt, got, 0.50) / 2, percentile(rtt, got, 0.99) / 2,
          percentile(rtt, got, 0.999) / 2, mean);
   if (lost > 0) printf(" lost=%" PRIu64, lost);
-  printf("\n");
+  printf(" wait=%s\n", g_poll ? "poll" : "waitset");
   fflush(stdout);
 
-  if (type == kImage) free(((horus_msg_Image*)out)->data._buffer);
-  free(out);
-  dds_sample_free(in, type == kCmdVel     ? &horus_msg_CmdVel_desc
-                      : type == kKilobyte ? &horus_bench_Kilobyte_desc
-                                          : &horus_msg_Image_desc,
-                  DDS_FREE_ALL);
+  free_out(type, out);
+  dds_sample_free(in, descriptor(type), DDS_FREE_ALL);
   free(rtt);
+  return 0;
+}
+
+/* ---- sink / source (throughput) ------------------------------------------------------------- */
+
+static int run_sink(struct endpoints* ep, int type, const char* type_name, uint64_t seconds) {
+  if (!watch_stdin(ep->participant, ep->waitset)) return 3;
+  void* sample = alloc_sample(type);
+  if (sample == NULL) {
+    fprintf(stderr, "raw-cyclone: out of memory\n");
+    return 3;
+  }
+  void* buf[1] = {sample};
+  dds_sample_info_t info;
+  printf("ready\n");
+  fflush(stdout);
+
+  const uint64_t end = now_ns() + seconds * 1000000000ull;
+  uint64_t received = 0, first = 0, last = 0;
+  while (g_poll) {
+    if (dds_take(ep->reader, buf, &info, 1, 1) > 0) {
+      if (!info.valid_data) continue;
+      if (*seq_field(type, sample) == kStopSeq) break;
+      last = now_ns();
+      if (received++ == 0) first = last;
+      continue;
+    }
+    if (now_ns() >= end || atomic_load_explicit(&g_stdin_eof, memory_order_relaxed)) break;
+    sched_yield();
+  }
+  int stop = 0;
+  while (!g_poll && !stop) {
+    const uint64_t now = now_ns();
+    if (now >= end) break;
+    dds_attach_t xs[2];
+    const dds_return_t n = dds_waitset_wait(ep->waitset, xs, 2, (dds_duration_t)(end - now));
+    for (dds_return_t i = 0; i < n; i++)
+      if (xs[i] == (dds_attach_t)g_stdin_guard) stop = 1;
+    while (!stop && dds_take(ep->reader, buf, &info, 1, 1) > 0) {
+      if (!info.valid_data) continue;
+      if (*seq_field(type, sample) == kStopSeq) {
+        stop = 1;
+        break;
+      }
+      last = now_ns();
+      if (received++ == 0) first = last;
+    }
+  }
+  dds_sample_free(sample, descriptor(type), DDS_FREE_ALL);
+
+  const double s = (double)(last - first) / 1e9;
+  printf("RESULT impl=raw-cyclone type=%s mode=tput received=%" PRIu64 " seconds=%.3f rate=%.0f mbps=%.1f wait=%s\n",
+         type_name, received, s, s > 0 ? (double)received / s : 0.0,
+         s > 0 ? (double)(received * payload_bytes(type)) / s / 1e6 : 0.0, g_poll ? "poll" : "waitset");
+  fflush(stdout);
+  return received > 0 ? 0 : 1;
+}
+
+static int run_source(struct endpoints* ep, int type, const char* type_name, uint64_t seconds) {
+  void* out = alloc_sample(type);
+  if (out == NULL || !fill_out(type, out)) {
+    fprintf(stderr, "raw-cyclone: out of memory\n");
+    return 3;
+  }
+  const uint64_t deadline = now_ns() + kMatchDeadlineNs;
+  for (;;) {
+    dds_publication_matched_status_t pm;
+    if (dds_get_publication_matched_status(ep->writer, &pm) == 0 && pm.current_count > 0) break;
+    if (now_ns() >= deadline) {
+      fprintf(stderr, "raw-cyclone: no sink matched on horus/bench/%s/tput within 30 s\n", type_name);
+      free_out(type, out);
+      return 3;
+    }
+    dds_sleepfor(DDS_MSECS(10));
+  }
+  dds_sleepfor(DDS_MSECS(200));
+
+  const uint64_t end = now_ns() + seconds * 1000000000ull;
+  for (uint64_t seq = 1; now_ns() < end; seq++) {
+    *seq_field(type, out) = seq;
+    dds_write(ep->writer, out);
+  }
+  *seq_field(type, out) = kStopSeq;
+  for (int i = 0; i < 3; i++) {
+    dds_write(ep->writer, out);
+    dds_sleepfor(DDS_MSECS(50));
+  }
+  dds_wait_for_acks(ep->writer, DDS_SECS(2));
+  free_out(type, out);
   return 0;
 }
 
 int main(int argc, char** argv) {
   if (argc < 2) return usage();
-  const int is_ping = strcmp(argv[1], "ping") == 0;
-  const int is_pong = strcmp(argv[1], "pong") == 0;
-  if ((!is_ping && !is_pong) || argc != (is_ping ? 6 : 5)) return usage();
+  const int role = strcmp(argv[1], "ping") == 0     ? kPing
+                   : strcmp(argv[1], "pong") == 0   ? kPong
+                   : strcmp(argv[1], "sink") == 0   ? kSink
+                   : strcmp(argv[1], "source") == 0 ? kSource
+                                                    : -1;
+  const int is_ping = role == kPing;
+  if (role < 0 || argc != (is_ping ? 6 : 5)) return usage();
+  const char* poll_env = getenv("BENCH_POLL");
+  g_poll = poll_env != NULL && poll_env[0] != '\0' && strcmp(poll_env, "0") != 0;
   uint64_t domain = 0, a = 0, b = 0;
   if (!parse_u64(argv[2], &domain) || domain > 232 || !parse_u64(argv[4], &a) || (is_ping && !parse_u64(argv[5], &b)))
     return usage();
@@ -373,10 +530,16 @@ int main(int argc, char** argv) {
 
   struct endpoints ep;
   int rc;
-  if (!setup(&ep, (uint32_t)domain, type, argv[3], is_ping))
+  if (!setup(&ep, (uint32_t)domain, type, argv[3], role))
     rc = 3;
+  else if (role == kPing)
+    rc = run_ping(&ep, type, argv[3], a, b);
+  else if (role == kPong)
+    rc = run_pong(&ep, type, a);
+  else if (role == kSink)
+    rc = run_sink(&ep, type, argv[3], a);
   else
-    rc = is_ping ? run_ping(&ep, type, argv[3], a, b) : run_pong(&ep, type, a);
+    rc = run_source(&ep, type, argv[3], a);
   if (ep.domain > 0) dds_delete(ep.domain);
   return rc;
 }

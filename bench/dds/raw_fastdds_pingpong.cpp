@@ -5,6 +5,8 @@
 //
 //   raw-fastdds-pingpong pong <domain> <type> <seconds>
 //   raw-fastdds-pingpong ping <domain> <type> <round_trips> <warmup>
+//   raw-fastdds-pingpong sink <domain> <type> <seconds>      throughput: counts what arrives on
+//   raw-fastdds-pingpong source <domain> <type> <seconds>    horus/bench/<type>/tput, sent back to back
 //     type: cmdvel | kilobyte | image   (image: 1920x1080 RGB8, 6,220,800 bytes of data)
 //
 // pong takes every sample of horus/bench/<type>/ping and writes that same sample back on
@@ -14,6 +16,17 @@
 // pong and prints one line:
 //   RESULT impl=raw-fastdds type=<type> n=<round_trips> p50_ns= p99_ns= p999_ns= mean_ns= [lost=<k>]
 // with the one-way latency (RTT/2). A round trip with no answer within 2 s is lost.
+//
+// sink prints "ready", counts the samples of horus/bench/<type>/tput until one whose seq is
+// UINT64_MAX (or <seconds>, or EOF on its stdin pipe), and prints
+//   RESULT impl=raw-fastdds type=<type> mode=tput received=<n> seconds=<s> rate=<msgs/s> mbps=<MB/s> wait=..
+// timed from the first to the last counted sample; MB are payload bytes (cmdvel 16, kilobyte
+// 1024, image 6,220,800 a sample), as horus-dds-pingpong counts them. source waits for a
+// matched reader (30 s), writes back to back for <seconds>, then the stop sample 3 times.
+//
+// Receiving: a WaitSet on a ReadCondition by default; BENCH_POLL=1: take_next_sample in a loop
+// with std::this_thread::yield() between empty takes, as horus-dds-pingpong receives (its recv()
+// does not block). Both RESULT lines end in wait=waitset or wait=poll.
 //
 // UDPv4 only (no shared-memory transport, no data sharing), XCDR1, synchronous publishing;
 // BENCH_LOCALHOST=1: loopback only, unicast discovery. Exit: 0 ok, 2 usage, 3 setup failure.
@@ -71,6 +84,13 @@ constexpr auto kMatchDeadline = std::chrono::seconds(30);
 constexpr std::uint32_t kSocketBuffer = 4u << 20;
 constexpr std::uint32_t kInitialPeersRange = 32;
 
+enum class Role { kPing, kPong, kSink, kSource };
+
+// BENCH_POLL=1: receive by polling take_next_sample (yield between empty takes), no WaitSet.
+bool g_poll = false;
+
+const char* wait_name() { return g_poll ? "poll" : "waitset"; }
+
 std::uint64_t now_ns() {
   return static_cast<std::uint64_t>(
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
@@ -85,8 +105,10 @@ int usage() {
   std::fprintf(stderr,
                "usage: raw-fastdds-pingpong pong <domain> <type> <seconds>\n"
                "       raw-fastdds-pingpong ping <domain> <type> <round_trips> <warmup>\n"
+               "       raw-fastdds-pingpong sink <domain> <type> <seconds>\n"
+               "       raw-fastdds-pingpong source <domain> <type> <seconds>\n"
                "  type: cmdvel | kilobyte | image\n"
-               "  BENCH_LOCALHOST=1: loopback only\n");
+               "  BENCH_LOCALHOST=1: loopback only; BENCH_POLL=1: receive by polling, not a WaitSet\n");
   return 2;
 }
 
@@ -125,6 +147,11 @@ void fill(horus::msg::Image& m) {
   for (std::size_t i = 0; i < kImageBytes; ++i) m.data()[i] = static_cast<std::uint8_t>(i * 7u);
 }
 
+// Payload bytes a sample carries, as horus-dds-pingpong counts them for its MB/s.
+constexpr std::uint64_t payload_bytes(const horus::msg::CmdVel*) { return 16; }
+constexpr std::uint64_t payload_bytes(const horus_bench::Kilobyte*) { return 1024; }
+constexpr std::uint64_t payload_bytes(const horus::msg::Image*) { return kImageBytes; }
+
 // ---- stdin watcher: a guard condition raised when the parent closes our stdin pipe ----------
 
 // Never destroyed: the detached watcher thread may still be blocked in read() at exit.
@@ -149,6 +176,8 @@ void stdin_watch() {
   g_stdin_guard->set_trigger_value(true);
 }
 
+bool stdin_closed() { return g_stdin_guard->get_trigger_value(); }
+
 // ---- setup ----------------------------------------------------------------------------------
 
 struct Endpoints {
@@ -169,12 +198,19 @@ struct Endpoints {
   }
 };
 
-bool setup(Endpoints& ep, std::uint32_t domain, fd::TypeSupport type, const std::string& type_name, bool is_ping) {
+// ping: writer on .../ping, reader on .../pong; pong the reverse; sink: a reader on .../tput;
+// source: a writer on .../tput. The ReadCondition and WaitSet only when waiting on them.
+bool setup(Endpoints& ep, std::uint32_t domain, fd::TypeSupport type, const std::string& type_name, Role role) {
+  const bool is_ping = role == Role::kPing;
+  const bool tput = role == Role::kSink || role == Role::kSource;
   const char* env = std::getenv("BENCH_LOCALHOST");
   const bool localhost = env != nullptr && env[0] != '\0' && std::strcmp(env, "0") != 0;
 
   fd::DomainParticipantQos pq;
-  pq.name(is_ping ? "raw-fastdds-ping" : "raw-fastdds-pong");
+  pq.name(is_ping                ? "raw-fastdds-ping"
+          : role == Role::kPong  ? "raw-fastdds-pong"
+          : role == Role::kSink  ? "raw-fastdds-sink"
+                                 : "raw-fastdds-source");
   pq.transport().use_builtin_transports = false;  // no default UDPv4 + shared-memory pair
   auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
   udp->sendBufferSize = kSocketBuffer;
@@ -203,8 +239,11 @@ bool setup(Endpoints& ep, std::uint32_t domain, fd::TypeSupport type, const std:
     return false;
   }
   const std::string prefix = "horus/bench/" + type_name;
-  fd::Topic* ping_topic = ep.participant->create_topic(prefix + "/ping", type.get_type_name(), fd::TOPIC_QOS_DEFAULT);
-  fd::Topic* pong_topic = ep.participant->create_topic(prefix + "/pong", type.get_type_name(), fd::TOPIC_QOS_DEFAULT);
+  // sink/source: ping_topic is .../tput and there is no pong topic.
+  fd::Topic* ping_topic =
+      ep.participant->create_topic(prefix + (tput ? "/tput" : "/ping"), type.get_type_name(), fd::TOPIC_QOS_DEFAULT);
+  fd::Topic* pong_topic =
+      tput ? ping_topic : ep.participant->create_topic(prefix + "/pong", type.get_type_name(), fd::TOPIC_QOS_DEFAULT);
   fd::Publisher* pub = ep.participant->create_publisher(fd::PUBLISHER_QOS_DEFAULT);
   fd::Subscriber* sub = ep.participant->create_subscriber(fd::SUBSCRIBER_QOS_DEFAULT);
   if (ping_topic == nullptr || pong_topic == nullptr || pub == nullptr || sub == nullptr) {
@@ -232,12 +271,15 @@ bool setup(Endpoints& ep, std::uint32_t domain, fd::TypeSupport type, const std:
   rq.data_sharing().off();
   rq.type_consistency().representation.m_value = {fd::XCDR_DATA_REPRESENTATION};
 
-  ep.reader = sub->create_datareader(is_ping ? pong_topic : ping_topic, rq, nullptr, fd::StatusMask::none());
-  ep.writer = pub->create_datawriter(is_ping ? ping_topic : pong_topic, wq, nullptr, fd::StatusMask::none());
-  if (ep.reader == nullptr || ep.writer == nullptr) {
+  if (role != Role::kSource)
+    ep.reader = sub->create_datareader(is_ping ? pong_topic : ping_topic, rq, nullptr, fd::StatusMask::none());
+  if (role != Role::kSink)
+    ep.writer = pub->create_datawriter(role == Role::kPong ? pong_topic : ping_topic, wq, nullptr, fd::StatusMask::none());
+  if ((role != Role::kSource && ep.reader == nullptr) || (role != Role::kSink && ep.writer == nullptr)) {
     std::fprintf(stderr, "raw-fastdds: could not create the DataReader/DataWriter\n");
     return false;
   }
+  if (role == Role::kSource || g_poll) return true;
 
   // A ReadCondition on any sample, as the Cyclone twin; the data_available status if refused.
   ep.read_cond = ep.reader->create_readcondition(fd::ANY_SAMPLE_STATE, fd::ANY_VIEW_STATE, fd::ANY_INSTANCE_STATE);
@@ -256,13 +298,19 @@ bool setup(Endpoints& ep, std::uint32_t domain, fd::TypeSupport type, const std:
 
 // ---- pong -----------------------------------------------------------------------------------
 
-template <class T>
-int run_pong(Endpoints& ep, std::uint64_t seconds) {
-  if (ep.waitset.attach_condition(*g_stdin_guard) != ReturnCode_t::RETCODE_OK) {
+// Watches stdin (when a pipe) from a detached thread; its guard joins the WaitSet, if waiting.
+bool watch_stdin(Endpoints& ep) {
+  if (!g_poll && ep.waitset.attach_condition(*g_stdin_guard) != ReturnCode_t::RETCODE_OK) {
     std::fprintf(stderr, "raw-fastdds: could not attach the guard condition\n");
-    return 3;
+    return false;
   }
   if (stdin_is_pipe()) std::thread(stdin_watch).detach();
+  return true;
+}
+
+template <class T>
+int run_pong(Endpoints& ep, std::uint64_t seconds) {
+  if (!watch_stdin(ep)) return 3;
   auto sample = std::make_unique<T>();
   fd::SampleInfo info;
   fd::ConditionSeq active;
@@ -272,7 +320,17 @@ int run_pong(Endpoints& ep, std::uint64_t seconds) {
 
   const std::uint64_t end = now_ns() + seconds * 1'000'000'000ull;
   bool stop = false;
-  while (!stop) {
+  while (g_poll && !stop) {
+    if (ep.reader->take_next_sample(sample.get(), &info) == ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data) continue;
+      if (seq_field(*sample) == kStopSeq) break;
+      ep.writer->write(sample.get());
+      continue;
+    }
+    if (now_ns() >= end || stdin_closed()) break;
+    std::this_thread::yield();
+  }
+  while (!g_poll && !stop) {
     const std::uint64_t now = now_ns();
     if (now >= end) break;
     ep.waitset.wait(active, duration_of(end - now));
@@ -320,7 +378,10 @@ std::uint64_t round_trip(Endpoints& ep, T& out, T& in, fd::SampleInfo& info, fd:
     }
     const std::uint64_t now = now_ns();
     if (now >= deadline) return 0;
-    ep.waitset.wait(active, duration_of(deadline - now));
+    if (g_poll)
+      std::this_thread::yield();
+    else
+      ep.waitset.wait(active, duration_of(deadline - now));
   }
 }
 
@@ -377,25 +438,125 @@ int run_ping(Endpoints& ep, const std::string& type_name, std::uint64_t round_tr
               type_name.c_str(), round_trips, percentile(rtt, 0.50) / 2, percentile(rtt, 0.99) / 2,
               percentile(rtt, 0.999) / 2, mean);
   if (lost > 0) std::printf(" lost=%" PRIu64, lost);
-  std::printf("\n");
+  std::printf(" wait=%s\n", wait_name());
   std::fflush(stdout);
   return 0;
 }
 
+// ---- sink / source (throughput) -------------------------------------------------------------
+
+template <class T>
+int run_sink(Endpoints& ep, const std::string& type_name, std::uint64_t seconds) {
+  if (!watch_stdin(ep)) return 3;
+  auto sample = std::make_unique<T>();
+  fd::SampleInfo info;
+  fd::ConditionSeq active;
+  active.reserve(4);
+  std::printf("ready\n");
+  std::fflush(stdout);
+
+  const std::uint64_t end = now_ns() + seconds * 1'000'000'000ull;
+  std::uint64_t received = 0, first = 0, last = 0;
+  while (g_poll) {
+    if (ep.reader->take_next_sample(sample.get(), &info) == ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data) continue;
+      if (seq_field(*sample) == kStopSeq) break;
+      last = now_ns();
+      if (received++ == 0) first = last;
+      continue;
+    }
+    if (now_ns() >= end || stdin_closed()) break;
+    std::this_thread::yield();
+  }
+  bool stop = false;
+  while (!g_poll && !stop) {
+    const std::uint64_t now = now_ns();
+    if (now >= end) break;
+    ep.waitset.wait(active, duration_of(end - now));
+    if (stdin_closed()) break;
+    while (ep.reader->take_next_sample(sample.get(), &info) == ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data) continue;
+      if (seq_field(*sample) == kStopSeq) {
+        stop = true;
+        break;
+      }
+      last = now_ns();
+      if (received++ == 0) first = last;
+    }
+  }
+
+  const double s = static_cast<double>(last - first) / 1e9;
+  const double bytes = static_cast<double>(received) * static_cast<double>(payload_bytes(sample.get()));
+  std::printf("RESULT impl=raw-fastdds type=%s mode=tput received=%" PRIu64
+              " seconds=%.3f rate=%.0f mbps=%.1f wait=%s\n",
+              type_name.c_str(), received, s, s > 0 ? static_cast<double>(received) / s : 0.0,
+              s > 0 ? bytes / s / 1e6 : 0.0, wait_name());
+  std::fflush(stdout);
+  return received > 0 ? 0 : 1;
+}
+
+template <class T>
+int run_source(Endpoints& ep, const std::string& type_name, std::uint64_t seconds) {
+  auto out = std::make_unique<T>();
+  fill(*out);
+  const auto deadline = std::chrono::steady_clock::now() + kMatchDeadline;
+  for (;;) {
+    fd::PublicationMatchedStatus pm;
+    if (ep.writer->get_publication_matched_status(pm) == ReturnCode_t::RETCODE_OK && pm.current_count > 0) break;
+    if (std::chrono::steady_clock::now() >= deadline) {
+      std::fprintf(stderr, "raw-fastdds: no sink matched on horus/bench/%s/tput within 30 s\n", type_name.c_str());
+      return 3;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+
+  const std::uint64_t end = now_ns() + seconds * 1'000'000'000ull;
+  for (std::uint64_t seq = 1; now_ns() < end; ++seq) {
+    seq_field(*out) = seq;
+    ep.writer->write(out.get());
+  }
+  seq_field(*out) = kStopSeq;
+  for (int i = 0; i < 3; ++i) {
+    ep.writer->write(out.get());
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  ep.writer->wait_for_acknowledgments(Duration_t(2, 0));
+  return 0;
+}
+
 template <class T, class PubSub>
-int run(bool is_ping, std::uint32_t domain, const std::string& type_name, std::uint64_t a, std::uint64_t b) {
+int run(Role role, std::uint32_t domain, const std::string& type_name, std::uint64_t a, std::uint64_t b) {
   Endpoints ep;
-  if (!setup(ep, domain, fd::TypeSupport(new PubSub()), type_name, is_ping)) return 3;
-  return is_ping ? run_ping<T>(ep, type_name, a, b) : run_pong<T>(ep, a);
+  if (!setup(ep, domain, fd::TypeSupport(new PubSub()), type_name, role)) return 3;
+  switch (role) {
+    case Role::kPing: return run_ping<T>(ep, type_name, a, b);
+    case Role::kPong: return run_pong<T>(ep, a);
+    case Role::kSink: return run_sink<T>(ep, type_name, a);
+    case Role::kSource: return run_source<T>(ep, type_name, a);
+  }
+  return 2;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   if (argc < 2) return usage();
-  const bool is_ping = std::strcmp(argv[1], "ping") == 0;
-  const bool is_pong = std::strcmp(argv[1], "pong") == 0;
-  if ((!is_ping && !is_pong) || argc != (is_ping ? 6 : 5)) return usage();
+  Role role;
+  if (std::strcmp(argv[1], "ping") == 0)
+    role = Role::kPing;
+  else if (std::strcmp(argv[1], "pong") == 0)
+    role = Role::kPong;
+  else if (std::strcmp(argv[1], "sink") == 0)
+    role = Role::kSink;
+  else if (std::strcmp(argv[1], "source") == 0)
+    role = Role::kSource;
+  else
+    return usage();
+  const bool is_ping = role == Role::kPing;
+  if (argc != (is_ping ? 6 : 5)) return usage();
+  const char* poll_env = std::getenv("BENCH_POLL");
+  g_poll = poll_env != nullptr && poll_env[0] != '\0' && std::strcmp(poll_env, "0") != 0;
   std::uint64_t domain = 0, a = 0, b = 0;
   if (!parse_u64(argv[2], domain) || domain > 232 || !parse_u64(argv[4], a) || (is_ping && !parse_u64(argv[5], b)))
     return usage();
@@ -411,11 +572,11 @@ int main(int argc, char** argv) {
   const auto d = static_cast<std::uint32_t>(domain);
   int rc;
   if (type == "cmdvel")
-    rc = run<horus::msg::CmdVel, horus::msg::CmdVelPubSubType>(is_ping, d, type, a, b);
+    rc = run<horus::msg::CmdVel, horus::msg::CmdVelPubSubType>(role, d, type, a, b);
   else if (type == "kilobyte")
-    rc = run<horus_bench::Kilobyte, horus_bench::KilobytePubSubType>(is_ping, d, type, a, b);
+    rc = run<horus_bench::Kilobyte, horus_bench::KilobytePubSubType>(role, d, type, a, b);
   else
-    rc = run<horus::msg::Image, horus::msg::ImagePubSubType>(is_ping, d, type, a, b);
+    rc = run<horus::msg::Image, horus::msg::ImagePubSubType>(role, d, type, a, b);
   fd::Log::Flush();
   return rc;
 }

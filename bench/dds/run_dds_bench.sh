@@ -7,7 +7,9 @@
 #   bench/dds/run_dds_bench.sh [--quick] [--local-only] [--rounds N] [--build-dir DIR]
 #
 # Prints one table per setting: one-way latency (RTT/2) p50 / p99 / p99.9 in microseconds, the
-# median over rounds (raw and horus alternate), and horus p50 / raw p50.
+# median over rounds (raw and horus alternate), and horus p50 / raw p50; then throughput
+# (messages and MB per second a sink receives from a source sending back to back, reliable).
+# Every receiver polls (BENCH_POLL=1 for the raw programs: horus's recv() does not block).
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 build="$here/../../build/default"
@@ -26,7 +28,8 @@ while [ $# -gt 0 ]; do
 done
 bin="$build/bench"
 domain=$(( 1 + $$ % 200 ))
-if [ "$quick" = 1 ]; then n_small=2000; n_image=30; rounds=1; else n_small=20000; n_image=200; fi
+if [ "$quick" = 1 ]; then n_small=2000; n_image=30; rounds=1; tput_s=1; else n_small=20000; n_image=200; tput_s=3; fi
+export BENCH_POLL=1
 
 impls=()
 [ -x "$bin/raw-cyclone-pingpong" ] && impls+=("raw-cyclone")
@@ -81,6 +84,24 @@ one() {  # setting impl type
   echo "$out"
 }
 
+# one throughput run: a sink (second host) counts what a source sends for $tput_s seconds
+tput() {  # setting impl type
+  local setting="$1" impl="$2" type="$3" p out
+  p="$(prog "$impl")"
+  local in1="" in2="" envs="BENCH_LOCALHOST=1"
+  if [ "$setting" = netns ]; then in1="ip netns exec $ns1"; in2="ip netns exec $ns2"; envs="BENCH_LOCALHOST=0"; fi
+  out="$(mktemp)"
+  ( sleep $((tput_s + 40)) | $in2 env $envs timeout $((tput_s + 40)) $p sink $domain "$type" $((tput_s + 30)) >"$out" 2>&1 & )
+  sleep 0.5
+  $in1 env $envs timeout $((tput_s + 40)) $p source $domain "$type" "$tput_s" >/dev/null 2>&1 || true
+  local deadline=$((SECONDS + 10))
+  while ! grep -q RESULT "$out" && [ $SECONDS -lt $deadline ]; do sleep 0.2; done
+  grep RESULT "$out" || echo "FAILED impl=$impl type=$type mode=tput"
+  pkill -f "pingpong sink $domain $type" 2>/dev/null || true
+  rm -f "$out"
+  sleep 0.3
+}
+
 run_setting() {
   local setting="$1" results=""
   for type in cmdvel kilobyte image; do
@@ -88,6 +109,11 @@ run_setting() {
       for impl in "${impls[@]}"; do
         results+="$(one "$setting" "$impl" "$type") round=$r"$'\n'
       done
+    done
+  done
+  for type in cmdvel kilobyte image; do
+    for impl in "${impls[@]}"; do
+      results+="$(tput "$setting" "$impl" "$type")"$'\n'
     done
   done
   echo "$results" | python3 "$here/dds_table.py" "$setting"

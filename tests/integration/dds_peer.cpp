@@ -6,6 +6,10 @@
 //       for every standard message T: receives on <prefix>.<T> and sends it back on <prefix>.<T>.echo
 //   horus_dds_peer publish-pose <topic> <seconds>
 //       publishes a Pose2D (x = sequence number) every 20 ms
+//   horus_dds_peer expect-mismatch <topic> <seconds>
+//       opens <topic> as CmdVel; exits 0 as soon as the backend reports an incompatible remote
+//       endpoint (e.g. a Pose2D publisher on another host), 1 if none is reported in time, or
+//       4 if a message arrives (a Pose2D must never be delivered as a CmdVel)
 //   horus_dds_peer raw <dds-topic> <dds-type> <seconds>
 //       a raw DDS writer (the byte-level transport, no horus codec): every 20 ms, a malformed
 //       sample, then a valid Pose2D with x = 42 (tests that bad samples are counted and later
@@ -91,6 +95,25 @@ int publish_pose(const std::string& topic, Clock::time_point deadline) {
   return 0;
 }
 
+int expect_mismatch(const std::string& topic, Clock::time_point deadline) {
+  auto sub = horus::Topic<horus::msg::CmdVel>::open(topic);
+  if (!sub) {
+    std::fprintf(stderr, "horus_dds_peer: %s\n", sub.error().message().c_str());
+    return 3;
+  }
+  std::printf("ready\n");
+  std::fflush(stdout);
+  while (Clock::now() < deadline) {
+    if (sub->recv()) return 4;
+    if (sub->network_errors() > 0) {
+      std::printf("mismatch reported\n");
+      return 0;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return 1;
+}
+
 struct NoListener final : horus::net::Listener {
   void on_sample(const horus::net::Sample&) override {}
   void on_error(std::string_view) override {}
@@ -150,6 +173,7 @@ int main(int argc, char** argv) {
   const auto deadline = Clock::now() + std::chrono::seconds(std::atoi(argv[argc - 1]));
   if (mode == "echo") return echo_all(argv[2], deadline, horus::msg::AllMessages{});
   if (mode == "publish-pose") return publish_pose(argv[2], deadline);
+  if (mode == "expect-mismatch") return expect_mismatch(argv[2], deadline);
   if (mode == "raw" && argc == 5) return raw_writer(argv[2], argv[3], deadline);
   std::fprintf(stderr, "horus_dds_peer: unknown mode '%s'\n", mode.c_str());
   return 2;

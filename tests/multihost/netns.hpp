@@ -12,6 +12,7 @@
 // the backends must not use shared memory between them (horus's DDS backends never do).
 #pragma once
 
+#include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -36,8 +37,8 @@ inline int run_command(const std::vector<std::string>& args, std::chrono::second
   argv.push_back(nullptr);
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", 0x1 /*O_WRONLY*/, 0);
-  posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", 0x1, 0);
+  posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
   pid_t pid = 0;
   const int rc = ::posix_spawnp(&pid, argv[0], &fa, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&fa);
@@ -56,14 +57,19 @@ inline int run_command(const std::vector<std::string>& args, std::chrono::second
 }
 
 /// A process started in a namespace host; killed (SIGTERM, then SIGKILL) if still running at
-/// destruction. Its stdout goes to a file the test can read.
+/// destruction. Its stdout goes to a file the test can read; its stdin is a pipe that stays
+/// open while this object lives (programs that stop when stdin closes keep running).
 class HostProcess {
  public:
   HostProcess() = default;
-  HostProcess(pid_t pid, std::string out) : pid_(pid), out_(std::move(out)) {}
-  HostProcess(HostProcess&& o) noexcept : pid_(o.pid_), out_(std::move(o.out_)) { o.pid_ = -1; }
+  HostProcess(pid_t pid, std::string out, int stdin_fd) : pid_(pid), out_(std::move(out)), stdin_(stdin_fd) {}
+  HostProcess(HostProcess&& o) noexcept : pid_(o.pid_), out_(std::move(o.out_)), stdin_(o.stdin_) {
+    o.pid_ = -1;
+    o.stdin_ = -1;
+  }
   HostProcess& operator=(HostProcess&&) = delete;
   ~HostProcess() {
+    if (stdin_ >= 0) ::close(stdin_);
     if (pid_ > 0) {
       ::kill(pid_, SIGTERM);
       (void)wait(std::chrono::seconds(5));
@@ -102,6 +108,7 @@ class HostProcess {
  private:
   pid_t pid_ = -1;
   std::string out_;
+  int stdin_ = -1;
 };
 
 class NetnsLan {
@@ -170,14 +177,18 @@ class NetnsLan {
     for (auto& a : full) argv.push_back(a.data());
     argv.push_back(nullptr);
     const std::string out = "/tmp/" + prefix_ + "_" + std::to_string(counter_++) + ".log";
+    int in[2] = {-1, -1};
+    if (::pipe2(in, O_CLOEXEC) != 0) return HostProcess();
     posix_spawn_file_actions_t fa;
     posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), 0x241 /*O_WRONLY|O_CREAT|O_TRUNC*/, 0600);
+    posix_spawn_file_actions_adddup2(&fa, in[0], 0);
+    posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
     posix_spawn_file_actions_adddup2(&fa, 1, 2);
     pid_t pid = -1;
     if (::posix_spawnp(&pid, "ip", &fa, nullptr, argv.data(), environ) != 0) pid = -1;
     posix_spawn_file_actions_destroy(&fa);
-    return HostProcess(pid, out);
+    ::close(in[0]);
+    return HostProcess(pid, out, in[1]);
   }
 
  private:

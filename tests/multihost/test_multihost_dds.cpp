@@ -31,6 +31,22 @@ TEST_P(MultiHost, AMonitorOnAThirdHostReceivesTwoRobots) {
   EXPECT_NE(out.find("from 2 robots; 0 silent"), std::string::npos) << out;
 }
 
+TEST_P(MultiHost, ATypeMismatchAcrossHostsIsReported) {
+  if (!horus::backend_available(GetParam()))
+    GTEST_SKIP() << "this build has no " << horus::to_string(GetParam()) << " backend";
+  horus_test::NetnsLan lan(2);
+  if (!lan.ok()) GTEST_SKIP() << "no namespace hosts: " << lan.why();
+  const std::vector<std::string> env = {"HORUS_BACKEND=" + std::string(horus::to_string(GetParam())),
+                                        "HORUS_DOMAIN_ID=" + std::to_string(1 + ::getpid() % 200),
+                                        "HORUS_DDS_LOCALHOST=0"};
+  const std::string topic = "fleet.mismatch_" + std::to_string(::getpid());
+  auto publisher = lan.spawn(0, {DDS_PEER, "publish-pose", topic, "30"}, env);      // Pose2D on host 1
+  auto checker = lan.spawn(1, {DDS_PEER, "expect-mismatch", topic, "20"}, env);    // CmdVel on host 2
+  const int rc = checker.wait(40s);
+  EXPECT_EQ(rc, 0) << "host 2 (CmdVel) said:\n" << checker.output() << "\nhost 1 (Pose2D) said:\n"
+                   << publisher.output();
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, MultiHost, ::testing::Values(horus::Backend::CycloneDds, horus::Backend::FastDds),
                          [](const auto& param_info) { return std::string(horus::to_string(param_info.param)); });
 
