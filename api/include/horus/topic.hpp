@@ -332,6 +332,7 @@ class Topic {
     pool_exhausted_ = other.pool_exhausted_;
     networked_ = other.networked_;
     net_send_failures_ = other.net_send_failures_;
+    network_only_sent_ = other.network_only_sent_;
     inconsistent_ = other.inconsistent_;
     encoded_size_ = other.encoded_size_;
     scratch_ = std::move(other.scratch_);
@@ -351,7 +352,11 @@ class Topic {
   /// only when all kMaxPublishers lanes are taken, or (serialized T) when it encodes to more
   /// than max_message_size() bytes; it is then counted in metrics().send_failures() and logged.
   [[gnu::always_inline]] void send(const T& msg) {
-    if (send_local(msg) && networked_) [[unlikely]] network_send(msg);
+    if (networked_) [[unlikely]] {
+      send_networked(msg);
+      return;
+    }
+    send_local(msg);
   }
 
   /// Large data: lends a slot of the topic's pool for a message described by `desc` (e.g.
@@ -578,7 +583,7 @@ class Topic {
     return core_->ring.subscriber_count() + (core_->net ? detail::network_subscribers(*core_) : 0);
   }
   TopicMetrics metrics() const noexcept {
-    return TopicMetrics(writer_.sent(), reader_.delivered() - undelivered_, send_failures_, recv_failures_,
+    return TopicMetrics(writer_.sent() + network_only_sent_, reader_.delivered() - undelivered_, send_failures_, recv_failures_,
                         dropped_count(), core_->ring.total_sent(),
                         decode_failures_ + reader_.corrupt() +
                             core_->net_decode_failures.load(std::memory_order_relaxed));
@@ -652,6 +657,10 @@ class Topic {
   // A sample from the network (one at a time per topic): decoded and written into the ring.
   static void network_sink(void* bridge, const net::Sample& sample) {
     auto& b = *static_cast<Topic*>(bridge);
+    if constexpr (kPooled) {
+      b.sink_pooled(sample);
+      return;
+    }
     auto m = cdr::decode<T>(sample.body, sample.little_endian);
     if (!m) {
       detail::report_network_decode_failure(*b.core_, m.error());
@@ -660,15 +669,71 @@ class Topic {
     b.send_local(*m);
   }
 
-  // Encodes msg as XCDR1 straight into the backend's buffer.
-  void network_send(const T& msg) {
+  // A network topic: into the ring for this process's subscribers, and to the network. With
+  // no subscriber in this process the ring copy is skipped (an image is 6 MB).
+  [[gnu::noinline]] void send_networked(const T& msg) {
+    if (!writer_.has_lane() && !become_publisher()) {
+      ++send_failures_;
+      return;
+    }
+    if (core_->ring.subscriber_count() != 0) {
+      if (send_local(msg)) network_send(msg);
+      return;
+    }
+    if constexpr (kPooled) {
+      if (!fits(msg)) {
+        ++send_failures_;
+        return;
+      }
+    }
+    if (network_send(msg)) ++network_only_sent_;
+  }
+
+  // Large data from the network: the bytes are decoded straight into a pool slot of the
+  // bridge's lane (one copy), then the descriptor is published as for a loan.
+  void sink_pooled(const net::Sample& sample) {
+    if (!writer_.has_lane() && !become_publisher()) {
+      ++send_failures_;
+      return;
+    }
+    struct Place {
+      Topic* self;
+      std::optional<shm::Pool::Claim> claim;
+    } place{this, std::nullopt};
+    const cdr::ByteSink sink{&place, [](void* ctx, std::size_t n, ByteBuffer& out) {
+                               auto& p = *static_cast<Place*>(ctx);
+                               auto& core = *p.self->core_;
+                               if (p.claim || n > core.pool.slot_bytes()) return false;
+                               p.claim = p.self->claim_slot();
+                               if (!p.claim) return false;
+                               out = ByteBuffer::borrow(core.pool.data(p.claim->slot), n,
+                                                        ByteBuffer::Lease{p.self->core_, &detail::release_loan,
+                                                                          p.claim->slot, p.claim->gen},
+                                                        /*writable=*/true);
+                               return true;
+                             }};
+    auto m = cdr::decode<T>(sample.body, sample.little_endian, &sink);
+    if (!m) {  // a slot taken is given back as the half-built message goes
+      detail::report_network_decode_failure(*core_, m.error());
+      return;
+    }
+    if (!place.claim || !m->is_consistent()) {
+      if (!place.claim) send_local(*m);
+      else detail::report_network_decode_failure(*core_, "its metadata does not describe its bytes");
+      return;
+    }
+    publish(m->descriptor(), *place.claim);
+  }
+
+  // Encodes msg as XCDR1 straight into the backend's buffer; false (counted, logged) on failure.
+  bool network_send(const T& msg) {
     std::size_t n = 0;
     try {
       n = cdr::encoded_size(msg);
     } catch (const std::length_error& e) {
       ++send_failures_;
       detail::report_network_send_failure(*core_, Error(Errc::MessageTooLarge, e.what()), ++net_send_failures_);
-      return;
+      return false;
     }
     const net::BodyWriter writer{[](void* ctx, std::span<std::byte> body) {
                                    // Cannot throw: body has encoded_size(msg) bytes. Called from
@@ -683,7 +748,9 @@ class Topic {
     if (auto ok = detail::network_write(*core_, n, writer); !ok) [[unlikely]] {
       ++send_failures_;
       detail::report_network_send_failure(*core_, ok.error(), ++net_send_failures_);
+      return false;
     }
+    return true;
   }
 
   static constexpr std::size_t payload_bytes() noexcept {
@@ -897,6 +964,7 @@ class Topic {
   bool blocking_ = false;             // inside send_blocking's retries
   bool networked_ = false;                 // a user handle of a network topic (not the bridge)
   std::uint64_t net_send_failures_ = 0;    // samples the network backend refused
+  std::uint64_t network_only_sent_ = 0;    // sent to the network only (no subscriber in this process)
   // Serialized messages only: the encoding buffer and the last slot read.
   std::vector<std::byte> scratch_;
   std::size_t encoded_size_ = 0;

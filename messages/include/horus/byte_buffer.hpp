@@ -128,8 +128,13 @@ class ByteBuffer {
   void assign(It first, It last) {
     const auto n = static_cast<std::size_t>(std::distance(first, last));
     if (ptr_ != nullptr && writable_ && n == size_) {
-      std::uint8_t* p = ptr_;
-      for (; first != last; ++first) *p++ = static_cast<std::uint8_t>(*first);
+      if constexpr (std::is_pointer_v<It> && sizeof(*first) == 1 &&
+                    std::is_trivially_copyable_v<std::remove_cvref_t<decltype(*first)>>) {
+        if (n != 0) std::memcpy(ptr_, first, n);  // a byte loop here cost 4x a memcpy on images
+      } else {
+        std::uint8_t* p = ptr_;
+        for (; first != last; ++first) *p++ = static_cast<std::uint8_t>(*first);
+      }
       return;
     }
     std::vector<std::uint8_t> v(first, last);

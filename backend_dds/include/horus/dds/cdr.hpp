@@ -35,12 +35,21 @@
 #include <type_traits>
 #include <vector>
 
+#include "horus/byte_buffer.hpp"
 #include "horus/idlgen/mapping.hpp"
 #include "horus/reflect.hpp"
 
 namespace horus::cdr {
 
 static_assert(std::endian::native == std::endian::little, "horus::cdr encodes on a little-endian host");
+
+/// A decode() option: where the bytes of a horus::ByteBuffer field go (by default, a buffer of
+/// its own). A topic lends a pool slot, so a received image is copied once: from the sample
+/// into the slot. `place` makes `out` a writable buffer of `n` bytes, or returns false.
+struct ByteSink {
+  void* context = nullptr;
+  bool (*place)(void* context, std::size_t n, ByteBuffer& out) = nullptr;
+};
 
 namespace detail {
 using reflect::detail::is_std_array;
@@ -169,8 +178,8 @@ struct Path {
 
 class Reader {
  public:
-  Reader(std::span<const std::byte> in, bool little_endian) noexcept
-      : base_(in.data()), size_(in.size()), swap_(!little_endian) {}
+  Reader(std::span<const std::byte> in, bool little_endian, const ByteSink* byte_sink = nullptr) noexcept
+      : base_(in.data()), size_(in.size()), swap_(!little_endian), sink(byte_sink) {}
   std::size_t remaining() const noexcept { return size_ - pos_; }
   std::size_t position() const noexcept { return pos_; }
   bool swap() const noexcept { return swap_; }
@@ -196,6 +205,9 @@ class Reader {
   std::size_t size_;
   std::size_t pos_ = 0;
   bool swap_;
+
+ public:
+  const ByteSink* sink;
 };
 
 template <class N>
@@ -293,6 +305,12 @@ bool get(Reader& r, V& v, const Path& path) {
     std::uint32_t n = 0;
     if (!get_count(r, n, min_size<E>(), path)) return false;
     if constexpr (is_number<E> && sizeof(E) == 1) {
+      if constexpr (std::is_same_v<V, ByteBuffer>) {
+        if (r.sink != nullptr && r.sink->place != nullptr && !r.sink->place(r.sink->context, n, v)) {
+          r.error = path.text() + ": no buffer for " + std::to_string(n) + " bytes (every pool slot is in use)";
+          return false;
+        }
+      }
       const auto* p = reinterpret_cast<const E*>(r.here());
       v.assign(p, p + n);  // checked by get_count
       r.skip(n);
@@ -358,11 +376,13 @@ std::vector<std::byte> encode(const T& msg) {
 
 /// Reads a sample body (after the encapsulation header) in the given byte order. Up to 3
 /// trailing bytes are accepted as padding; more are an error (a longer type, a wrong type).
+/// `sink`, when given, provides the buffers of ByteBuffer fields.
 template <Reflected T>
   requires std::is_default_constructible_v<T>
-std::expected<T, std::string> decode(std::span<const std::byte> in, bool little_endian = true) {
+std::expected<T, std::string> decode(std::span<const std::byte> in, bool little_endian = true,
+                                     const ByteSink* sink = nullptr) {
   T msg{};
-  detail::Reader r(in, little_endian);
+  detail::Reader r(in, little_endian, sink);
   try {
     if (!detail::get(r, msg, detail::Path{nullptr, type_name<T>()})) return std::unexpected(std::move(r.error));
   } catch (const std::bad_alloc&) {
