@@ -503,6 +503,7 @@ void release_loan(const void* core, std::uint64_t slot, std::uint64_t gen) noexc
 
 struct NetworkState final : net::Listener {
   TopicCore* core = nullptr;
+  net::Qos qos;
   std::shared_ptr<net::Transport> transport;
   std::unique_ptr<net::Endpoint> endpoint;
   std::mutex mutex;  // one sample at a time into the bridge
@@ -521,6 +522,11 @@ struct NetworkState final : net::Listener {
 
 void NetworkStateDeleter::operator()(NetworkState* s) const noexcept {
   if (s == nullptr) return;
+  if (s->core->pid != current_pid()) {
+    // A forked child's copy: the participant's threads live in the parent only. Deleting the
+    // endpoint here would hang or tell peers that the parent's endpoints are gone: leave it.
+    return;
+  }
   s->endpoint.reset();  // no callback after this
   delete s;
 }
@@ -541,14 +547,25 @@ Result<std::shared_ptr<net::Transport>> transport_for(Backend backend, const net
 }
 }  // namespace
 
+namespace {
+std::atomic<int> g_network_pid{0};  // the process that created this process's DDS participants
+}  // namespace
+
 Result<void> attach_network(TopicCore& core, const net::Qos& qos) {
   if (core.net) return {};
+  if (const int owner = g_network_pid.load(); owner != 0 && owner != current_pid())
+    return fail(Errc::Io, fmt::format("topic '{}': this process was forked from pid {} after that process used {}; "
+                                      "DDS participants do not survive fork() (their threads stay in the parent). "
+                                      "Open network topics before forking only in the process that keeps them, or "
+                                      "exec the child",
+                                      core.name, owner, to_string(core.backend)));
   auto config = network_config_from_environment();
   if (!config) return std::unexpected(std::move(config.error()));
   auto transport = transport_for(core.backend, *config);
   if (!transport) return std::unexpected(std::move(transport.error()));
   std::unique_ptr<NetworkState, NetworkStateDeleter> state(new NetworkState());
   state->core = &core;
+  state->qos = qos;
   state->transport = std::move(*transport);
   auto wire = dds_topic_name(core.name);
   if (!wire) return std::unexpected(std::move(wire.error()));
@@ -562,8 +579,11 @@ Result<void> attach_network(TopicCore& core, const net::Qos& qos) {
   if (!endpoint) return std::unexpected(std::move(endpoint.error()));
   state->endpoint = std::move(*endpoint);
   core.net = std::move(state);
+  g_network_pid.store(current_pid());
   return {};
 }
+
+net::Qos network_qos(const TopicCore& core) noexcept { return core.net ? core.net->qos : net::Qos{}; }
 
 Result<void> network_write(TopicCore& core, std::size_t body_size, const net::BodyWriter& writer) {
   return core.net->endpoint->write(body_size, writer);

@@ -198,6 +198,7 @@ struct TopicCore {
   // `bridge`, a handle of this topic that only publishes. Declared last: the endpoint (net)
   // goes first, so no callback runs once the bridge and the ring are gone.
   std::mutex net_mutex;
+  std::atomic<bool> bridge_publishing{false};         // the bridge holds a ring lane
   std::atomic<std::uint64_t> net_decode_failures{0};  // samples that did not decode
   std::atomic<std::uint64_t> net_errors{0};           // incompatible endpoints reported
   std::unique_ptr<void, void (*)(void*)> bridge{nullptr, nullptr};
@@ -229,6 +230,8 @@ Error pool_exhausted_error(const TopicCore& core);
 /// Network backends: creates the topic's endpoint (once per core; the caller holds net_mutex
 /// and has set bridge and sink).
 Result<void> attach_network(TopicCore& core, const net::Qos& qos);
+/// The QoS the topic's endpoint was created with.
+net::Qos network_qos(const TopicCore& core) noexcept;
 /// Sends one sample through the topic's endpoint.
 Result<void> network_write(TopicCore& core, std::size_t body_size, const net::BodyWriter& writer);
 /// Remote endpoints matched with this process's (0 without a network backend).
@@ -332,7 +335,6 @@ class Topic {
     pool_exhausted_ = other.pool_exhausted_;
     networked_ = other.networked_;
     net_send_failures_ = other.net_send_failures_;
-    network_only_sent_ = other.network_only_sent_;
     inconsistent_ = other.inconsistent_;
     encoded_size_ = other.encoded_size_;
     scratch_ = std::move(other.scratch_);
@@ -574,8 +576,8 @@ class Topic {
   std::uint32_t pub_count() const noexcept {
     if (!core_->bridge) return core_->ring.publisher_count();
     // The bridge (which writes what arrives into the ring) holds a lane once a sample arrived.
-    const auto* bridge = static_cast<const Topic*>(core_->bridge.get());
-    return core_->ring.publisher_count() - (bridge->writer_.has_lane() ? 1 : 0) + detail::network_publishers(*core_);
+    const std::uint32_t bridge = core_->bridge_publishing.load(std::memory_order_acquire) ? 1 : 0;
+    return core_->ring.publisher_count() - bridge + detail::network_publishers(*core_);
   }
   /// Handles currently subscribed to this topic; on a network backend, plus the remote readers
   /// matched with this process.
@@ -583,7 +585,7 @@ class Topic {
     return core_->ring.subscriber_count() + (core_->net ? detail::network_subscribers(*core_) : 0);
   }
   TopicMetrics metrics() const noexcept {
-    return TopicMetrics(writer_.sent() + network_only_sent_, reader_.delivered() - undelivered_, send_failures_, recv_failures_,
+    return TopicMetrics(writer_.sent(), reader_.delivered() - undelivered_, send_failures_, recv_failures_,
                         dropped_count(), core_->ring.total_sent(),
                         decode_failures_ + reader_.corrupt() +
                             core_->net_decode_failures.load(std::memory_order_relaxed));
@@ -640,7 +642,18 @@ class Topic {
   Result<void> connect_network(const TopicOptions& options) {
     auto& core = *core_;
     std::lock_guard lock(core.net_mutex);
-    if (core.net) return {};
+    if (core.net) {
+      // The topic's endpoint exists: a handle asking for another QoS is an error, not ignored.
+      const net::Qos have = detail::network_qos(core);
+      if ((options.reliability && *options.reliability != have.reliability) ||
+          (options.durability && *options.durability != have.durability))
+        return fail(Errc::ConfigMismatch,
+                    "topic '" + core.name + "' is open in this process as " + std::string(net::to_string(have.reliability)) +
+                        ", " + std::string(net::to_string(have.durability)) +
+                        "; cannot open it with another reliability or durability (open it with the same, or "
+                        "without either to accept them)");
+      return {};
+    }
     if (!core.bridge) {
       // Non-owning: the core owns the bridge, and destroys it after the endpoint.
       std::shared_ptr<detail::TopicCore> self(std::shared_ptr<void>(), &core);
@@ -657,6 +670,13 @@ class Topic {
   // A sample from the network (one at a time per topic): decoded and written into the ring.
   static void network_sink(void* bridge, const net::Sample& sample) {
     auto& b = *static_cast<Topic*>(bridge);
+    if (!b.writer_.has_lane()) [[unlikely]] {
+      if (!b.become_publisher()) {
+        ++b.send_failures_;
+        return;
+      }
+      b.core_->bridge_publishing.store(true, std::memory_order_release);
+    }
     if constexpr (kPooled) {
       b.sink_pooled(sample);
       return;
@@ -669,33 +689,20 @@ class Topic {
     b.send_local(*m);
   }
 
-  // A network topic: into the ring for this process's subscribers, and to the network. With
-  // no subscriber in this process the ring copy is skipped (an image is 6 MB).
+  // A network topic: into the ring (this process's handles, and read_latest of handles opened
+  // later, as on shared memory), then to the network. A handle inherited through fork() sends
+  // nothing: DDS participants do not survive fork (open topics in the child).
   [[gnu::noinline]] void send_networked(const T& msg) {
-    if (!writer_.has_lane() && !become_publisher()) {
+    if (core_->pid != detail::current_pid()) [[unlikely]] {
       ++send_failures_;
       return;
     }
-    if (core_->ring.subscriber_count() != 0) {
-      if (send_local(msg)) network_send(msg);
-      return;
-    }
-    if constexpr (kPooled) {
-      if (!fits(msg)) {
-        ++send_failures_;
-        return;
-      }
-    }
-    if (network_send(msg)) ++network_only_sent_;
+    if (send_local(msg)) network_send(msg);
   }
 
   // Large data from the network: the bytes are decoded straight into a pool slot of the
   // bridge's lane (one copy), then the descriptor is published as for a loan.
   void sink_pooled(const net::Sample& sample) {
-    if (!writer_.has_lane() && !become_publisher()) {
-      ++send_failures_;
-      return;
-    }
     struct Place {
       Topic* self;
       std::optional<shm::Pool::Claim> claim;
@@ -964,7 +971,6 @@ class Topic {
   bool blocking_ = false;             // inside send_blocking's retries
   bool networked_ = false;                 // a user handle of a network topic (not the bridge)
   std::uint64_t net_send_failures_ = 0;    // samples the network backend refused
-  std::uint64_t network_only_sent_ = 0;    // sent to the network only (no subscriber in this process)
   // Serialized messages only: the encoding buffer and the last slot read.
   std::vector<std::byte> scratch_;
   std::size_t encoded_size_ = 0;

@@ -135,8 +135,10 @@ void put(S& s, const V& v) {
   } else if constexpr (is_std_array<V>::value) {
     using E = typename V::value_type;
     if constexpr (is_number<E>) {
-      s.align(sizeof(E));
-      s.bytes(v.data(), sizeof(V));
+      if constexpr (std::tuple_size_v<V> != 0) {
+        s.align(sizeof(E));
+        s.bytes(v.data(), std::tuple_size_v<V> * sizeof(E));
+      }
     } else {
       for (const auto& e : v) put(s, e);
     }
