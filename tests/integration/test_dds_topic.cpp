@@ -21,6 +21,7 @@
 #include "horus/topic.hpp"
 #include "dds_support.hpp"
 #include "message_samples.hpp"
+#include "process_support.hpp"
 #include "test_support.hpp"
 
 extern char** environ;
@@ -175,6 +176,50 @@ TEST_P(DdsBackend, ALatchedTopicReachesALateJoiner) {
   ASSERT_TRUE(got) << "the late joiner did not get the map";
   EXPECT_TRUE(horus_test::SameMessage(*got, sent));
   EXPECT_EQ(peer.stop(), 0);
+}
+
+TEST_P(DdsBackend, AHandleOpenedLaterReadsTheLatestMessageAsOnSharedMemory) {
+  REQUIRE_BACKEND(GetParam());
+  const auto name = horus_test::unique_name("dds.latest");
+  auto pub = horus::Topic<horus::msg::Pose2D>::open(name, on(GetParam()));
+  ASSERT_TRUE(pub) << pub.error().message();
+  pub->send(horus::msg::Pose2D{1.0, 2.0, 3.0, 4});  // no subscriber in the process yet
+  auto late = horus::Topic<horus::msg::Pose2D>::open(name, on(GetParam()));
+  ASSERT_TRUE(late) << late.error().message();
+  auto m = late->read_latest();
+  ASSERT_TRUE(m);
+  EXPECT_EQ(m->timestamp_ns, 4u);
+}
+
+TEST_P(DdsBackend, AnotherQosForAnOpenTopicIsAConfigMismatch) {
+  REQUIRE_BACKEND(GetParam());
+  const auto name = horus_test::unique_name("dds.qos");
+  auto first = horus::Topic<horus::msg::Pose2D>::open(name, on(GetParam()));  // reliable by default
+  ASSERT_TRUE(first) << first.error().message();
+  auto options = on(GetParam());
+  options.reliability = horus::net::Reliability::BestEffort;
+  auto second = horus::Topic<horus::msg::Pose2D>::open(name, options);
+  ASSERT_FALSE(second);
+  EXPECT_EQ(second.error().code(), horus::Errc::ConfigMismatch);
+  EXPECT_NE(second.error().message().find("reliable"), std::string::npos) << second.error().message();
+  options.reliability = horus::net::Reliability::Reliable;
+  EXPECT_TRUE(horus::Topic<horus::msg::Pose2D>::open(name, options)) << "the same QoS is accepted";
+}
+
+TEST_P(DdsBackend, AForkedChildGetsAClearErrorInsteadOfTheParentsParticipant) {
+  REQUIRE_BACKEND(GetParam());
+  const auto name = horus_test::unique_name("dds.fork");
+  auto parent = horus::Topic<horus::msg::Pose2D>::open(name, on(GetParam()));
+  ASSERT_TRUE(parent) << parent.error().message();
+  const pid_t child = horus_test::spawn([&] {
+    auto t = horus::Topic<horus::msg::Pose2D>::open(name + ".child", on(GetParam()));
+    if (t) return 1;
+    if (t.error().code() != horus::Errc::Io) return 2;
+    return t.error().message().find("fork") != std::string::npos ? 0 : 3;
+  });
+  EXPECT_EQ(horus_test::wait_for(child, 30s), 0);
+  parent->send(horus::msg::Pose2D{});  // the parent's participant still works
+  EXPECT_EQ(parent->metrics().send_failures(), 0u);
 }
 
 TEST_P(DdsBackend, BadSettingsAreClearErrors) {
