@@ -36,6 +36,7 @@
 #include <vector>
 
 #include "horus/byte_buffer.hpp"
+#include "horus/codec.hpp"
 #include "horus/idlgen/mapping.hpp"
 #include "horus/reflect.hpp"
 
@@ -166,17 +167,9 @@ constexpr std::size_t min_size() {
   }
 }
 
-// Where a value sits ("horus::msg::LaserScan.ranges[3]"), made into text only on failure.
-struct Path {
-  const Path* parent = nullptr;
-  std::string_view name;
-  std::size_t index = ~std::size_t{0};
-  std::string text() const {
-    std::string head = parent ? parent->text() : std::string();
-    if (index != ~std::size_t{0}) return head + "[" + std::to_string(index) + "]";
-    return parent ? head + "." + std::string(name) : std::string(name);
-  }
-};
+// Where a value sits ("horus::msg::LaserScan.ranges[3]"), made into text only on failure:
+// the local codec's.
+using Path = codec::detail::Path;
 
 class Reader {
  public:
