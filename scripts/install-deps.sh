@@ -14,6 +14,7 @@ packages=(
   iceoryx libiceoryx-posh-dev   # iox-roudi and iceoryx 2.0: the baseline of horus-latency-shm
   cyclonedds-dev cyclonedds-tools   # the cyclonedds backend; idlc for the interop tests
   libfastrtps-dev libfastcdr-dev fastddsgen   # the fastdds backend; fastddsgen for the interop tests
+  liblcm-dev liblcm-bin   # the lcm backend; lcm-gen, lcm-logger, lcm-logplayer for the interop tests
   iproute2   # ip netns: the multi-host tests make hosts out of network namespaces
 )
 

@@ -15,6 +15,9 @@
 #if defined(HORUS_HAVE_CYCLONEDDS) || defined(HORUS_HAVE_FASTDDS)
 #include "horus/dds/transports.hpp"
 #endif
+#ifdef HORUS_HAVE_LCM
+#include "horus/lcm/transport.hpp"
+#endif
 
 namespace horus {
 
@@ -39,6 +42,7 @@ std::string_view to_string(Backend b) noexcept {
     case Backend::SharedMemory: return "shm";
     case Backend::CycloneDds: return "cyclonedds";
     case Backend::FastDds: return "fastdds";
+    case Backend::Lcm: return "lcm";
   }
   return "unknown";
 }
@@ -56,6 +60,11 @@ bool backend_available(Backend b) noexcept {
     case Backend::FastDds: return true;
 #else
     case Backend::FastDds: return false;
+#endif
+#ifdef HORUS_HAVE_LCM
+    case Backend::Lcm: return true;
+#else
+    case Backend::Lcm: return false;
 #endif
   }
   return false;
@@ -80,6 +89,18 @@ Result<std::string> dds_topic_name(std::string_view topic) {
   std::string out = "horus/";
   for (char c : topic) out += c == '.' ? '/' : c;
   return out;
+}
+
+Result<std::string> lcm_channel_name(std::string_view topic) {
+  if (auto ok = validate_topic_name(topic); !ok) return std::unexpected(std::move(ok.error()));
+  constexpr std::size_t kMaxChannel = 63;  // LCM_MAX_CHANNEL_NAME_LENGTH
+  if (topic.size() > kMaxChannel)
+    return fail(Errc::InvalidName,
+                fmt::format("topic '{}': {} characters is too long for an LCM channel (the channel is the topic "
+                            "name, and LCM channels are at most {} bytes); use a name of at most {} characters on "
+                            "the lcm backend",
+                            topic, topic.size(), kMaxChannel, kMaxChannel));
+  return std::string(topic);
 }
 
 Result<net::Config> network_config_from_environment() {
@@ -157,7 +178,7 @@ Result<Backend> backend_from_environment() {
   const std::string_view v(env);
   if (v == "auto" || v == "shm") return Backend::SharedMemory;
   if (v == "inproc") return Backend::InProcess;
-  for (Backend b : {Backend::CycloneDds, Backend::FastDds}) {
+  for (Backend b : {Backend::CycloneDds, Backend::FastDds, Backend::Lcm}) {
     if (v != to_string(b)) continue;
     if (!backend_available(b))
       return fail(Errc::Config, fmt::format("HORUS_BACKEND={}: this build of horus has no {} backend (its Debian "
@@ -166,11 +187,8 @@ Result<Backend> backend_from_environment() {
                                             v, v));
     return b;
   }
-  if (v == "lcm")
-    return fail(Errc::Config, "HORUS_BACKEND=lcm: this build has no lcm backend yet; expected auto, shm, inproc, "
-                              "cyclonedds or fastdds");
-  return fail(Errc::Config, fmt::format("HORUS_BACKEND={}: unknown backend; expected auto, shm, inproc, cyclonedds "
-                                        "or fastdds",
+  return fail(Errc::Config, fmt::format("HORUS_BACKEND={}: unknown backend; expected auto, shm, inproc, cyclonedds, "
+                                        "fastdds or lcm",
                                         v));
 }
 
@@ -513,6 +531,16 @@ struct NetworkState final : net::Listener {
     std::lock_guard lock(mutex);
     if (core->sink != nullptr) core->sink(core->bridge.get(), sample);
   }
+  void on_lost(std::uint64_t count) override {
+    const auto before = core->net_lost.fetch_add(count, std::memory_order_relaxed);
+    // Log the first loss, then at most once per 1024 more (the count is in dropped_count()).
+    if (before == 0 || before / 1024 != (before + count) / 1024)
+      log().warn("topic '{}': the {} backend lost {} message(s) or datagram(s) ({} so far; they count in "
+                 "dropped_count()). On LCM the kernel dropped datagrams because the socket receive buffer was "
+                 "full: large messages need a larger buffer (HORUS_LCM_URL=...?recv_buf_size=N and sysctl "
+                 "net.core.rmem_max)",
+                 core->name, transport->name(), count, before + count);
+  }
   void on_error(std::string_view message) override {
     core->net_errors.fetch_add(1, std::memory_order_relaxed);
     const auto n = errors.fetch_add(1, std::memory_order_relaxed) + 1;
@@ -540,6 +568,13 @@ Result<std::shared_ptr<net::Transport>> transport_for(Backend backend, const net
 #ifdef HORUS_HAVE_FASTDDS
     case Backend::FastDds: return dds::fastdds_transport(config);
 #endif
+#ifdef HORUS_HAVE_LCM
+    case Backend::Lcm: {
+      auto url = lcm::url_from_environment();
+      if (!url) return std::unexpected(std::move(url.error()));
+      return lcm::lcm_transport(*url);
+    }
+#endif
     default: break;
   }
   (void)config;
@@ -555,19 +590,24 @@ Result<void> attach_network(TopicCore& core, const net::Qos& qos) {
   if (core.net) return {};
   if (const int owner = g_network_pid.load(); owner != 0 && owner != current_pid())
     return fail(Errc::Io, fmt::format("topic '{}': this process was forked from pid {} after that process used {}; "
-                                      "DDS participants do not survive fork() (their threads stay in the parent). "
+                                      "network transports (DDS participants, LCM instances) do not survive fork() (their threads "
+                                      "stay in the parent). "
                                       "Open network topics before forking only in the process that keeps them, or "
                                       "exec the child",
                                       core.name, owner, to_string(core.backend)));
-  auto config = network_config_from_environment();
-  if (!config) return std::unexpected(std::move(config.error()));
-  auto transport = transport_for(core.backend, *config);
+  net::Config config;
+  if (core.backend != Backend::Lcm) {  // LCM reads HORUS_LCM_URL instead
+    auto c = network_config_from_environment();
+    if (!c) return std::unexpected(std::move(c.error()));
+    config = *c;
+  }
+  auto transport = transport_for(core.backend, config);
   if (!transport) return std::unexpected(std::move(transport.error()));
   std::unique_ptr<NetworkState, NetworkStateDeleter> state(new NetworkState());
   state->core = &core;
   state->qos = qos;
   state->transport = std::move(*transport);
-  auto wire = dds_topic_name(core.name);
+  auto wire = core.backend == Backend::Lcm ? lcm_channel_name(core.name) : dds_topic_name(core.name);
   if (!wire) return std::unexpected(std::move(wire.error()));
   net::EndpointSpec spec;
   spec.topic = core.name;
@@ -578,6 +618,7 @@ Result<void> attach_network(TopicCore& core, const net::Qos& qos) {
   auto endpoint = state->transport->open(spec, *state);
   if (!endpoint) return std::unexpected(std::move(endpoint.error()));
   state->endpoint = std::move(*endpoint);
+  core.net_loopback = state->transport->delivers_own_samples();
   core.net = std::move(state);
   g_network_pid.store(current_pid());
   return {};
@@ -600,8 +641,8 @@ std::uint32_t network_subscribers(const TopicCore& core) noexcept {
 void report_network_decode_failure(TopicCore& core, const std::string& what) {
   const auto n = core.net_decode_failures.fetch_add(1, std::memory_order_relaxed) + 1;
   if (n == 1 || n % 1024 == 0)
-    log().error("topic '{}': a {} sample from the network does not decode as XCDR1 ({}); dropped ({} so far)",
-                core.name, core.type_name, what, n);
+    log().error("topic '{}': a {} sample from the network does not decode as {} ({}); dropped ({} so far)",
+                core.name, core.type_name, core.backend == Backend::Lcm ? "an LCM message" : "XCDR1", what, n);
 }
 
 void report_network_send_failure(const TopicCore& core, const Error& error, std::uint64_t count) {

@@ -108,8 +108,41 @@ std::vector<std::string> compare(const Lock& lock, const std::vector<Definition>
 
 int usage() {
   std::fprintf(stderr,
-               "usage: horus-idlgen --out DIR | --print FILE | --list | --check-lock LOCK | --update-lock LOCK\n");
+               "usage: horus-idlgen --out DIR | --lcm-out DIR | --print FILE | --list | --check-lock LOCK | "
+               "--update-lock LOCK\n"
+               "  --out DIR      write the .idl files (DDS)\n"
+               "  --lcm-out DIR  write the .lcm files (LCM)\n"
+               "  --print FILE   print one file (geometry.idl, geometry.lcm)\n");
   return 2;
+}
+
+// Every emitted file, .idl then .lcm.
+std::vector<OutputFile> all_files(const Model& model, const IdlOptions& options) {
+  auto out = emit_idl(model, options);
+  for (auto& f : emit_lcm(model, options)) out.push_back(std::move(f));
+  return out;
+}
+
+// Every emitted definition (IDL types by their C++ name, LCM types by pkg.Name).
+std::vector<Definition> all_definitions(const Model& model, const IdlOptions& options) {
+  auto out = idl_definitions(model, options);
+  for (auto& d : lcm_definitions(model, options)) out.push_back(std::move(d));
+  return out;
+}
+
+int write_files(const std::string& dir, const std::vector<OutputFile>& files) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) {
+    std::fprintf(stderr, "horus-idlgen: cannot create %s: %s\n", dir.c_str(), ec.message().c_str());
+    return 1;
+  }
+  for (const auto& f : files)
+    if (!write_text(std::filesystem::path(dir) / f.name, f.text)) {
+      std::fprintf(stderr, "horus-idlgen: cannot write %s/%s\n", dir.c_str(), f.name.c_str());
+      return 1;
+    }
+  return 0;
 }
 
 }  // namespace
@@ -120,26 +153,14 @@ int run_cli(const Model& model, int argc, char** argv, const IdlOptions& options
   const std::string arg = argc == 3 ? argv[2] : "";
   try {
     if (cmd == "--list" && argc == 2) {
-      for (const auto& d : idl_definitions(model, options)) std::printf("%s %s\n", d.file.c_str(), d.type.c_str());
+      for (const auto& d : all_definitions(model, options)) std::printf("%s %s\n", d.file.c_str(), d.type.c_str());
       return 0;
     }
     if (argc != 3) return usage();
-    if (cmd == "--out") {
-      std::error_code ec;
-      std::filesystem::create_directories(arg, ec);
-      if (ec) {
-        std::fprintf(stderr, "horus-idlgen: cannot create %s: %s\n", arg.c_str(), ec.message().c_str());
-        return 1;
-      }
-      for (const auto& f : emit_idl(model, options))
-        if (!write_text(std::filesystem::path(arg) / f.name, f.text)) {
-          std::fprintf(stderr, "horus-idlgen: cannot write %s/%s\n", arg.c_str(), f.name.c_str());
-          return 1;
-        }
-      return 0;
-    }
+    if (cmd == "--out") return write_files(arg, emit_idl(model, options));
+    if (cmd == "--lcm-out") return write_files(arg, emit_lcm(model, options));
     if (cmd == "--print") {
-      for (const auto& f : emit_idl(model, options))
+      for (const auto& f : all_files(model, options))
         if (f.name == arg || f.name == arg + ".idl") {
           std::fputs(f.text.c_str(), stdout);
           return 0;
@@ -148,7 +169,7 @@ int run_cli(const Model& model, int argc, char** argv, const IdlOptions& options
       return 1;
     }
     if (cmd == "--check-lock" || cmd == "--update-lock") {
-      const auto defs = idl_definitions(model, options);
+      const auto defs = all_definitions(model, options);
       std::string text;
       Lock lock;
       const bool exists = read_text(arg, text);

@@ -1,5 +1,5 @@
-// horus_dds_peer: the other process of the DDS tests (and of the multi-host tests). The backend
-// comes from HORUS_BACKEND, the domain from HORUS_DOMAIN_ID. It runs until its deadline or
+// horus_dds_peer: the other process of the DDS and LCM tests (and of the multi-host tests). The
+// backend comes from HORUS_BACKEND, the domain from HORUS_DOMAIN_ID, the LCM URL from HORUS_LCM_URL. It runs until its deadline or
 // until stdin closes (the test that started it ended), so it never outlives a test for long.
 //
 //   horus_dds_peer echo <prefix> <seconds>
@@ -8,12 +8,14 @@
 //       publishes a Pose2D (x = sequence number) every 20 ms
 //   horus_dds_peer expect-mismatch <topic> <seconds>
 //       opens <topic> as CmdVel; exits 0 as soon as the backend reports an incompatible remote
-//       endpoint (e.g. a Pose2D publisher on another host), 1 if none is reported in time, or
-//       4 if a message arrives (a Pose2D must never be delivered as a CmdVel)
-//   horus_dds_peer raw <dds-topic> <dds-type> <seconds>
-//       a raw DDS writer (the byte-level transport, no horus codec): every 20 ms, a malformed
+//       endpoint (DDS) or a message of another type fails to decode (LCM: another fingerprint),
+//       e.g. from a Pose2D publisher on another host, 1 if none is reported in time, or 4 if a
+//       message arrives (a Pose2D must never be delivered as a CmdVel)
+//   horus_dds_peer raw <dds-topic or lcm-channel> <dds-type> <seconds>
+//       a raw writer (the byte-level transport, no horus codec): every 20 ms, a malformed
 //       sample, then a valid Pose2D with x = 42 (tests that bad samples are counted and later
-//       good ones still arrive)
+//       good ones still arrive). On LCM the malformed ones are garbage, a truncated Pose2D,
+//       a CmdVel (another fingerprint) and a Pose2D with bytes left over.
 #include <poll.h>
 #include <unistd.h>
 
@@ -28,6 +30,10 @@
 
 #include "horus/dds/cdr.hpp"
 #include "horus/dds/transports.hpp"
+#include "horus/lcm/codec.hpp"
+#ifdef HORUS_HAVE_LCM
+#include "horus/lcm/transport.hpp"
+#endif
 #include "horus/msg/all.hpp"
 #include "horus/topic.hpp"
 
@@ -105,7 +111,7 @@ int expect_mismatch(const std::string& topic, Clock::time_point deadline) {
   std::fflush(stdout);
   while (Clock::now() < deadline) {
     if (sub->recv()) return 4;
-    if (sub->network_errors() > 0) {
+    if (sub->network_errors() > 0 || sub->metrics().decode_failures() > 0) {
       std::printf("mismatch reported\n");
       return 0;
     }
@@ -130,6 +136,14 @@ int raw_writer(const std::string& wire_topic, const std::string& type, Clock::ti
 #ifdef HORUS_HAVE_FASTDDS
   if (backend != nullptr && std::string_view(backend) == "fastdds") t = horus::dds::fastdds_transport(*config);
 #endif
+  const bool lcm = backend != nullptr && std::string_view(backend) == "lcm";
+#ifdef HORUS_HAVE_LCM
+  if (lcm) {
+    auto url = horus::lcm::url_from_environment();
+    if (!url) return 3;
+    t = horus::lcm::lcm_transport(*url);
+  }
+#endif
   if (!t) {
     std::fprintf(stderr, "horus_dds_peer: %s\n", t.error().message().c_str());
     return 3;
@@ -143,12 +157,20 @@ int raw_writer(const std::string& wire_topic, const std::string& type, Clock::ti
   }
   std::printf("ready\n");
   std::fflush(stdout);
-  const auto good = horus::cdr::encode(horus::msg::Pose2D{42.0, 1.0, 2.0, 7});
+  const horus::msg::Pose2D pose{42.0, 1.0, 2.0, 7};
+  const auto good = lcm ? horus::lcm::encode(pose) : horus::cdr::encode(pose);
   std::vector<std::vector<std::byte>> bad = {
       {},                                                  // empty
       std::vector<std::byte>(good.begin(), good.begin() + 5),  // truncated
-      std::vector<std::byte>(200, std::byte{0xab}),        // too long
+      std::vector<std::byte>(200, std::byte{0xab}),        // too long / garbage
   };
+  if (lcm) {
+    bad.push_back(horus::lcm::encode(horus::msg::CmdVel{}));  // another fingerprint
+    bad.push_back(std::vector<std::byte>(good.begin(), good.end() - 1));  // one byte short
+    auto longer = good;
+    longer.push_back(std::byte{0});
+    bad.push_back(longer);  // a byte left over
+  }
   auto fill = [](void* ctx, std::span<std::byte> body) {
     const auto* v = static_cast<const std::vector<std::byte>*>(ctx);
     if (!v->empty()) std::memcpy(body.data(), v->data(), v->size());

@@ -15,6 +15,7 @@
 
 #include "horus/codec.hpp"
 #include "horus/dds/cdr.hpp"
+#include "horus/lcm/codec.hpp"
 #include "horus/format.hpp"
 #include "horus/json.hpp"
 #include "horus/msg/all.hpp"
@@ -107,6 +108,18 @@ TYPED_TEST(EveryMessage, RoundTripsThroughXcdr1AndRefusesEveryTruncation) {
   const std::size_t step = std::max<std::size_t>(1, bytes.size() / 512);
   for (std::size_t n = 0; n + 3 < bytes.size(); n += step)
     EXPECT_FALSE(horus::cdr::decode<TypeParam>(std::span(bytes.data(), n))) << "decoded from " << n << " bytes";
+}
+
+TYPED_TEST(EveryMessage, RoundTripsThroughLcmAndRefusesEveryTruncation) {
+  const TypeParam m = sample<TypeParam>();
+  const auto bytes = horus::lcm::encode(m);
+  EXPECT_EQ(bytes.size(), horus::lcm::encoded_size(m));
+  auto back = horus::lcm::decode<TypeParam>(bytes);
+  ASSERT_TRUE(back) << back.error();
+  EXPECT_TRUE(SameMessage(*back, m));
+  const std::size_t step = std::max<std::size_t>(1, bytes.size() / 512);
+  for (std::size_t n = 0; n < bytes.size(); n += step)
+    EXPECT_FALSE(horus::lcm::decode<TypeParam>(std::span(bytes.data(), n))) << "decoded from " << n << " bytes";
 }
 
 TYPED_TEST(EveryMessage, FormatsWithItsNameAndLogsASummary) {

@@ -65,6 +65,10 @@ class Listener {
   /// incompatible QoS, a sample that is not valid XCDR1. The message names the topic and
   /// both sides. Counted and logged by the topic.
   virtual void on_error(std::string_view message) = 0;
+  /// Messages (or datagrams, when the backend cannot tell messages apart) the backend lost
+  /// before they reached this endpoint, e.g. LCM datagrams the kernel dropped because the
+  /// socket buffer was full. Added to the topic's dropped_count().
+  virtual void on_lost(std::uint64_t count) { (void)count; }
 
  protected:
   ~Listener() = default;
@@ -80,7 +84,7 @@ struct BodyWriter {
 class Endpoint {
  public:
   virtual ~Endpoint() = default;
-  /// Sends one sample of `body_size` bytes, filled in place by `writer`.
+  /// Sends one sample of `body_size` bytes, filled in place by `writer`. Thread-safe.
   virtual Result<void> write(std::size_t body_size, const BodyWriter& writer) = 0;
   /// Remote writers matched with our reader (other processes and hosts).
   virtual std::uint32_t matched_publishers() const = 0;
@@ -97,6 +101,10 @@ class Transport {
   /// Creates the writer and reader of a topic. Samples this process writes are not delivered
   /// back to it (the topic's local ring already has them).
   virtual Result<std::unique_ptr<Endpoint>> open(const EndpointSpec& spec, Listener& listener) = 0;
+  /// True when samples this process writes also come back to its own endpoints (LCM: the
+  /// multicast loops back, and the messages carry no sender). The topic then does not write
+  /// what it sends into its ring: the sample arrives once, through the endpoint.
+  virtual bool delivers_own_samples() const noexcept { return false; }
 };
 
 }  // namespace horus::net

@@ -37,6 +37,7 @@
 #include "horus/codec.hpp"
 #include "horus/error.hpp"
 #include "horus/dds/cdr.hpp"
+#include "horus/lcm/codec.hpp"
 #include "horus/metrics.hpp"
 #include "horus/network.hpp"
 #include "horus/qos.hpp"
@@ -56,11 +57,15 @@ namespace horus {
 ///                 (HORUS_BACKEND=cyclonedds); handles of this process share an in-process ring
 ///   FastDds       the same through Fast DDS (HORUS_BACKEND=fastdds); both speak DDSI-RTPS
 ///                 and XCDR1, so a Cyclone DDS process and a Fast DDS process talk
-enum class Backend { InProcess, SharedMemory, CycloneDds, FastDds };
+///   Lcm           LCM over UDP multicast (HORUS_BACKEND=lcm; HORUS_LCM_URL): channel = topic
+///                 name, lcm-gen compatible encoding (horus-idlgen's .lcm types)
+enum class Backend { InProcess, SharedMemory, CycloneDds, FastDds, Lcm };
 std::string_view to_string(Backend b) noexcept;
 
-/// True for the backends that reach other hosts (DDS).
-constexpr bool is_network(Backend b) noexcept { return b == Backend::CycloneDds || b == Backend::FastDds; }
+/// True for the backends that reach other hosts (DDS, LCM).
+constexpr bool is_network(Backend b) noexcept {
+  return b == Backend::CycloneDds || b == Backend::FastDds || b == Backend::Lcm;
+}
 
 /// True when this build of horus has backend b (DDS backends need their Debian packages at build time).
 bool backend_available(Backend b) noexcept;
@@ -76,7 +81,7 @@ struct TopicOptions {
   std::optional<net::Durability> durability = std::nullopt;
 };
 
-/// The backend HORUS_BACKEND selects (auto|shm|inproc|cyclonedds|fastdds; unset means auto =
+/// The backend HORUS_BACKEND selects (auto|shm|inproc|cyclonedds|fastdds|lcm; unset means auto =
 /// shm); an error names a bad value and lists the valid ones.
 Result<Backend> backend_from_environment();
 
@@ -89,6 +94,10 @@ Result<net::Config> network_config_from_environment();
 /// ("fleet.robot_1.pose" -> "horus/fleet/robot_1/pose"). DDS topic names allow letters,
 /// digits, '_' and '/' only, so a name with '-' is an error (InvalidName) on DDS backends.
 Result<std::string> dds_topic_name(std::string_view topic);
+
+/// The LCM channel of a horus topic: the topic name itself ("fleet.robot_1.pose"). LCM
+/// channels are at most 63 bytes, so a longer name is an error (InvalidName) on the lcm backend.
+Result<std::string> lcm_channel_name(std::string_view topic);
 
 /// Longest topic name accepted.
 inline constexpr std::size_t kMaxTopicNameLength = 128;
@@ -201,6 +210,8 @@ struct TopicCore {
   std::atomic<bool> bridge_publishing{false};         // the bridge holds a ring lane
   std::atomic<std::uint64_t> net_decode_failures{0};  // samples that did not decode
   std::atomic<std::uint64_t> net_errors{0};           // incompatible endpoints reported
+  std::atomic<std::uint64_t> net_lost{0};             // messages the backend reported lost
+  bool net_loopback = false;  // the backend delivers our own samples back (LCM): send skips the ring
   std::unique_ptr<void, void (*)(void*)> bridge{nullptr, nullptr};
   void (*sink)(void* bridge, const net::Sample& sample) = nullptr;
   std::unique_ptr<NetworkState, NetworkStateDeleter> net;
@@ -334,6 +345,7 @@ class Topic {
     pool_lost_ = other.pool_lost_;
     pool_exhausted_ = other.pool_exhausted_;
     networked_ = other.networked_;
+    net_lost_base_ = other.net_lost_base_;
     net_send_failures_ = other.net_send_failures_;
     inconsistent_ = other.inconsistent_;
     encoded_size_ = other.encoded_size_;
@@ -412,6 +424,10 @@ class Topic {
       detail::report_inconsistent(*core_, ++inconsistent_);
       ++send_failures_;
       return;  // the loan's slot is given back as it is destroyed
+    }
+    if (networked_ && core_->net_loopback) [[unlikely]] {
+      network_send(l.value_);  // comes back through the network; the slot is given back
+      return;
     }
     publish(l.value_.descriptor(), l.claim_);
     if (networked_) [[unlikely]] network_send(l.value_);
@@ -565,11 +581,12 @@ class Topic {
   /// Large data: a message whose pool slot was reused before this handle read it (subscribers
   /// kept the spare slots pinned) counts as dropped too.
   std::uint64_t dropped_count() const noexcept {
-    if (reader_.subscribed()) return reader_.lost() + pool_lost_;
+    const std::uint64_t net = core_->net_lost.load(std::memory_order_relaxed) - net_lost_base_;
+    if (reader_.subscribed()) return reader_.lost() + pool_lost_ + net;
     const auto& ring = core_->ring;
     std::uint64_t n = ring.header().dropped_total.load(std::memory_order_relaxed) + ring.undetected_losses();
     if constexpr (kPooled) n += core_->pool.header().reused.load(std::memory_order_relaxed);
-    return n;
+    return n + net;
   }
   /// Publishers currently holding a lane of this topic; on a network backend, this process's
   /// publishing handles plus the remote writers matched with it.
@@ -591,9 +608,10 @@ class Topic {
                             core_->net_decode_failures.load(std::memory_order_relaxed));
   }
   /// Network backends: problems the backend reported for this topic in this process (a remote
-  /// endpoint with another message type under the same DDS topic, an incompatible QoS, a sample
-  /// that is not XCDR1); each is also logged. Samples that do not decode count in
-  /// metrics().decode_failures().
+  /// endpoint with another message type under the same DDS topic, an incompatible QoS); each
+  /// is also logged. Samples that do not decode (not XCDR1, another LCM fingerprint) count in
+  /// metrics().decode_failures(); messages the backend lost (LCM: datagrams the kernel
+  /// dropped) count in dropped_count().
   std::uint64_t network_errors() const noexcept { return core_->net_errors.load(std::memory_order_relaxed); }
   /// Slots per publisher lane.
   std::uint32_t capacity() const noexcept { return core_->ring.capacity(); }
@@ -633,6 +651,7 @@ class Topic {
     if (is_network(topic.core_->backend)) {
       if (auto ok = topic.connect_network(options); !ok) return std::unexpected(std::move(ok.error()));
       topic.networked_ = true;
+      topic.net_lost_base_ = topic.core_->net_lost.load(std::memory_order_relaxed);
     }
     return topic;
   }
@@ -641,6 +660,13 @@ class Topic {
   // received samples into the ring, then the endpoint (so no sample arrives before the bridge).
   Result<void> connect_network(const TopicOptions& options) {
     auto& core = *core_;
+    if constexpr (!lcm::expressible<T>) {
+      if (core.backend == Backend::Lcm)
+        return fail(Errc::Config, "topic '" + core.name + "': " + std::string(type_name()) +
+                                      " cannot travel over LCM: it has a variable-size array of variable-size arrays "
+                                      "or an array of size 0, which LCM types cannot express (horus/idlgen/"
+                                      "lcm_mapping.hpp); use another backend for it");
+    }
     std::lock_guard lock(core.net_mutex);
     if (core.net) {
       // The topic's endpoint exists: a handle asking for another QoS is an error, not ignored.
@@ -681,7 +707,7 @@ class Topic {
       b.sink_pooled(sample);
       return;
     }
-    auto m = cdr::decode<T>(sample.body, sample.little_endian);
+    auto m = b.decode_sample(sample, nullptr);
     if (!m) {
       detail::report_network_decode_failure(*b.core_, m.error());
       return;
@@ -689,12 +715,25 @@ class Topic {
     b.send_local(*m);
   }
 
+  // The backend's wire format: LCM for the lcm backend, XCDR1 for DDS.
+  std::expected<T, std::string> decode_sample(const net::Sample& sample, const ByteSink* sink) const {
+    if constexpr (lcm::expressible<T>) {
+      if (core_->backend == Backend::Lcm) return lcm::decode<T>(sample.body, sink);
+    }
+    return cdr::decode<T>(sample.body, sample.little_endian, sink);
+  }
+
+
   // A network topic: into the ring (this process's handles, and read_latest of handles opened
   // later, as on shared memory), then to the network. A handle inherited through fork() sends
   // nothing: DDS participants do not survive fork (open topics in the child).
   [[gnu::noinline]] void send_networked(const T& msg) {
     if (core_->pid != detail::current_pid()) [[unlikely]] {
       ++send_failures_;
+      return;
+    }
+    if (core_->net_loopback) {  // it comes back through the network, once
+      network_send(msg);
       return;
     }
     if (send_local(msg)) network_send(msg);
@@ -707,7 +746,7 @@ class Topic {
       Topic* self;
       std::optional<shm::Pool::Claim> claim;
     } place{this, std::nullopt};
-    const cdr::ByteSink sink{&place, [](void* ctx, std::size_t n, ByteBuffer& out) {
+    const ByteSink sink{&place, [](void* ctx, std::size_t n, ByteBuffer& out) {
                                auto& p = *static_cast<Place*>(ctx);
                                auto& core = *p.self->core_;
                                if (p.claim || n > core.pool.slot_bytes()) return false;
@@ -719,7 +758,7 @@ class Topic {
                                                         /*writable=*/true);
                                return true;
                              }};
-    auto m = cdr::decode<T>(sample.body, sample.little_endian, &sink);
+    auto m = decode_sample(sample, &sink);
     if (!m) {  // a slot taken is given back as the half-built message goes
       detail::report_network_decode_failure(*core_, m.error());
       return;
@@ -732,12 +771,21 @@ class Topic {
     publish(m->descriptor(), *place.claim);
   }
 
-  // Encodes msg as XCDR1 straight into the backend's buffer; false (counted, logged) on failure.
+  // Encodes msg (XCDR1, or LCM) straight into the backend's buffer; false (counted, logged) on failure.
   bool network_send(const T& msg) {
+    if constexpr (lcm::expressible<T>) {
+      if (core_->backend == Backend::Lcm) return network_send_as<true>(msg);
+    }
+    return network_send_as<false>(msg);
+  }
+
+  template <bool kLcm>
+  bool network_send_as(const T& msg) {
     std::size_t n = 0;
     try {
-      n = cdr::encoded_size(msg);
-    } catch (const std::length_error& e) {
+      if constexpr (kLcm) n = lcm::encoded_size(msg);
+      else n = cdr::encoded_size(msg);
+    } catch (const std::logic_error& e) {
       ++send_failures_;
       detail::report_network_send_failure(*core_, Error(Errc::MessageTooLarge, e.what()), ++net_send_failures_);
       return false;
@@ -746,7 +794,8 @@ class Topic {
                                    // Cannot throw: body has encoded_size(msg) bytes. Called from
                                    // the backend's C code, so nothing may escape regardless.
                                    try {
-                                     cdr::encode(*static_cast<const T*>(ctx), body);
+                                     if constexpr (kLcm) lcm::encode(*static_cast<const T*>(ctx), body);
+                                     else cdr::encode(*static_cast<const T*>(ctx), body);
                                    } catch (...) {
                                      std::memset(body.data(), 0, body.size());
                                    }
@@ -808,6 +857,7 @@ class Topic {
 
   // Writes msg if there is space, then sends it to the network (network backends).
   bool try_commit(const T& msg) {
+    if (networked_ && core_->net_loopback) [[unlikely]] return network_send(msg);
     if (!try_commit_local(msg)) return false;
     if (networked_) [[unlikely]] network_send(msg);
     return true;
@@ -971,6 +1021,7 @@ class Topic {
   bool blocking_ = false;             // inside send_blocking's retries
   bool networked_ = false;                 // a user handle of a network topic (not the bridge)
   std::uint64_t net_send_failures_ = 0;    // samples the network backend refused
+  std::uint64_t net_lost_base_ = 0;        // core's net_lost when this handle was opened
   // Serialized messages only: the encoding buffer and the last slot read.
   std::vector<std::byte> scratch_;
   std::size_t encoded_size_ = 0;

@@ -203,4 +203,13 @@ template <>
 struct is_std_vector<ByteBuffer> : std::true_type {};
 }  // namespace reflect::detail
 
+/// A wire decoder's option (horus::cdr::decode, horus::lcm::decode): where the bytes of a
+/// ByteBuffer field go (by default, a buffer of its own). A topic lends a pool slot, so a
+/// received image is copied once: from the sample into the slot. `place` makes `out` a
+/// writable buffer of `n` bytes, or returns false.
+struct ByteSink {
+  void* context = nullptr;
+  bool (*place)(void* context, std::size_t n, ByteBuffer& out) = nullptr;
+};
+
 }  // namespace horus

@@ -44,13 +44,8 @@ namespace horus::cdr {
 
 static_assert(std::endian::native == std::endian::little, "horus::cdr encodes on a little-endian host");
 
-/// A decode() option: where the bytes of a horus::ByteBuffer field go (by default, a buffer of
-/// its own). A topic lends a pool slot, so a received image is copied once: from the sample
-/// into the slot. `place` makes `out` a writable buffer of `n` bytes, or returns false.
-struct ByteSink {
-  void* context = nullptr;
-  bool (*place)(void* context, std::size_t n, ByteBuffer& out) = nullptr;
-};
+/// A decode() option: where the bytes of ByteBuffer fields go (horus/byte_buffer.hpp).
+using ByteSink = horus::ByteSink;
 
 namespace detail {
 using reflect::detail::is_std_array;

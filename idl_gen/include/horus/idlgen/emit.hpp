@@ -3,6 +3,8 @@
 //   emit_idl(model)  OMG IDL 4 for DDS (idlc, fastddsgen): one .idl per file of the model,
 //                    modules from the C++ namespaces, @final structs (XCDR1), enums, fixed
 //                    arrays, unbounded sequences and strings (mapping.hpp has the table).
+//   emit_lcm(model)  LCM types for lcm-gen (C, C++, Java, Python): one .lcm per file, packages
+//                    from the namespaces joined by '_' (lcm_mapping.hpp has the table).
 //
 // The text is a contract with third-party programs: it changes only with kInterfaceVersion
 // (the lock test compares it with interfaces.lock).
@@ -43,6 +45,18 @@ struct Definition {
   std::string text;
 };
 std::vector<Definition> idl_definitions(const Model& model, const IdlOptions& options = {});
+
+/// One .lcm per file of the model (IdlOptions::only_files applies; guard_prefix does not).
+/// Throws std::invalid_argument for a type LCM cannot express (it names the type and field).
+std::vector<OutputFile> emit_lcm(const Model& model, const IdlOptions& options = {});
+/// The emitted LCM structs and enum-constant structs, type by type (for the lock file); the
+/// type is the LCM name ("horus_msg.Pose2D").
+std::vector<Definition> lcm_definitions(const Model& model, const IdlOptions& options = {});
+/// lcm-gen's fingerprint of the LCM type emitted for a struct of the model (qualified C++ name).
+std::uint64_t lcm_fingerprint(const Model& model, std::string_view type);
+/// "horus::msg::Pose2D" -> "horus_msg" and "horus_msg.Pose2D".
+std::string lcm_package(std::string_view qualified);
+std::string lcm_type_name(std::string_view qualified);
 
 /// IDL spelling of a name that collides with an IDL keyword (case-insensitively): "_name"
 /// (an escaped identifier; generated code still calls it `name`). Others are unchanged.
