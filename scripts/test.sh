@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Sets up everything, builds, and runs every test: the default build (all tests), then the
-# concurrency tests again under ThreadSanitizer, and the decoders of untrusted bytes (the
-# local codec, the XCDR1 codec, serialized topics) under AddressSanitizer + UBSan. HORUS_TEST_TSAN=0 / HORUS_TEST_ASAN=0
+# concurrency tests (and the LCM transport's threads) again under ThreadSanitizer, and the
+# decoders of untrusted bytes (the local codec, the XCDR1 and LCM codecs, serialized topics)
+# under AddressSanitizer + UBSan. HORUS_TEST_TSAN=0 / HORUS_TEST_ASAN=0
 # skip those passes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -14,15 +15,17 @@ ctest --preset default -j "$jobs"
 
 if [ "${HORUS_TEST_TSAN:-1}" != "0" ]; then
   cmake --preset tsan
-  cmake --build --preset tsan -j "$jobs" --target test_topic_concurrency test_topic_serialized test_pool
+  cmake --build --preset tsan -j "$jobs" --target test_topic_concurrency test_topic_serialized test_pool \
+    test_lcm_transport
   # TSan needs the classic address-space layout; kernels with more mmap randomness break it.
   run=()
   if command -v setarch >/dev/null; then run=(setarch "$(uname -m)" -R); fi
   "${run[@]}" ctest --preset tsan -L concurrency
+  "${run[@]}" ctest --preset tsan -R '^Lcm(Memq|File|Udpm)\.'
 fi
 
 if [ "${HORUS_TEST_ASAN:-1}" != "0" ]; then
   cmake --preset asan
-  cmake --build --preset asan -j "$jobs" --target test_codec test_cdr test_topic_serialized test_pool
-  ctest --preset asan -R '^(Codec|Cdr|SerializedTopic|Pool|Backends/PoolTopic)\.'
+  cmake --build --preset asan -j "$jobs" --target test_codec test_cdr test_lcm_codec test_topic_serialized test_pool
+  ctest --preset asan -R '^(Codec|Cdr|LcmCodec|LcmEmitter|SerializedTopic|Pool|Backends/PoolTopic)\.'
 fi

@@ -638,6 +638,17 @@ std::uint32_t network_subscribers(const TopicCore& core) noexcept {
   return core.net ? core.net->endpoint->matched_subscribers() : 0;
 }
 
+void network_receiving(TopicCore& core, bool on) noexcept {
+  if (!core.net || core.net_receiving.load(std::memory_order_acquire) == on) return;
+  // A mutex of its own: the endpoint may wait for the backend's receive thread, which never
+  // takes this one (only user threads call here).
+  static std::mutex receiving_mutex;
+  std::lock_guard lock(receiving_mutex);
+  if (core.net_receiving.load(std::memory_order_acquire) == on) return;
+  core.net_receiving.store(on, std::memory_order_release);
+  core.net->endpoint->set_receiving(on);
+}
+
 void report_network_decode_failure(TopicCore& core, const std::string& what) {
   const auto n = core.net_decode_failures.fetch_add(1, std::memory_order_relaxed) + 1;
   if (n == 1 || n % 1024 == 0)

@@ -401,6 +401,7 @@ struct Subscription {
   const std::string label;
   lcm_subscription_t* handle = nullptr;  // guarded by the engine's handle lock
   std::atomic<bool> closed{false};       // set first by ~LcmEndpoint: no listener call after
+  std::atomic<bool> paused{false};       // set_receiving(false): samples are not delivered
 
   void report(std::string_view message) noexcept {
     if (closed.load(std::memory_order_acquire)) return;
@@ -416,7 +417,7 @@ thread_local const Engine* tl_receive_engine = nullptr;  // set on each engine's
 
 void on_message(const lcm_recv_buf_t* rb, const char* /*channel*/, void* user) {
   auto* sub = static_cast<Subscription*>(user);
-  if (sub->closed.load(std::memory_order_acquire)) return;
+  if (sub->closed.load(std::memory_order_acquire) || sub->paused.load(std::memory_order_acquire)) return;
   try {
     const std::span<const std::byte> body(static_cast<const std::byte*>(rb->data), rb->data_size);
     sub->listener.on_sample(net::Sample{body, false});  // LCM encodes big-endian
@@ -474,6 +475,40 @@ class Engine {
     sub->handle = handle;
     subs_.push_back(sub);
     return {};
+  }
+
+  // Stops or resumes the LCM subscription of an open endpoint (Endpoint::set_receiving): while
+  // it is off, LCM's reader drops the channel's datagrams before queueing them.
+  void set_receiving(const std::shared_ptr<Subscription>& sub, const std::string& channel, bool on) noexcept {
+    sub->paused.store(!on, std::memory_order_release);
+    HandleLock lock(*this);
+    if (sub->closed.load(std::memory_order_acquire)) return;
+    if (on) {
+      std::erase(deferred_, sub);  // an unsubscribe still waiting for lcm_handle to return
+      if (sub->handle != nullptr) return;
+      try {
+        lcm_subscription_t* handle = lcm_subscribe(lcm_, regex_escape(channel).c_str(), &on_message, sub.get());
+        if (handle == nullptr) {
+          sub->report(sub->label + ": liblcm refused to subscribe again (it printed the reason on stderr); "
+                                   "nothing more arrives on this channel");
+          return;
+        }
+        lcm_subscription_set_queue_capacity(handle, 0);
+        sub->handle = handle;
+      } catch (...) {
+      }
+      return;
+    }
+    if (sub->handle == nullptr) return;
+    if (lock.on_receive_thread()) {
+      try {
+        deferred_.push_back(sub);
+      } catch (...) {  // stays subscribed; paused keeps its samples out
+      }
+      return;
+    }
+    lcm_unsubscribe(lcm_, sub->handle);
+    sub->handle = nullptr;
   }
 
   // After this returns, `sub` gets no more callbacks.
@@ -704,6 +739,8 @@ class LcmEndpoint final : public net::Endpoint {
     return fail(Errc::Io, sub_->label + ": lcm_publish of " + std::to_string(body_size) + " bytes to LCM URL '" +
                               engine_->url() + "' failed" + why);
   }
+
+  void set_receiving(bool on) noexcept override { engine_->set_receiving(sub_, channel_, on); }
 
   std::uint32_t matched_publishers() const override { return 0; }   // LCM has no discovery
   std::uint32_t matched_subscribers() const override { return 0; }  // LCM has no discovery

@@ -7,8 +7,10 @@
 //   horus-dds-pingpong source <domain> <type> <seconds>    bench.<type>.tput, sent back to back
 //     type: cmdvel | kilobyte | image (1920x1080 RGB8)
 //
-// The backend comes from HORUS_BACKEND (cyclonedds or fastdds); BENCH_LOCALHOST=1 keeps it on
-// loopback (HORUS_DDS_LOCALHOST=1). Topics bench.<type>.ping / bench.<type>.pong are the DDS
+// The backend comes from HORUS_BACKEND (cyclonedds, fastdds or lcm); BENCH_LOCALHOST=1 keeps DDS
+// on loopback (HORUS_DDS_LOCALHOST=1); LCM uses HORUS_LCM_URL (bench/lcm/run_lcm_bench.sh), the
+// channels being the topic names, as for the raw baseline raw-lcm-pingpong. LCM has no
+// discovery: ping sends probes until the pong answers, and source starts at once. Topics bench.<type>.ping / bench.<type>.pong are the DDS
 // topics horus/bench/<type>/ping|pong of the baselines, with the same QoS (reliable, volatile,
 // KEEP_LAST 16; 4 for the image). ping prints one line:
 //   RESULT impl=horus-<backend> type=<type> n=<n> p50_ns=.. p99_ns=.. p999_ns=.. mean_ns=.. [lost=k]
@@ -61,10 +63,16 @@ T make_sample() {
   }
 }
 
+// LCM reports no matched endpoints (pub_count / sub_count count this process only).
+bool no_discovery() {
+  const char* b = std::getenv("HORUS_BACKEND");
+  return b != nullptr && std::string_view(b) == "lcm";
+}
+
 template <class T>
-horus::Result<horus::Topic<T>> open(const std::string& name) {
+horus::Result<horus::Topic<T>> open(const std::string& name, std::uint32_t capacity = 0) {
   horus::TopicOptions o;
-  o.capacity = std::is_same_v<T, horus::msg::Image> ? 4u : 16u;
+  o.capacity = capacity != 0 ? capacity : std::is_same_v<T, horus::msg::Image> ? 4u : 16u;
   o.reliability = horus::net::Reliability::Reliable;
   o.durability = horus::net::Durability::Volatile;
   return horus::Topic<T>::open(name, o);
@@ -109,9 +117,28 @@ int ping(const std::string& type, const std::string& impl, long n, long warmup) 
     std::fprintf(stderr, "horus-dds-pingpong: %s\n", (!out ? out.error() : in.error()).message().c_str());
     return 3;
   }
-  // Matched both ways: the pong's reader and writer.
+  // Matched both ways: the pong's reader and writer (LCM: the pong answered a probe).
   const auto match_deadline = Clock::now() + std::chrono::seconds(30);
-  while (out->sub_count() < 2 || in->pub_count() < 1) {  // our own reader counts in sub_count
+  if (no_discovery()) {
+    constexpr std::uint64_t kProbe = std::uint64_t{1} << 62;
+    T probe = make_sample<T>();
+    for (std::uint64_t k = 1;; ++k) {
+      if (Clock::now() > match_deadline) {
+        std::fprintf(stderr, "horus-dds-pingpong: no pong answered in 30 s\n");
+        return 3;
+      }
+      set_seq(probe, kProbe + k);
+      out->send(probe);
+      bool answered = false;
+      const auto until = Clock::now() + std::chrono::milliseconds(200);
+      while (!answered && Clock::now() < until) {
+        if (auto m = in->recv()) answered = seq_of(*m) == kProbe + k;
+        else std::this_thread::yield();
+      }
+      if (answered) break;
+    }
+  }
+  while (!no_discovery() && (out->sub_count() < 2 || in->pub_count() < 1)) {  // our own reader counts in sub_count
     if (Clock::now() > match_deadline) {
       std::fprintf(stderr, "horus-dds-pingpong: no pong matched in 30 s\n");
       return 3;
@@ -171,7 +198,10 @@ int ping(const std::string& type, const std::string& impl, long n, long warmup) 
 
 template <class T>
 int sink(const std::string& type, const std::string& impl, double seconds) {
-  auto in = open<T>("bench." + type + ".tput");
+  // LCM has no flow control (the source floods) and the raw LCM sink's queue is unlimited: the
+  // horus sink gets a deep ring too (DDS: KEEP_LAST 16 on both sides).
+  auto in = no_discovery() ? open<T>("bench." + type + ".tput", std::is_same_v<T, horus::msg::Image> ? 32u : 4096u)
+                           : open<T>("bench." + type + ".tput");
   if (!in) {
     std::fprintf(stderr, "horus-dds-pingpong: %s\n", in.error().message().c_str());
     return 3;
@@ -194,9 +224,11 @@ int sink(const std::string& type, const std::string& impl, double seconds) {
     else bytes += sizeof(T);
   }
   const double s = std::chrono::duration<double>(last - first).count();
-  std::printf("RESULT impl=%s type=%s mode=tput received=%llu seconds=%.3f rate=%.0f mbps=%.1f\n", impl.c_str(),
-              type.c_str(), static_cast<unsigned long long>(received), s, s > 0 ? static_cast<double>(received) / s : 0.0,
-              s > 0 ? static_cast<double>(bytes) / s / 1e6 : 0.0);
+  // dropped: what the topic counted lost (ring overwrites; LCM: datagrams the kernel dropped).
+  std::printf("RESULT impl=%s type=%s mode=tput received=%llu seconds=%.3f rate=%.0f mbps=%.1f dropped=%llu\n",
+              impl.c_str(), type.c_str(), static_cast<unsigned long long>(received), s,
+              s > 0 ? static_cast<double>(received) / s : 0.0, s > 0 ? static_cast<double>(bytes) / s / 1e6 : 0.0,
+              static_cast<unsigned long long>(in->dropped_count()));
   return received > 0 ? 0 : 1;
 }
 
@@ -208,7 +240,7 @@ int source(const std::string& type, double seconds) {
     return 3;
   }
   const auto match_deadline = Clock::now() + std::chrono::seconds(30);
-  while (out->sub_count() < 2) {
+  while (!no_discovery() && out->sub_count() < 2) {
     if (Clock::now() > match_deadline) {
       std::fprintf(stderr, "horus-dds-pingpong: no sink matched in 30 s\n");
       return 3;

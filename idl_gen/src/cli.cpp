@@ -158,7 +158,19 @@ int run_cli(const Model& model, int argc, char** argv, const IdlOptions& options
     }
     if (argc != 3) return usage();
     if (cmd == "--out") return write_files(arg, emit_idl(model, options));
-    if (cmd == "--lcm-out") return write_files(arg, emit_lcm(model, options));
+    if (cmd == "--lcm-out") {
+      const auto files = emit_lcm(model, options);
+      for (const auto& f : files) {  // types left out: warn (the DDS interfaces still have them)
+        std::size_t pos = 0;
+        while ((pos = f.text.find("\n// no LCM type: ", pos)) != std::string::npos) {
+          const auto end = f.text.find('\n', pos + 1);
+          std::fprintf(stderr, "horus-idlgen: warning: %s: %s\n", f.name.c_str(),
+                       f.text.substr(pos + 4, end - pos - 4).c_str());
+          pos = end;
+        }
+      }
+      return write_files(arg, files);
+    }
     if (cmd == "--print") {
       for (const auto& f : all_files(model, options))
         if (f.name == arg || f.name == arg + ".idl") {

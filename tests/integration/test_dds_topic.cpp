@@ -251,7 +251,7 @@ TEST_F(DdsTest, BackendNamesAreCheckedInTheEnvironment) {
   ::setenv("HORUS_BACKEND", "cyclone", 1);
   auto b = horus::backend_from_environment();
   ASSERT_FALSE(b);
-  EXPECT_NE(b.error().message().find("expected auto, shm, inproc, cyclonedds or fastdds"), std::string::npos)
+  EXPECT_NE(b.error().message().find("expected auto, shm, inproc, cyclonedds, fastdds or lcm"), std::string::npos)
       << b.error().message();
   for (Backend want : {Backend::CycloneDds, Backend::FastDds}) {
     ::setenv("HORUS_BACKEND", std::string(horus::to_string(want)).c_str(), 1);

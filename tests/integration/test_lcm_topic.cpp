@@ -63,6 +63,7 @@ TEST_F(LcmTopic, HandlesOfOneProcessGetEachMessageOnce) {
   auto a = horus::Topic<horus::msg::Pose2D>::open(name, on(Backend::Lcm));
   auto b = horus::Topic<horus::msg::Pose2D>::open(name, on(Backend::Lcm));
   ASSERT_TRUE(a && b) << (!a ? a.error() : b.error()).message();
+  EXPECT_FALSE(a->recv());  // a reads too: its send keeps it a subscriber (as on shared memory)
   a->send(horus::msg::Pose2D{1.0, 2.0, 3.0, 4});
   int at_b = 0;
   horus_test::Deadline deadline(10s);
@@ -74,13 +75,47 @@ TEST_F(LcmTopic, HandlesOfOneProcessGetEachMessageOnce) {
     std::this_thread::sleep_for(1ms);
   }
   ASSERT_EQ(at_b, 1) << "the message did not come back through LCM's loopback";
-  // Nothing more comes (no second copy from the network), and the sender's handle has it once.
+  // Nothing more comes (no second copy from the network), and the sender's handle has it once
+  // (it came back through LCM: the send did not also write the ring).
   std::this_thread::sleep_for(200ms);
   EXPECT_FALSE(b->recv());
   int at_a = 0;
   while (a->recv()) ++at_a;
   EXPECT_EQ(at_a, 1);
   EXPECT_EQ(a->dropped_count(), 0u);
+}
+
+// A process whose handles only publish stops receiving the channel (LCM brings its own traffic
+// back); a handle that reads again, or a new one, gets messages again.
+TEST_F(LcmTopic, ReceivingStopsWhileHandlesOnlyPublishAndResumes) {
+  const std::string name = horus_test::unique_name("pause");
+  auto pub = horus::Topic<horus::msg::Pose2D>::open(name, on(Backend::Lcm));
+  ASSERT_TRUE(pub) << pub.error().message();
+  pub->send(horus::msg::Pose2D{1.0, 0.0, 0.0, 1});  // a pure publisher now: nobody reads here
+  auto wait_for = [&](horus::Topic<horus::msg::Pose2D>& sub, double x) {
+    horus_test::Deadline deadline(10s);
+    auto last = std::chrono::steady_clock::now() - 1s;
+    while (!deadline.expired()) {
+      if (std::chrono::steady_clock::now() - last > 100ms) {
+        pub->send(horus::msg::Pose2D{x, 0.0, 0.0, 2});
+        last = std::chrono::steady_clock::now();
+      }
+      while (auto m = sub.recv())
+        if (m->x == x) return true;
+      std::this_thread::sleep_for(1ms);
+    }
+    return false;
+  };
+  {
+    auto sub = horus::Topic<horus::msg::Pose2D>::open(name, on(Backend::Lcm));
+    ASSERT_TRUE(sub) << sub.error().message();
+    EXPECT_TRUE(wait_for(*sub, 2.0)) << "a handle opened after the others only published receives nothing";
+    sub->send(horus::msg::Pose2D{9.0, 0.0, 0.0, 9});  // sub has read: it stays a subscriber
+    EXPECT_TRUE(wait_for(*sub, 3.0));
+  }
+  auto again = horus::Topic<horus::msg::Pose2D>::open(name, on(Backend::Lcm));
+  ASSERT_TRUE(again) << again.error().message();
+  EXPECT_TRUE(wait_for(*again, 4.0));
 }
 
 TEST_F(LcmTopic, InProcessUrlMemqWorks) {

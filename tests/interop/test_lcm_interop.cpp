@@ -141,23 +141,28 @@ TEST_F(LcmInterop, LcmLoggerRecordsHorusTrafficAndLogplayerReplaysItIntoHorus) {
     pub->send(horus::msg::Pose2D{static_cast<double>(i), 0.5, 0.25, static_cast<std::uint64_t>(i)});
     std::this_thread::sleep_for(5ms);
   }
-  std::this_thread::sleep_for(300ms);  // the last messages reach the logger
-  EXPECT_EQ(rec.stop(SIGINT, 10s), 0) << "lcm-logger did not exit cleanly on SIGINT";
-
-  // The log holds horus's bytes, as any LCM tool sees them.
-  std::vector<double> logged;
-  if (lcm_eventlog_t* l = lcm_eventlog_create(log.c_str(), "r")) {
-    while (lcm_eventlog_event_t* e = lcm_eventlog_read_next_event(l)) {
-      if (std::string(e->channel, static_cast<std::size_t>(e->channellen)) == channel) {
-        auto m = horus::lcm::decode<horus::msg::Pose2D>(
-            std::span(static_cast<const std::byte*>(e->data), static_cast<std::size_t>(e->datalen)));
-        EXPECT_TRUE(m) << m.error();
-        if (m) logged.push_back(m->x);
+  // The log holds horus's bytes, as any LCM tool sees them (the logger writes each event as it
+  // arrives: read until all are there, then stop it).
+  auto read_log = [&] {
+    std::vector<double> xs;
+    if (lcm_eventlog_t* l = lcm_eventlog_create(log.c_str(), "r")) {
+      while (lcm_eventlog_event_t* e = lcm_eventlog_read_next_event(l)) {
+        if (std::string(e->channel, static_cast<std::size_t>(e->channellen)) == channel) {
+          auto m = horus::lcm::decode<horus::msg::Pose2D>(
+              std::span(static_cast<const std::byte*>(e->data), static_cast<std::size_t>(e->datalen)));
+          EXPECT_TRUE(m) << m.error();
+          if (m) xs.push_back(m->x);
+        }
+        lcm_eventlog_free_event(e);
       }
-      lcm_eventlog_free_event(e);
+      lcm_eventlog_destroy(l);
     }
-    lcm_eventlog_destroy(l);
-  }
+    return xs;
+  };
+  horus_test::Deadline written(10s);
+  while (!written.expired() && read_log().size() < static_cast<std::size_t>(kN)) std::this_thread::sleep_for(20ms);
+  EXPECT_EQ(rec.stop(SIGINT, 10s), 0) << "lcm-logger did not exit cleanly on SIGINT";
+  const std::vector<double> logged = read_log();
   ASSERT_EQ(logged.size(), static_cast<std::size_t>(kN)) << "lcm-logger did not record every message";
   for (int i = 0; i < kN; ++i) EXPECT_EQ(logged[static_cast<std::size_t>(i)], i);
 

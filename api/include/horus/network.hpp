@@ -86,6 +86,11 @@ class Endpoint {
   virtual ~Endpoint() = default;
   /// Sends one sample of `body_size` bytes, filled in place by `writer`. Thread-safe.
   virtual Result<void> write(std::size_t body_size, const BodyWriter& writer) = 0;
+  /// A hint from the topic: `false` when no handle of this process reads the topic any more
+  /// (they all only publish), `true` when one does again. A backend that delivers this
+  /// process's own samples back (LCM) stops receiving the channel meanwhile, so its own
+  /// traffic costs it nothing. Thread-safe; never called from a listener callback.
+  virtual void set_receiving(bool on) noexcept { (void)on; }
   /// Remote writers matched with our reader (other processes and hosts).
   virtual std::uint32_t matched_publishers() const = 0;
   /// Remote readers matched with our writer.

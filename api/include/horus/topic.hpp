@@ -212,6 +212,7 @@ struct TopicCore {
   std::atomic<std::uint64_t> net_errors{0};           // incompatible endpoints reported
   std::atomic<std::uint64_t> net_lost{0};             // messages the backend reported lost
   bool net_loopback = false;  // the backend delivers our own samples back (LCM): send skips the ring
+  std::atomic<bool> net_receiving{true};  // what the endpoint was last told (set_receiving)
   std::unique_ptr<void, void (*)(void*)> bridge{nullptr, nullptr};
   void (*sink)(void* bridge, const net::Sample& sample) = nullptr;
   std::unique_ptr<NetworkState, NetworkStateDeleter> net;
@@ -248,6 +249,9 @@ Result<void> network_write(TopicCore& core, std::size_t body_size, const net::Bo
 /// Remote endpoints matched with this process's (0 without a network backend).
 std::uint32_t network_publishers(const TopicCore& core) noexcept;
 std::uint32_t network_subscribers(const TopicCore& core) noexcept;
+/// Tells the endpoint whether a handle of this process reads the topic (Endpoint::set_receiving),
+/// when that changed. Never called from the backend's threads.
+void network_receiving(TopicCore& core, bool on) noexcept;
 /// Logs (first and every 1024th) a received sample that did not decode, and counts it.
 void report_network_decode_failure(TopicCore& core, const std::string& what);
 /// Logs (first and every 1024th) a sample the network backend refused to send.
@@ -472,6 +476,13 @@ class Topic {
       explicit Blocking(bool& f) : flag(f) { flag = true; }
       ~Blocking() { flag = false; }
     } blocking(blocking_);
+    if (networked_ && core_->net_loopback) [[unlikely]] {
+      // LCM: no flow control and nothing to wait for (the ring is filled by what comes back);
+      // a send the backend refuses is that error, not a timeout.
+      if (network_send(msg)) return {};
+      return fail(Errc::Io, "topic '" + core_->name + "': the " + std::string(to_string(core_->backend)) +
+                                " backend did not send the message (the log says why); message not sent");
+    }
     if (try_commit(msg)) return {};
     const auto deadline = clock::now() + timeout;
     for (int i = 0; i < 256; ++i) {
@@ -652,6 +663,7 @@ class Topic {
       if (auto ok = topic.connect_network(options); !ok) return std::unexpected(std::move(ok.error()));
       topic.networked_ = true;
       topic.net_lost_base_ = topic.core_->net_lost.load(std::memory_order_relaxed);
+      if (topic.core_->net_loopback) detail::network_receiving(*topic.core_, true);
     }
     return topic;
   }
@@ -696,6 +708,9 @@ class Topic {
   // A sample from the network (one at a time per topic): decoded and written into the ring.
   static void network_sink(void* bridge, const net::Sample& sample) {
     auto& b = *static_cast<Topic*>(bridge);
+    // LCM brings back everything this process sends: when every handle of the topic here only
+    // publishes, nobody reads the ring, so nothing is decoded.
+    if (b.core_->net_loopback && b.core_->ring.subscriber_count() == 0) return;
     if (!b.writer_.has_lane()) [[unlikely]] {
       if (!b.become_publisher()) {
         ++b.send_failures_;
@@ -733,6 +748,17 @@ class Topic {
       return;
     }
     if (core_->net_loopback) {  // it comes back through the network, once
+      // A lane: this handle counts in pub_count(), and a pure publisher stops receiving.
+      if (!writer_.has_lane() && !become_publisher()) [[unlikely]] {
+        ++send_failures_;
+        return;
+      }
+      if constexpr (kPooled) {
+        if (!fits(msg)) [[unlikely]] {  // too large or inconsistent: refused here as on other backends
+          ++send_failures_;
+          return;
+        }
+      }
       network_send(msg);
       return;
     }
@@ -989,7 +1015,12 @@ class Topic {
 
   [[gnu::noinline]] bool become_publisher() {
     if (writer_.ensure_lane()) {
-      if (!receives()) reader_.unsubscribe();  // a pure publisher: stop counting as a subscriber
+      if (!receives()) {
+        reader_.unsubscribe();  // a pure publisher: stop counting as a subscriber
+        // Nobody here reads the topic: a backend that brings our own traffic back can stop.
+        if (networked_ && core_->net_loopback && core_->ring.subscriber_count() == 0)
+          detail::network_receiving(*core_, false);
+      }
       return true;
     }
     if (!no_lane_reported_) detail::report_no_lane(*core_);
@@ -998,7 +1029,10 @@ class Topic {
   }
 
   [[gnu::noinline]] bool resubscribe() {
-    if (reader_.subscribe()) return true;
+    if (reader_.subscribe()) {
+      if (networked_ && core_->net_loopback) detail::network_receiving(*core_, true);
+      return true;
+    }
     if (!no_sub_reported_) detail::report_no_subscriber_slot(*core_);
     no_sub_reported_ = true;
     return false;

@@ -437,6 +437,7 @@ bool get_scalar(Reader& r, V& v, const Path& path) {
 
 template <class E, class Out>
 bool get_numbers(Reader& r, Out* out, std::size_t n, const Path& path) {
+  if (n == 0) return true;  // out may be null (an empty vector)
   if (n > r.remaining() / sizeof(E)) {
     r.error = path.text() + ": needs " + std::to_string(n * sizeof(E)) + " bytes, " + std::to_string(r.remaining()) +
               " remain (truncated message)";
@@ -465,6 +466,10 @@ bool get(Reader& r, V& v, const Path& path) {
       r.error = path.text() + ": a string of " + std::to_string(n) + " bytes without its NUL terminator (corrupt message)";
       return false;
     }
+    if (std::memchr(p, '\0', n - 1) != nullptr) {  // lcm-gen's C and C++ would read it shorter
+      r.error = path.text() + ": a string with a NUL byte inside (LCM strings end at the first NUL; corrupt message)";
+      return false;
+    }
     v.assign(p, n - 1);
     r.skip(n);
     return true;
@@ -484,6 +489,10 @@ bool get(Reader& r, V& v, const Path& path) {
       r.skip(n);
       return true;
     } else if constexpr (is_number<E> && std::is_same_v<wire_t<E>, E>) {
+      if (n == 0) {
+        v.clear();
+        return true;
+      }
       v.resize(n);
       return get_numbers<E>(r, v.data(), n, path);
     } else {

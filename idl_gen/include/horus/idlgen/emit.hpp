@@ -47,7 +47,9 @@ struct Definition {
 std::vector<Definition> idl_definitions(const Model& model, const IdlOptions& options = {});
 
 /// One .lcm per file of the model (IdlOptions::only_files applies; guard_prefix does not).
-/// Throws std::invalid_argument for a type LCM cannot express (it names the type and field).
+/// A struct LCM cannot express (a vector of vectors, a member clashing with a num_<field>
+/// length member, a name too long), or one that uses such a struct, is left out: the file
+/// says so in a comment starting "// no LCM type: " that names the type and field.
 std::vector<OutputFile> emit_lcm(const Model& model, const IdlOptions& options = {});
 /// The emitted LCM structs and enum-constant structs, type by type (for the lock file); the
 /// type is the LCM name ("horus_msg.Pose2D").
