@@ -655,7 +655,8 @@ class Engine {
       return;
     }
     for (const auto& sub : subs) {
-      if (sub->closed.load(std::memory_order_acquire)) continue;
+      // A paused endpoint (nobody in the process reads it) loses nothing it wanted.
+      if (sub->closed.load(std::memory_order_acquire) || sub->paused.load(std::memory_order_acquire)) continue;
       try {
         sub->listener.on_lost(delta);
       } catch (...) {

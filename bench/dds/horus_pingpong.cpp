@@ -254,11 +254,20 @@ int source(const std::string& type, double seconds) {
     set_seq(msg, seq);
     out->send(msg);
   }
+  const auto sent_for = std::chrono::duration<double>(Clock::now() - (end - std::chrono::duration_cast<Clock::duration>(
+                                                                               std::chrono::duration<double>(seconds))))
+                            .count();
+  const std::uint64_t sent = seq_of(msg);
   set_seq(msg, kStop);
   for (int i = 0; i < 3; ++i) {
     out->send(msg);
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
+  const char* backend = std::getenv("HORUS_BACKEND");
+  std::printf("SENT impl=horus-%s type=%s sent=%llu seconds=%.3f rate=%.0f send_failures=%llu\n",
+              backend != nullptr ? backend : "?", type.c_str(), static_cast<unsigned long long>(sent), sent_for,
+              sent_for > 0 ? static_cast<double>(sent) / sent_for : 0.0,
+              static_cast<unsigned long long>(out->metrics().send_failures()));
   return 0;
 }
 

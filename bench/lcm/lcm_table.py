@@ -2,8 +2,9 @@
 
 Latency: the median over rounds of p50 / p99 / p99.9 (one-way = RTT/2, microseconds), the round trips
 lost in all rounds, and horus p50 / raw p50. Throughput: messages and MB per second the sink received,
-messages lost (raw-lcm's sink counts them from sequence gaps; horus's prints none), what the raw
-source published per second, and horus / raw msgs/s.
+messages lost (raw-lcm's sink counts them from sequence gaps; for horus, "d:N" is the sink topic's
+dropped_count(): ring overwrites plus datagrams the kernel dropped), what the source published per
+second, and horus / raw msgs/s.
 """
 import statistics
 import sys
@@ -70,6 +71,8 @@ for t in TYPES:
         rate = med(rs, "rate")
         rates[impl] = rate
         lost = str(sum(int(r["lost"]) for r in rs if "lost" in r)) if any("lost" in r for r in rs) else "-"
+        if any("dropped" in r for r in rs):
+            lost = "d:" + str(sum(int(r["dropped"]) for r in rs if "dropped" in r))
         ss = sent.get((t, impl))
         sent_rate = f"{med(ss, 'rate'):.0f}" if ss else "-"
         base = BASE.get(impl)

@@ -16,7 +16,8 @@
 //    of its datagrams (a full socket receive buffer, typical with multi-megabyte messages; raise
 //    it with ?recv_buf_size=N, capped by net.core.rmem_max). The transport reads the `drops`
 //    counter of its LCM receive socket in /proc/net/udp about every 100 ms and reports each
-//    increase to Listener::on_lost() of EVERY open endpoint of the transport: the count is
+//    increase to Listener::on_lost() of every open endpoint that receives (not one paused by
+//    set_receiving(false)): the count is
 //    datagrams the kernel dropped on this process's LCM socket (a fragmented message is many
 //    datagrams; datagrams of channels nobody here subscribes to count too), not messages of the
 //    endpoint's channel. Nothing is reported when /proc is unreadable, nor for memq, file, tcpq.
