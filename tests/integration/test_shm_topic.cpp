@@ -146,7 +146,7 @@ TEST_F(ShmTopic, HorusBackendSelectsTheBackendAndABadValueIsNamed) {
   ASSERT_FALSE(bad);
   EXPECT_EQ(bad.error().code(), horus::Errc::Config);
   EXPECT_NE(bad.error().message().find("HORUS_BACKEND=carrier-pigeon"), std::string::npos);
-  EXPECT_NE(bad.error().message().find("expected auto, shm, inproc, cyclonedds or fastdds"), std::string::npos);
+  EXPECT_NE(bad.error().message().find("expected auto, shm, inproc, cyclonedds, fastdds or lcm"), std::string::npos);
   ::unsetenv("HORUS_BACKEND");
 }
 
