@@ -11,7 +11,7 @@
 #include "horus/idlgen/emit.hpp"
 #include "horus/lcm/codec.hpp"
 #include "horus/msg/all.hpp"
-#include "wire_test_types.hpp"
+#include "wire_test_support.hpp"
 
 namespace lcmtest {
 
@@ -50,18 +50,8 @@ HORUS_REFLECT(Ragged, rows)
 
 namespace {
 
-std::vector<std::byte> hex(const std::string& text) {
-  std::vector<std::byte> out;
-  for (std::size_t i = 0; i < text.size();) {
-    if (text[i] == ' ' || text[i] == '\n') {
-      ++i;
-      continue;
-    }
-    out.push_back(static_cast<std::byte>(std::stoi(text.substr(i, 2), nullptr, 16)));
-    i += 2;
-  }
-  return out;
-}
+using wiretest::all_sample;
+using wiretest::hex;
 
 std::vector<std::byte> be64(std::uint64_t v) {
   std::vector<std::byte> out;
@@ -75,28 +65,6 @@ std::vector<std::byte> with_fingerprint(const std::string& body) {
   const auto b = hex(body);
   out.insert(out.end(), b.begin(), b.end());
   return out;
-}
-
-wiretest::All all_sample() {
-  wiretest::All m;
-  m.flag = true;
-  m.c = 'x';
-  m.i8 = -2;
-  m.u16 = 0x1234;
-  m.i32 = -3;
-  m.u64 = 0x0102030405060708ULL;
-  m.f = 1.5f;
-  m.d = 2.5;
-  m.mode = wiretest::Mode::Auto;
-  m.raw = wiretest::Raw::B;
-  m.name = {'a', 'b', 0, 0};
-  m.shorts = {1, 2, 3};
-  m.text = "hi";
-  m.values = {0.5};
-  m.inners = {wiretest::Inner{7, 1.0}};
-  m.words = {"a", ""};
-  m.inner = wiretest::Inner{9, -1.0};
-  return m;
 }
 
 // Big-endian, no padding, no counts for fixed arrays, num_<field> before a variable array.
