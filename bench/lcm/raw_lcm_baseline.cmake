@@ -12,30 +12,13 @@ set(_rl_dir ${CMAKE_CURRENT_LIST_DIR})
 set(_rl_targets horus_lcm_types horus_bench_idl)
 find_program(HORUS_LCM_GEN_EXECUTABLE lcm-gen DOC "LCM type generator (Debian: liblcm-bin)")
 
-# liblcm: the cache variables HORUS_LCM_INCLUDE_DIR / HORUS_LCM_LIBRARY that backend_lcm/ finds
-# (lcm.pc requires glib-2.0.pc, which only libglib2.0-dev installs; <lcm/lcm.h> needs no glib
-# header and liblcm.so links glib itself); pkg-config's lcm module when those are not found.
-find_path(HORUS_LCM_INCLUDE_DIR lcm/lcm.h)
-find_library(HORUS_LCM_LIBRARY lcm)
-set(_rl_lib "")
-set(_rl_include "")
-if(HORUS_LCM_INCLUDE_DIR AND HORUS_LCM_LIBRARY)
-  set(_rl_lib ${HORUS_LCM_LIBRARY})
-  set(_rl_include ${HORUS_LCM_INCLUDE_DIR})
-else()
-  find_package(PkgConfig QUIET)
-  if(PKG_CONFIG_FOUND)
-    pkg_check_modules(LCM_RAW QUIET IMPORTED_TARGET lcm)
-    if(LCM_RAW_FOUND)
-      set(_rl_lib PkgConfig::LCM_RAW)
-    endif()
-  endif()
-endif()
+# liblcm: what backend_lcm/ found (HORUS_LCM_INCLUDE_DIR / HORUS_LCM_LIBRARY; this file is
+# included only when it did).
+set(_rl_lib ${HORUS_LCM_LIBRARY})
+set(_rl_include ${HORUS_LCM_INCLUDE_DIR})
 
 if(NOT HORUS_LCM_GEN_EXECUTABLE)
   message(STATUS "raw-lcm-pingpong: lcm-gen not found (Debian: liblcm-bin); the raw LCM baseline is left out")
-elseif(NOT _rl_lib)
-  message(STATUS "raw-lcm-pingpong: liblcm not found (Debian: liblcm-dev); the raw LCM baseline is left out")
 else()
   enable_language(C)
   set(_gen ${CMAKE_CURRENT_BINARY_DIR}/raw_lcm_gen)
