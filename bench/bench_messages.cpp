@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "horus/codec.hpp"
+#include "horus/wire/local.hpp"
 #include "horus/horus.hpp"
 #include "horus/msg/all.hpp"
 

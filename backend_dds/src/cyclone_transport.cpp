@@ -29,11 +29,12 @@
 
 #include "cyclone_sertype.hpp"
 #include "horus/dds/transports.hpp"
+#include "horus/transport_registry.hpp"
 
 namespace horus::dds {
 namespace {
 
-constexpr std::uint32_t kMaxDomainId = 232;  // the largest id whose DDSI ports fit in 16 bits
+using net::kMaxDomainId;  // the largest id whose DDSI ports fit in 16 bits
 constexpr dds_duration_t kMaxBlockingTime = DDS_MSECS(100);  // reliable write() blocks at most this
 constexpr std::size_t kMaxBody = 2147483640u;  // Cyclone's default MaxSampleSize (2^31 - 1), minus header
 constexpr std::uint32_t kTakeBatch = 16;
@@ -662,6 +663,15 @@ Result<std::shared_ptr<net::Transport>> cyclone_transport(const net::Config& con
   reg.domains.insert_or_assign(config.domain_id, Registry::Entry{config, *created, created->get()});
   (*created)->mark_registered();
   return std::shared_ptr<net::Transport>(std::move(*created));
+}
+
+void register_cyclonedds() {
+  (void)net::register_transport(
+      {"cyclonedds", net::WireFormat::Xcdr1, &topic_name, []() -> Result<std::shared_ptr<net::Transport>> {
+         auto config = net::config_from_environment();
+         if (!config) return std::unexpected(std::move(config.error()));
+         return cyclone_transport(*config);
+       }});
 }
 
 }  // namespace horus::dds

@@ -76,6 +76,7 @@
 
 #include "fastdds_raw_type.hpp"
 #include "horus/dds/transports.hpp"
+#include "horus/transport_registry.hpp"
 #include "horus/error.hpp"
 #include "horus/network.hpp"
 
@@ -89,7 +90,7 @@ using fastdds_detail::RawReadSample;
 using fastdds_detail::RawWriteSample;
 using fastdds_detail::RawXcdr1Type;
 
-constexpr std::uint32_t kMaxDomainId = 232;        // RTPS well-known ports stay below 65536
+using net::kMaxDomainId;  // RTPS well-known ports stay below 65536
 constexpr std::uint32_t kSocketBuffer = 4u << 20;  // 4 MiB: a 6 MB sample's fragments fit in flight
 constexpr std::uint32_t kInitialPeersRange = 32;   // participant indexes probed on 127.0.0.1
 constexpr std::int32_t kMaxBlockingMs = 100;       // reliable write: bounded wait
@@ -1009,6 +1010,15 @@ Result<std::shared_ptr<net::Transport>> fastdds_transport(const net::Config& con
   if (auto started = transport->start(); !started) return std::unexpected(std::move(started.error()));
   reg.entries.emplace_back(config, transport);
   return std::shared_ptr<net::Transport>(std::move(transport));
+}
+
+void register_fastdds() {
+  (void)net::register_transport(
+      {"fastdds", net::WireFormat::Xcdr1, &topic_name, []() -> Result<std::shared_ptr<net::Transport>> {
+         auto config = net::config_from_environment();
+         if (!config) return std::unexpected(std::move(config.error()));
+         return fastdds_transport(*config);
+       }});
 }
 
 }  // namespace horus::dds

@@ -53,6 +53,8 @@
 #include <lcm/lcm.h>
 
 #include "horus/lcm/transport.hpp"
+#include "horus/names.hpp"
+#include "horus/transport_registry.hpp"
 
 namespace horus::lcm {
 namespace {
@@ -944,6 +946,26 @@ Result<std::shared_ptr<net::Transport>> lcm_transport(std::string_view url) {
   reg.transports.insert_or_assign(std::move(key), Registry::Entry{*created, created->get()});
   (*created)->mark_registered();
   return std::shared_ptr<net::Transport>(std::move(*created));
+}
+
+Result<std::string> channel_name(std::string_view topic) {
+  if (auto ok = validate_topic_name(topic); !ok) return std::unexpected(std::move(ok.error()));
+  if (topic.size() > kMaxChannelLength)
+    return fail(Errc::InvalidName,
+                "topic '" + std::string(topic) + "': " + std::to_string(topic.size()) +
+                    " characters is too long for an LCM channel (the channel is the topic name, and LCM channels "
+                    "are at most " + std::to_string(kMaxChannelLength) + " bytes); use a name of at most " +
+                    std::to_string(kMaxChannelLength) + " characters on the lcm backend");
+  return std::string(topic);
+}
+
+void register_lcm() {
+  (void)net::register_transport(
+      {"lcm", net::WireFormat::Lcm, &channel_name, []() -> Result<std::shared_ptr<net::Transport>> {
+         auto url = url_from_environment();
+         if (!url) return std::unexpected(std::move(url.error()));
+         return lcm_transport(*url);
+       }});
 }
 
 }  // namespace horus::lcm

@@ -1,4 +1,4 @@
-// LCM type emitter (see emit.hpp and horus/idlgen/lcm_mapping.hpp).
+// LCM type emitter (see emit.hpp and horus/wire/lcm_mapping.hpp).
 #include <algorithm>
 #include <cstdio>
 #include <map>
@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "horus/idlgen/emit.hpp"
-#include "horus/idlgen/lcm_mapping.hpp"
+#include "horus/wire/lcm_mapping.hpp"
 
 namespace horus::idlgen {
 namespace {

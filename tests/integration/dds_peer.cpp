@@ -28,9 +28,9 @@
 #include <tuple>
 #include <vector>
 
-#include "horus/dds/cdr.hpp"
+#include "horus/wire/xcdr1.hpp"
 #include "horus/dds/transports.hpp"
-#include "horus/lcm/codec.hpp"
+#include "horus/wire/lcm.hpp"
 #ifdef HORUS_HAVE_LCM
 #include "horus/lcm/transport.hpp"
 #endif

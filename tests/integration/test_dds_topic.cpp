@@ -142,7 +142,7 @@ TEST_P(DdsBackend, MalformedSamplesAreCountedAndLaterGoodOnesStillArrive) {
   const auto name = horus_test::unique_name("dds.malformed");
   auto sub = horus::Topic<horus::msg::Pose2D>::open(name, on(GetParam()));
   ASSERT_TRUE(sub) << sub.error().message();
-  Peer peer(GetParam(), {"raw", horus::dds_topic_name(name).value(), "horus::msg::Pose2D", "60"});
+  Peer peer(GetParam(), {"raw", horus::wire_name(GetParam(), name).value(), "horus::msg::Pose2D", "60"});
   ASSERT_TRUE(peer.ready());
   horus_test::Deadline d(20s);
   int good = 0;

@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "dds_support.hpp"
-#include "horus/lcm/codec.hpp"
+#include "horus/wire/lcm.hpp"
 #include "test_support.hpp"
 #include "wire_test_types.hpp"
 

@@ -13,9 +13,9 @@
 #include <type_traits>
 #include <vector>
 
-#include "horus/codec.hpp"
-#include "horus/dds/cdr.hpp"
-#include "horus/lcm/codec.hpp"
+#include "horus/wire/local.hpp"
+#include "horus/wire/xcdr1.hpp"
+#include "horus/wire/lcm.hpp"
 #include "horus/format.hpp"
 #include "horus/json.hpp"
 #include "horus/msg/all.hpp"

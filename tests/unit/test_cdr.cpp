@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "horus/dds/cdr.hpp"
+#include "horus/wire/xcdr1.hpp"
 #include "wire_test_support.hpp"
 
 namespace {

@@ -1,4 +1,4 @@
-// The local wire format (horus/codec.hpp): round trips of every kind of field, and
+// The local wire format (horus/wire/local.hpp): round trips of every kind of field, and
 // truncated, corrupt and over-long buffers giving errors that name the field.
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "horus/codec.hpp"
+#include "horus/wire/local.hpp"
 
 namespace codec_test {
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "horus/idlgen/emit.hpp"
-#include "horus/lcm/codec.hpp"
+#include "horus/wire/lcm.hpp"
 #include "horus/msg/all.hpp"
 #include "wire_test_support.hpp"
 

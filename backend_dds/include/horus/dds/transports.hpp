@@ -1,15 +1,29 @@
 // The DDS transports: one participant per process and configuration, shared by every topic
 // that uses it (released when the last topic closes). Built when the packages are present
-// (HORUS_WITH_CYCLONEDDS, HORUS_WITH_FASTDDS); Topic<T> reaches them through
+// (HORUS_WITH_CYCLONEDDS, HORUS_WITH_FASTDDS); each registers itself by name
+// (horus/transport_registry.hpp), and Topic<T> reaches it through
 // HORUS_BACKEND=cyclonedds|fastdds or TopicOptions::backend.
 #pragma once
 
 #include <memory>
+#include <string>
+#include <string_view>
 
 #include "horus/error.hpp"
 #include "horus/network.hpp"
 
 namespace horus::dds {
+
+/// The DDS topic name of a horus topic: "horus/" + the name with '.' made '/'
+/// ("fleet.robot_1.pose" -> "horus/fleet/robot_1/pose"). DDS topic names allow letters,
+/// digits, '_' and '/' only, so a name with '-' is an error (InvalidName); so is a name that
+/// breaks horus's own rules (validate_topic_name).
+Result<std::string> topic_name(std::string_view topic);
+
+/// Adds the transport to the registry ("cyclonedds" / "fastdds", XCDR1, topic_name, and a
+/// factory that reads HORUS_DOMAIN_ID and HORUS_DDS_LOCALHOST). Defined only when built.
+void register_cyclonedds();
+void register_fastdds();
 
 /// Cyclone DDS (C API): UDP only (its iceoryx shared-memory transport is off), XCDR1.
 Result<std::shared_ptr<net::Transport>> cyclone_transport(const net::Config& config);

@@ -74,4 +74,12 @@ Result<std::string> check_channel(std::string_view channel);
 /// write() refuses bodies over kMaxMessageSize with Errc::MessageTooLarge.
 Result<std::shared_ptr<net::Transport>> lcm_transport(std::string_view url);
 
+/// The LCM channel of a horus topic: the topic name itself ("fleet.robot_1.pose"), so a name
+/// over kMaxChannelLength bytes is an error (InvalidName), as is one that breaks horus's rules.
+Result<std::string> channel_name(std::string_view topic);
+
+/// Adds the transport to the registry ("lcm", the LCM format, channel_name, and a factory that
+/// reads HORUS_LCM_URL / LCM_DEFAULT_URL).
+void register_lcm();
+
 }  // namespace horus::lcm

@@ -23,7 +23,7 @@
 #include <utility>
 #include <vector>
 
-#include "horus/idlgen/mapping.hpp"
+#include "horus/wire/mapping.hpp"
 #include "horus/reflect.hpp"
 
 namespace horus::idlgen {

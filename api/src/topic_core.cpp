@@ -1,197 +1,23 @@
+// Opening a topic (the in-process registry of topics, the memory its ring lives in), and the
+// per-topic reports and leases of horus/detail/topic_core.hpp.
 #include <fmt/format.h>
 
 #include <pthread.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <cstdlib>
-#include <map>
 #include <limits>
+#include <map>
 #include <mutex>
 
-#include "horus/topic.hpp"
-#include "log.hpp"
-#if defined(HORUS_HAVE_CYCLONEDDS) || defined(HORUS_HAVE_FASTDDS)
-#include "horus/dds/transports.hpp"
-#endif
-#ifdef HORUS_HAVE_LCM
-#include "horus/lcm/transport.hpp"
-#endif
+#include "horus/detail/topic_core.hpp"
+#include "horus/log.hpp"
+#include "horus/names.hpp"
+#include "horus/transport_registry.hpp"
 
 namespace horus {
-
-std::string_view to_string(Errc code) noexcept {
-  switch (code) {
-    case Errc::InvalidName: return "invalid_name";
-    case Errc::TypeMismatch: return "type_mismatch";
-    case Errc::InvalidArgument: return "invalid_argument";
-    case Errc::ConfigMismatch: return "config_mismatch";
-    case Errc::LimitReached: return "limit_reached";
-    case Errc::Timeout: return "timeout";
-    case Errc::MessageTooLarge: return "message_too_large";
-    case Errc::Config: return "config";
-    case Errc::Io: return "io";
-  }
-  return "unknown";
-}
-
-std::string_view to_string(Backend b) noexcept {
-  switch (b) {
-    case Backend::InProcess: return "inproc";
-    case Backend::SharedMemory: return "shm";
-    case Backend::CycloneDds: return "cyclonedds";
-    case Backend::FastDds: return "fastdds";
-    case Backend::Lcm: return "lcm";
-  }
-  return "unknown";
-}
-
-bool backend_available(Backend b) noexcept {
-  switch (b) {
-    case Backend::InProcess:
-    case Backend::SharedMemory: return true;
-#ifdef HORUS_HAVE_CYCLONEDDS
-    case Backend::CycloneDds: return true;
-#else
-    case Backend::CycloneDds: return false;
-#endif
-#ifdef HORUS_HAVE_FASTDDS
-    case Backend::FastDds: return true;
-#else
-    case Backend::FastDds: return false;
-#endif
-#ifdef HORUS_HAVE_LCM
-    case Backend::Lcm: return true;
-#else
-    case Backend::Lcm: return false;
-#endif
-  }
-  return false;
-}
-
-namespace net {
-std::string_view to_string(Reliability r) noexcept {
-  return r == Reliability::Reliable ? "reliable" : "best effort";
-}
-std::string_view to_string(Durability d) noexcept {
-  return d == Durability::TransientLocal ? "transient local" : "volatile";
-}
-}  // namespace net
-
-Result<std::string> dds_topic_name(std::string_view topic) {
-  if (auto ok = validate_topic_name(topic); !ok) return std::unexpected(std::move(ok.error()));
-  if (const auto pos = topic.find('-'); pos != std::string_view::npos)
-    return fail(Errc::InvalidName,
-                fmt::format("topic '{}': '-' at position {} cannot be carried by DDS (topic names there allow letters, "
-                            "digits, '_' and '/'); use '_' for a topic on the cyclonedds or fastdds backend",
-                            topic, pos));
-  std::string out = "horus/";
-  for (char c : topic) out += c == '.' ? '/' : c;
-  return out;
-}
-
-Result<std::string> lcm_channel_name(std::string_view topic) {
-  if (auto ok = validate_topic_name(topic); !ok) return std::unexpected(std::move(ok.error()));
-  constexpr std::size_t kMaxChannel = 63;  // LCM_MAX_CHANNEL_NAME_LENGTH
-  if (topic.size() > kMaxChannel)
-    return fail(Errc::InvalidName,
-                fmt::format("topic '{}': {} characters is too long for an LCM channel (the channel is the topic "
-                            "name, and LCM channels are at most {} bytes); use a name of at most {} characters on "
-                            "the lcm backend",
-                            topic, topic.size(), kMaxChannel, kMaxChannel));
-  return std::string(topic);
-}
-
-Result<net::Config> network_config_from_environment() {
-  net::Config config;
-  if (const char* env = std::getenv("HORUS_DOMAIN_ID"); env != nullptr && *env != '\0') {
-    const std::string_view v(env);
-    std::uint32_t id = 0;
-    bool ok = v.size() <= 3;
-    for (char c : v) {
-      ok = ok && c >= '0' && c <= '9';
-      if (ok) id = id * 10 + static_cast<std::uint32_t>(c - '0');
-    }
-    if (!ok || id > 232)
-      return fail(Errc::Config, fmt::format("HORUS_DOMAIN_ID={}: expected a DDS domain id, an integer from 0 to 232 "
-                                            "(the RTPS port mapping has no room above 232)",
-                                            v));
-    config.domain_id = id;
-  }
-  if (const char* env = std::getenv("HORUS_DDS_LOCALHOST"); env != nullptr && *env != '\0') {
-    const std::string_view v(env);
-    if (v == "1" || v == "true" || v == "yes" || v == "on") {
-      config.localhost_only = true;
-    } else if (v == "0" || v == "false" || v == "no" || v == "off") {
-      config.localhost_only = false;
-    } else {
-      return fail(Errc::Config, fmt::format("HORUS_DDS_LOCALHOST={}: expected 1, true, yes, on (loopback only) or "
-                                            "0, false, no, off (the LAN)",
-                                            v));
-    }
-  }
-  return config;
-}
-
-namespace {
-bool is_name_char(char c) {
-  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '.' ||
-         c == '-';
-}
-
-std::string printable(char c) {
-  if (c >= 0x20 && c < 0x7f) return fmt::format("'{}'", c);
-  return fmt::format("byte 0x{:02x}", static_cast<unsigned char>(c));
-}
-}  // namespace
-
-Result<void> validate_topic_name(std::string_view name) {
-  constexpr std::string_view rule =
-      "expected 1 to 128 characters from letters, digits, '_', '.', '-', in dot-separated segments "
-      "(e.g. 'sensors.imu', 'robot_1.cmd_vel')";
-  if (name.empty()) return fail(Errc::InvalidName, fmt::format("invalid topic name '': the name is empty; {}", rule));
-  if (name.size() > kMaxTopicNameLength)
-    return fail(Errc::InvalidName, fmt::format("invalid topic name '{}...': {} characters is too long; {}",
-                                               name.substr(0, 32), name.size(), rule));
-  for (std::size_t i = 0; i < name.size(); ++i) {
-    const char c = name[i];
-    if (!is_name_char(c)) {
-      const std::string hint = c == '/' ? " ('/' is not allowed: use '.' as the separator)" : "";
-      return fail(Errc::InvalidName, fmt::format("invalid topic name '{}': {} at position {} is not allowed{}; {}",
-                                                 name, printable(c), i, hint, rule));
-    }
-  }
-  if (name.front() == '.' || name.back() == '.')
-    return fail(Errc::InvalidName,
-                fmt::format("invalid topic name '{}': it starts or ends with '.'; {}", name, rule));
-  if (name.find("..") != std::string_view::npos)
-    return fail(Errc::InvalidName, fmt::format("invalid topic name '{}': it has an empty segment ('..'); {}", name, rule));
-  if (name.front() == '-')
-    return fail(Errc::InvalidName, fmt::format("invalid topic name '{}': it starts with '-'; {}", name, rule));
-  return {};
-}
-
-Result<Backend> backend_from_environment() {
-  const char* env = std::getenv("HORUS_BACKEND");
-  if (env == nullptr || *env == '\0') return Backend::SharedMemory;
-  const std::string_view v(env);
-  if (v == "auto" || v == "shm") return Backend::SharedMemory;
-  if (v == "inproc") return Backend::InProcess;
-  for (Backend b : {Backend::CycloneDds, Backend::FastDds, Backend::Lcm}) {
-    if (v != to_string(b)) continue;
-    if (!backend_available(b))
-      return fail(Errc::Config, fmt::format("HORUS_BACKEND={}: this build of horus has no {} backend (its Debian "
-                                            "package was missing when horus was built; scripts/install-deps.sh "
-                                            "installs it)",
-                                            v, v));
-    return b;
-  }
-  return fail(Errc::Config, fmt::format("HORUS_BACKEND={}: unknown backend; expected auto, shm, inproc, cyclonedds, "
-                                        "fastdds or lcm",
-                                        v));
-}
-
 namespace detail {
 
 namespace {
@@ -210,13 +36,13 @@ Errc segment_errc(shm::SegmentError::Kind k) {
   return Errc::Io;
 }
 
-struct Registry {
+struct OpenTopics {  // the topics open in this process, by name and namespace
   std::mutex mutex;
   std::map<std::string, std::weak_ptr<TopicCore>, std::less<>> topics;
 };
 
-Registry& registry() {
-  static Registry r;
+OpenTopics& open_topics() {
+  static OpenTopics r;
   return r;
 }
 
@@ -273,6 +99,11 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
     if (!env) return std::unexpected(std::move(env.error()));
     backend = *env;
   }
+  const net::TransportInfo* transport = nullptr;
+  if (is_network(backend)) {
+    transport = net::find_transport(backend.transport());
+    if (transport != nullptr) backend = Backend::network(transport->name);  // the registry owns the name
+  }
   if (!backend_available(backend))
     return fail(Errc::Config, fmt::format("topic '{}': this build of horus has no {} backend (its Debian package was "
                                           "missing when horus was built)",
@@ -289,7 +120,7 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
   }
   const std::string key = std::string(name) + '\0' + ns;
 
-  auto& reg = registry();
+  auto& reg = open_topics();
   std::lock_guard lock(reg.mutex);
   {
     // The same name on the other backend, in this process: one backend per topic.
@@ -516,156 +347,23 @@ void release_loan(const void* core, std::uint64_t slot, std::uint64_t gen) noexc
   c->pool.abandon({static_cast<std::uint32_t>(slot), gen});
 }
 
-// ---------------------------------------------------------------------------
-// Network backends.
-
-struct NetworkState final : net::Listener {
-  TopicCore* core = nullptr;
-  net::Qos qos;
-  std::shared_ptr<net::Transport> transport;
-  std::unique_ptr<net::Endpoint> endpoint;
-  std::mutex mutex;  // one sample at a time into the bridge
-  std::atomic<std::uint64_t> errors{0};
-
-  void on_sample(const net::Sample& sample) override {
-    std::lock_guard lock(mutex);
-    if (core->sink != nullptr) core->sink(core->bridge.get(), sample);
-  }
-  void on_lost(std::uint64_t count) override {
-    const auto before = core->net_lost.fetch_add(count, std::memory_order_relaxed);
-    // Log the first loss, then at most once per 1024 more (the count is in dropped_count()).
-    if (before == 0 || before / 1024 != (before + count) / 1024)
-      log().warn("topic '{}': the {} backend lost {} message(s) or datagram(s) ({} so far; they count in "
-                 "dropped_count()). On LCM the kernel dropped datagrams because the socket receive buffer was "
-                 "full: large messages need a larger buffer (HORUS_LCM_URL=...?recv_buf_size=N and sysctl "
-                 "net.core.rmem_max)",
-                 core->name, transport->name(), count, before + count);
-  }
-  void on_error(std::string_view message) override {
-    core->net_errors.fetch_add(1, std::memory_order_relaxed);
-    const auto n = errors.fetch_add(1, std::memory_order_relaxed) + 1;
-    if (n <= 16 || n % 1024 == 0) log().error("{} [{}]", message, transport->name());
-  }
-};
-
-void NetworkStateDeleter::operator()(NetworkState* s) const noexcept {
-  if (s == nullptr) return;
-  if (s->core->pid != current_pid()) {
-    // A forked child's copy: the participant's threads live in the parent only. Deleting the
-    // endpoint here would hang or tell peers that the parent's endpoints are gone: leave it.
-    return;
-  }
-  s->endpoint.reset();  // no callback after this
-  delete s;
-}
-
-namespace {
-Result<std::shared_ptr<net::Transport>> transport_for(Backend backend, const net::Config& config) {
-  switch (backend) {
-#ifdef HORUS_HAVE_CYCLONEDDS
-    case Backend::CycloneDds: return dds::cyclone_transport(config);
-#endif
-#ifdef HORUS_HAVE_FASTDDS
-    case Backend::FastDds: return dds::fastdds_transport(config);
-#endif
-#ifdef HORUS_HAVE_LCM
-    case Backend::Lcm: {
-      auto url = lcm::url_from_environment();
-      if (!url) return std::unexpected(std::move(url.error()));
-      return lcm::lcm_transport(*url);
-    }
-#endif
-    default: break;
-  }
-  (void)config;
-  return fail(Errc::Config, fmt::format("this build of horus has no {} backend", to_string(backend)));
-}
-}  // namespace
-
-namespace {
-std::atomic<int> g_network_pid{0};  // the process that created this process's DDS participants
-}  // namespace
-
-Result<void> attach_network(TopicCore& core, const net::Qos& qos) {
-  if (core.net) return {};
-  if (const int owner = g_network_pid.load(); owner != 0 && owner != current_pid())
-    return fail(Errc::Io, fmt::format("topic '{}': this process was forked from pid {} after that process used {}; "
-                                      "network transports (DDS participants, LCM instances) do not survive fork() (their threads "
-                                      "stay in the parent). "
-                                      "Open network topics before forking only in the process that keeps them, or "
-                                      "exec the child",
-                                      core.name, owner, to_string(core.backend)));
-  net::Config config;
-  if (core.backend != Backend::Lcm) {  // LCM reads HORUS_LCM_URL instead
-    auto c = network_config_from_environment();
-    if (!c) return std::unexpected(std::move(c.error()));
-    config = *c;
-  }
-  auto transport = transport_for(core.backend, config);
-  if (!transport) return std::unexpected(std::move(transport.error()));
-  std::unique_ptr<NetworkState, NetworkStateDeleter> state(new NetworkState());
-  state->core = &core;
-  state->qos = qos;
-  state->transport = std::move(*transport);
-  auto wire = core.backend == Backend::Lcm ? lcm_channel_name(core.name) : dds_topic_name(core.name);
-  if (!wire) return std::unexpected(std::move(wire.error()));
-  net::EndpointSpec spec;
-  spec.topic = core.name;
-  spec.wire_topic = std::move(*wire);
-  spec.type_name = core.type_name;
-  spec.type_hash = core.type_hash;
-  spec.qos = qos;
-  auto endpoint = state->transport->open(spec, *state);
-  if (!endpoint) return std::unexpected(std::move(endpoint.error()));
-  state->endpoint = std::move(*endpoint);
-  core.net_loopback = state->transport->delivers_own_samples();
-  core.net = std::move(state);
-  g_network_pid.store(current_pid());
-  return {};
-}
-
-net::Qos network_qos(const TopicCore& core) noexcept { return core.net ? core.net->qos : net::Qos{}; }
-
-Result<void> network_write(TopicCore& core, std::size_t body_size, const net::BodyWriter& writer) {
-  return core.net->endpoint->write(body_size, writer);
-}
-
-std::uint32_t network_publishers(const TopicCore& core) noexcept {
-  return core.net ? core.net->endpoint->matched_publishers() : 0;
-}
-
-std::uint32_t network_subscribers(const TopicCore& core) noexcept {
-  return core.net ? core.net->endpoint->matched_subscribers() : 0;
-}
-
-void network_receiving(TopicCore& core, bool on) noexcept {
-  if (!core.net || core.net_receiving.load(std::memory_order_acquire) == on) return;
-  // A mutex of its own: the endpoint may wait for the backend's receive thread, which never
-  // takes this one (only user threads call here).
-  static std::mutex receiving_mutex;
-  std::lock_guard lock(receiving_mutex);
-  if (core.net_receiving.load(std::memory_order_acquire) == on) return;
-  core.net_receiving.store(on, std::memory_order_release);
-  core.net->endpoint->set_receiving(on);
-}
-
-void report_network_decode_failure(TopicCore& core, const std::string& what) {
-  const auto n = core.net_decode_failures.fetch_add(1, std::memory_order_relaxed) + 1;
-  if (n == 1 || n % 1024 == 0)
-    log().error("topic '{}': a {} sample from the network does not decode as {} ({}); dropped ({} so far)",
-                core.name, core.type_name, core.backend == Backend::Lcm ? "an LCM message" : "XCDR1", what, n);
-}
-
-void report_network_send_failure(const TopicCore& core, const Error& error, std::uint64_t count) {
-  if (count == 1 || count % 1024 == 0)
-    log().error("topic '{}': the {} backend did not send a {} sample: {} ({} so far)", core.name,
-                to_string(core.backend), core.type_name, error.message(), count);
-}
 
 void report_no_subscriber_slot(const TopicCore& core) {
   log().error("topic '{}': all {} subscriber entries are in use; this handle receives nothing (close other "
               "handles)",
               core.name, shm::kMaxSubscribers);
+}
+
+Error no_lane_error(const TopicCore& core, std::string_view what) {
+  return Error(Errc::LimitReached, fmt::format("topic '{}': all {} publisher lanes are in use; {}", core.name,
+                                               shm::kMaxPublishers, what));
+}
+
+Error ring_full_error(const TopicCore& core, std::chrono::nanoseconds timeout) {
+  return Error(Errc::Timeout, "topic '" + core.name + "': ring stayed full for " +
+                                  std::to_string(std::chrono::duration<double, std::milli>(timeout).count()) +
+                                  " ms (a subscriber has " + std::to_string(core.ring.capacity()) +
+                                  " unread messages); message not sent");
 }
 
 }  // namespace detail

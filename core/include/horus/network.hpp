@@ -1,9 +1,10 @@
-// The byte-level interface between Topic<T> and a network backend (Cyclone DDS, Fast DDS, LCM).
+// The byte-level interface between Topic<T> and a network transport (Cyclone DDS, Fast DDS, LCM).
 //
-// Topic<T> encodes a message with the backend's codec (XCDR1 for DDS) straight into the
-// buffer the backend provides, and decodes what arrives into the topic's local ring. A
-// backend moves bytes only: it never sees T. One Transport per process and configuration
-// (a DDS participant); one Endpoint per topic and process (a writer and a reader).
+// Topic<T>'s network bridge encodes a message in the transport's wire format (XCDR1 for DDS,
+// lcm-gen's for LCM) straight into the buffer the transport provides, and decodes what arrives
+// into the topic's local ring. A transport moves bytes only: it never sees T. One Transport per
+// process and configuration (a DDS participant); one Endpoint per topic and process (a writer
+// and a reader). Transports register themselves by name (horus/transport_registry.hpp).
 //
 // This header includes no DDS or LCM header: <horus/topic.hpp> stays fast to compile.
 #pragma once
@@ -24,8 +25,12 @@ enum class Reliability : std::uint8_t { BestEffort, Reliable };
 /// Whether a late-joining subscriber gets the last `depth` samples (transient local) or not.
 enum class Durability : std::uint8_t { Volatile, TransientLocal };
 
+/// "reliable" / "best effort", "transient local" / "volatile": the names messages use.
 std::string_view to_string(Reliability r) noexcept;
 std::string_view to_string(Durability d) noexcept;
+
+/// Largest DDS domain id: the RTPS port mapping (7400 + 250 x domain + ...) has no room above it.
+inline constexpr std::uint32_t kMaxDomainId = 232;
 
 struct Qos {
   Reliability reliability = Reliability::Reliable;
@@ -39,6 +44,11 @@ struct Config {
   bool localhost_only = false;  // loopback only, no multicast (HORUS_DDS_LOCALHOST=1)
   bool operator==(const Config&) const = default;
 };
+
+/// The DDS settings of this process: HORUS_DOMAIN_ID (0 to kMaxDomainId, default 0) and
+/// HORUS_DDS_LOCALHOST (1/true/yes/on: loopback only, no multicast; 0/false/no/off or unset:
+/// the LAN). An error names the variable, its value and what is expected.
+Result<Config> config_from_environment();
 
 /// One topic as a backend sees it.
 struct EndpointSpec {
@@ -113,3 +123,8 @@ class Transport {
 };
 
 }  // namespace horus::net
+
+namespace horus {
+/// Same as net::config_from_environment() (the name horus has always had).
+inline Result<net::Config> network_config_from_environment() { return net::config_from_environment(); }
+}  // namespace horus

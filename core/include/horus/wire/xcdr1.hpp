@@ -9,7 +9,7 @@
 // writes); alignment is counted from the body's first byte:
 //   bool, char, int8, uint8            1 byte (a bool is 0 or 1)
 //   16/32/64-bit integers, floats      their size, aligned to their size
-//   IDL enum (horus/idlgen/mapping.hpp) u32, aligned to 4; other enums as their integer
+//   IDL enum (horus/wire/mapping.hpp) u32, aligned to 4; other enums as their integer
 //   string                             u32 length + 1, the bytes, a NUL (aligned to 4)
 //   sequence                           u32 count (aligned to 4), then the elements
 //   array                              the elements
@@ -36,8 +36,8 @@
 #include <vector>
 
 #include "horus/byte_buffer.hpp"
-#include "horus/codec.hpp"
-#include "horus/idlgen/mapping.hpp"
+#include "horus/wire/local.hpp"
+#include "horus/wire/mapping.hpp"
 #include "horus/reflect.hpp"
 
 namespace horus::cdr {

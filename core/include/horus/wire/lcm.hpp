@@ -1,5 +1,5 @@
 // LCM encoding driven by the reflection: the bytes a program built by lcm-gen from
-// horus-idlgen's .lcm files reads and writes, field for field (horus/idlgen/lcm_mapping.hpp
+// horus-idlgen's .lcm files reads and writes, field for field (horus/wire/lcm_mapping.hpp
 // has the type table).
 //
 //   std::uint64_t fp = horus::lcm::fingerprint<Pose2D>();          // lcm-gen's _get_hash()
@@ -32,9 +32,9 @@
 #include <vector>
 
 #include "horus/byte_buffer.hpp"
-#include "horus/codec.hpp"
-#include "horus/idlgen/lcm_mapping.hpp"
-#include "horus/idlgen/mapping.hpp"
+#include "horus/wire/local.hpp"
+#include "horus/wire/lcm_mapping.hpp"
+#include "horus/wire/mapping.hpp"
 #include "horus/reflect.hpp"
 
 namespace horus::lcm {

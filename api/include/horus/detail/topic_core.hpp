@@ -1,0 +1,98 @@
+// The shared state of one topic in this process (TopicCore): the memory its ring lives in, the
+// ring, the large-data pool and, for fleet topics, the network bridge. Every handle of the topic
+// holds it. Opening, the per-topic reports (logged, rate-limited) and the pool's leases live in
+// api/src/topic_core.cpp. Internal to horus: users include <horus/topic.hpp>.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "horus/backend.hpp"
+#include "horus/error.hpp"
+#include "horus/shm/heap_region.hpp"
+#include "horus/shm/pool.hpp"
+#include "horus/shm/ring.hpp"
+#include "horus/shm/shm_segment.hpp"
+
+namespace horus::detail {
+
+/// A message type as the topic registry and a segment's header see it.
+struct TypeInfo {
+  std::string_view name;
+  std::uint64_t hash;
+  std::uint32_t size;        // sizeof(T) (a pooled type: sizeof(T::Descriptor)); for a serialized type,
+                             // the default largest encoded message
+  bool serialized = false;   // variable-size: slots hold [length][encoded bytes]
+  std::uint64_t pool_bytes = 0;  // large data: default bytes per pool slot (0: no pool)
+};
+
+class NetworkBridge;  // network_bridge.hpp
+struct NetworkBridgeDeleter {
+  void operator()(NetworkBridge* b) const noexcept;
+};
+
+/// The shared state of one topic in this process: its ring and the memory it lives in.
+struct TopicCore {
+  std::string name;
+  std::string type_name;
+  std::uint64_t type_hash = 0;
+  std::uint32_t payload_size = 0;  // ring payload: sizeof(T), or 8 + largest encoded message
+  bool serialized = false;
+  Backend backend = Backend::InProcess;
+  int pid = 0;                             // the process that opened it (a forked child opens its own)
+  shm::HeapRegion region;                  // Scope::Process and Scope::Fleet
+  std::optional<shm::ShmSegment> segment;  // Scope::Host
+  shm::Ring ring;
+  shm::Pool pool;                // large data only
+  std::uint32_t participant = 0;  // our index in the segment's participant table (what pins pool slots)
+  shm::Pool::Claimer claimer;     // this process, as the pool records who writes a slot
+  std::atomic<std::int64_t> last_reap_ns{0};  // reap_dead_participants' rate limit
+
+  // Fleet topics: the network bridge (transport endpoint, listener, and the handle that writes
+  // received samples into the ring). Declared last: it goes first, so no callback runs once the
+  // ring is gone. net_mutex serializes its creation.
+  std::mutex net_mutex;
+  std::unique_ptr<NetworkBridge, NetworkBridgeDeleter> net;
+};
+
+/// Finds or creates the topic `name` for a message type; checks name, type and configuration.
+Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeInfo& type,
+                                             const TopicOptions& options);
+/// A host-unique, non-zero identity for a handle's lane and subscriber entry: (pid << 32) | n.
+std::uint64_t next_token() noexcept;
+/// Logs (once per handle) that a send found no free lane / a receive no free subscriber entry.
+void report_no_lane(const TopicCore& core);
+void report_no_subscriber_slot(const TopicCore& core);
+/// Logs a serialized message refused for its size, or a received one that did not decode.
+void report_too_large(const TopicCore& core, std::size_t size, std::uint64_t count);
+void report_decode_failure(const TopicCore& core, const std::string& what, std::uint64_t count);
+/// The error send_blocking returns for a message over the slot size.
+Error too_large_error(const TopicCore& core, std::size_t size);
+/// Logs (first and every 1024th) that a large-data send found every pool slot of its lane pinned.
+void report_pool_exhausted(const TopicCore& core, std::uint64_t count);
+/// Logs (first and every 1024th) a large-data message refused because its metadata does not
+/// describe its bytes (e.g. an Image edited through JSON).
+void report_inconsistent(const TopicCore& core, std::uint64_t count);
+/// The error for the same, from send_blocking or loan().
+Error pool_exhausted_error(const TopicCore& core);
+/// The errors of a send that found every publisher lane taken, and of a ring that stayed full.
+Error no_lane_error(const TopicCore& core, std::string_view what);
+Error ring_full_error(const TopicCore& core, std::chrono::nanoseconds timeout);
+
+/// This process's pid, cached (updated in a child after fork()): leases compare it with their
+/// topic's to do nothing in a forked child, which must not release its parent's pins.
+int current_pid() noexcept;
+/// Shared memory: releases what processes that died held (pins, lanes, subscriber entries), at
+/// most once per 50 ms per topic; true when some process was reaped.
+bool reap_dead_participants(TopicCore& core);
+/// Pool leases: a received message unpins its slot; a loan dropped unsent gives its slot back.
+void release_pin(const void* core, std::uint64_t slot, std::uint64_t participant) noexcept;
+void release_loan(const void* core, std::uint64_t slot, std::uint64_t gen) noexcept;
+
+}  // namespace horus::detail

@@ -1,0 +1,76 @@
+// Scopes and backends: names, availability, HORUS_BACKEND, and wire names through the registry.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "horus/backend.hpp"
+#include "horus/names.hpp"
+#include "horus/transport_registry.hpp"
+
+namespace horus {
+
+std::string_view to_string(Scope s) noexcept {
+  switch (s) {
+    case Scope::Process: return "process";
+    case Scope::Host: return "host";
+    case Scope::Fleet: return "fleet";
+  }
+  return "unknown";
+}
+
+std::string_view to_string(const Backend& b) noexcept {
+  switch (b.scope()) {
+    case Scope::Process: return "inproc";
+    case Scope::Host: return "shm";
+    case Scope::Fleet: return b.transport();
+  }
+  return "unknown";
+}
+
+bool backend_available(const Backend& b) noexcept {
+  return b.scope() != Scope::Fleet || net::find_transport(b.transport()) != nullptr;
+}
+
+namespace {
+// The fleet transports HORUS_BACKEND may name: the registered ones, and the ones horus ships
+// (named in messages even when this build lacks them).
+std::string valid_backends() {
+  std::string out = "auto, shm, inproc";
+  auto names = net::transport_names();
+  for (std::string_view shipped : {"cyclonedds", "fastdds", "lcm"})
+    if (std::find(names.begin(), names.end(), shipped) == names.end()) names.emplace_back(shipped);
+  for (std::size_t i = 0; i < names.size(); ++i) out += (i + 1 == names.size() ? " or " : ", ") + names[i];
+  return out;
+}
+}  // namespace
+
+Result<Backend> backend_from_environment() {
+  const char* env = std::getenv("HORUS_BACKEND");
+  if (env == nullptr || *env == '\0') return Backend::SharedMemory;
+  const std::string_view v(env);
+  if (v == "auto" || v == "shm") return Backend::SharedMemory;
+  if (v == "inproc") return Backend::InProcess;
+  if (const auto* t = net::find_transport(v)) return Backend::network(t->name);
+  for (std::string_view shipped : {"cyclonedds", "fastdds", "lcm"})
+    if (v == shipped)
+      return fail(Errc::Config, fmt::format("HORUS_BACKEND={}: this build of horus has no {} backend (its Debian "
+                                            "package was missing when horus was built; scripts/install-deps.sh "
+                                            "installs it)",
+                                            v, v));
+  return fail(Errc::Config, fmt::format("HORUS_BACKEND={}: unknown backend; expected {}", v, valid_backends()));
+}
+
+Result<std::string> wire_name(const Backend& b, std::string_view topic) {
+  if (b.scope() != Scope::Fleet) {
+    if (auto ok = validate_topic_name(topic); !ok) return std::unexpected(std::move(ok.error()));
+    return std::string(topic);
+  }
+  const auto* t = net::find_transport(b.transport());
+  if (t == nullptr)
+    return fail(Errc::Config, fmt::format("topic '{}': this build of horus has no {} backend", topic, b.transport()));
+  return t->wire_name(topic);
+}
+}  // namespace horus

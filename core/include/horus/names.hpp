@@ -1,0 +1,19 @@
+// Topic-name rules, shared by every layer (the local registry, the transports' wire names).
+#pragma once
+
+#include <cstddef>
+#include <string_view>
+
+#include "horus/error.hpp"
+
+namespace horus {
+
+/// Longest topic name accepted.
+inline constexpr std::size_t kMaxTopicNameLength = 128;
+
+/// Checks a topic name: 1 to 128 characters from letters, digits, '_', '.', '-';
+/// dot-separated segments ("sensors.imu", "robot_1.cmd_vel"); no empty segment,
+/// no leading '-'. The error names the offending character and the rule.
+Result<void> validate_topic_name(std::string_view name);
+
+}  // namespace horus

@@ -1,0 +1,50 @@
+// The transports this process can use, by name. Each network backend (backend_dds/,
+// backend_lcm/, or a user's own) registers a TransportInfo once; api/ finds it by the name a
+// topic asks for (HORUS_BACKEND=cyclonedds, TopicOptions) and never includes a backend header.
+// Only the package target horus::horus knows which transports a build has: it compiles a small
+// generated file that calls each built backend's registration function before main().
+//
+//   horus::net::register_transport({"mynet", WireFormat::Xcdr1, &my_wire_name, &my_open});
+#pragma once
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "horus/error.hpp"
+#include "horus/network.hpp"
+
+namespace horus::net {
+
+/// How a transport's samples are encoded; Topic<T>'s bridge encodes and decodes T with it.
+///   Xcdr1  OMG XCDR1, final extensibility, with the 4-byte encapsulation stripped (DDS)
+///   Lcm    lcm-gen's encoding: 8-byte fingerprint, then big-endian fields (LCM)
+enum class WireFormat : std::uint8_t { Xcdr1, Lcm };
+std::string_view to_string(WireFormat f) noexcept;
+
+/// What a transport tells the registry about itself.
+struct TransportInfo {
+  /// "cyclonedds", "fastdds", "lcm": what HORUS_BACKEND and horus::Backend name.
+  std::string_view name;
+  WireFormat format = WireFormat::Xcdr1;
+  /// The transport's name for a horus topic (a DDS topic name, an LCM channel), or
+  /// Errc::InvalidName naming the topic and the transport's rule. The topic name has passed
+  /// validate_topic_name.
+  Result<std::string> (*wire_name)(std::string_view topic) = nullptr;
+  /// The process's transport (created on first use, then shared), configured from this
+  /// process's environment (HORUS_DOMAIN_ID, HORUS_LCM_URL, ...).
+  Result<std::shared_ptr<Transport>> (*open)() = nullptr;
+};
+
+/// Adds a transport. Registering the same name again with the same functions does nothing;
+/// with other functions it is an error (Errc::Config), as is an empty name or a missing function.
+Result<void> register_transport(const TransportInfo& info);
+
+/// The transport registered under `name`, or nullptr.
+const TransportInfo* find_transport(std::string_view name) noexcept;
+
+/// The names of the registered transports, in registration order.
+std::vector<std::string> transport_names();
+
+}  // namespace horus::net
