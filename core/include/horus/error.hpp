@@ -21,7 +21,7 @@ enum class Errc {
   LimitReached,      // too many publishers or subscribers on one topic
   Timeout,           // a blocking call ran out of time
   MessageTooLarge,   // a message does not fit its slot
-  Config,            // a malformed environment variable or configuration file
+  Config,            // a malformed setting (an environment variable such as HORUS_BACKEND)
   Io,                // an operating-system call failed
 };
 

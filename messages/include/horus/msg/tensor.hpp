@@ -1,14 +1,13 @@
-// Tensors: TensorDtype, Device, TensorDescriptor and the Tensor class, plus the
-// pieces every large-data message shares (the 2 GiB size limit, byte-count
-// formatting). Image (image.hpp), PointCloud and DepthImage (perception.hpp)
+// Tensors: TensorDtype, Device, TensorDescriptor and the Tensor class. The pieces every
+// large-data message shares (the 2 GiB size limit, byte-count formatting) are in
+// large_data.hpp. Image (image.hpp), PointCloud and DepthImage (perception.hpp)
 // build on this header; perception.hpp includes it.
 //
 // Large-data messages are classes, not plain structs: their metadata and bytes
-// are private so that the two always agree. The bytes live in a heap
-// std::vector for now; the shared-memory pool (next issue) will move them into
-// pool slots, and only the fixed-size *Descriptor then travels through a topic.
-// The accessor API is storage-agnostic (data() is a std::span) so callers do not
-// change when that happens. from_descriptor(desc, bytes) rebuilds an object from
+// are private so that the two always agree. The bytes live in a ByteBuffer: owned
+// heap bytes, or a borrowed pool slot when the message came through a topic (only the
+// fixed-size *Descriptor travels through the ring). The accessor API is
+// storage-agnostic (data() is a std::span). from_descriptor(desc, bytes) rebuilds an object from
 // a descriptor and its bytes, validating every size.
 //
 // Byte order of element data is the host's (little-endian on every supported
@@ -42,93 +41,11 @@
 #include "horus/byte_buffer.hpp"
 #include "horus/fixed_string.hpp"
 #include "horus/format.hpp"
+#include "horus/msg/large_data.hpp"
 #include "horus/reflect.hpp"
 
 namespace horus::msg {
 
-/// Largest data block of one large-data message (Image, PointCloud, DepthImage,
-/// Tensor): 2^31 bytes (2 GiB). Exactly 2^31 is allowed, one byte more is not.
-inline constexpr std::uint64_t kMaxLargeDataBytes = std::uint64_t{1} << 31;
-
-namespace detail {
-
-/// out = a * b; false (out unchanged) when the product overflows 64 bits.
-constexpr bool checked_mul(std::uint64_t a, std::uint64_t b, std::uint64_t& out) noexcept {
-  if (a != 0 && b > std::numeric_limits<std::uint64_t>::max() / a) return false;
-  out = a * b;
-  return true;
-}
-
-/// Why a large-data size is refused (None = fine).
-enum class SizeError : std::uint8_t { None, ZeroDimension, UnknownType, Overflow, TooLarge, BadShape };
-
-inline std::string size_error_text(SizeError e, std::uint64_t bytes) {
-  switch (e) {
-    case SizeError::None: return "ok";
-    case SizeError::ZeroDimension: return "every dimension must be greater than zero";
-    case SizeError::UnknownType: return "unknown element type or encoding";
-    case SizeError::Overflow: return "the byte size overflows 64 bits";
-    case SizeError::TooLarge:
-      return fmt::format("needs {} bytes, more than the {}-byte (2 GiB) limit", bytes, kMaxLargeDataBytes);
-    case SizeError::BadShape: return "a tensor has 1 to 8 dimensions";
-  }
-  return "invalid size";
-}
-
-/// "512 B", "900 KiB", "11.7 KiB", "1.1 MiB" (one decimal, ".0" dropped).
-inline std::string format_bytes(std::uint64_t n) {
-  if (n < 1024) return fmt::format("{} B", n);
-  static constexpr std::array<std::string_view, 3> kUnits{"KiB", "MiB", "GiB"};
-  double v = static_cast<double>(n) / 1024.0;
-  std::size_t unit = 0;
-  while (v >= 1024.0 && unit + 1 < kUnits.size()) {
-    v /= 1024.0;
-    ++unit;
-  }
-  std::string text = fmt::format("{:.1f}", v);
-  if (text.size() > 2 && text.ends_with(".0")) text.resize(text.size() - 2);
-  return text + " " + std::string(kUnits[unit]);
-}
-
-/// Where a descriptor's bytes are: "heap" (pool_id 0) or "pool 1 slot 42".
-inline std::string pool_text(std::uint32_t pool_id, std::uint32_t slot_id) {
-  return pool_id == 0 ? std::string("heap") : fmt::format("pool {} slot {}", pool_id, slot_id);
-}
-
-/// "2, 3, 224" (the numbers of a shape, comma separated).
-inline std::string join_dims(std::span<const std::uint64_t> dims) {
-  std::string out;
-  for (std::size_t i = 0; i < dims.size(); ++i) out += (i == 0 ? "" : ", ") + std::to_string(dims[i]);
-  return out;
-}
-
-inline std::string ascii_lower(std::string_view s) {
-  std::string out(s);
-  for (char& c : out) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return out;
-}
-
-/// Reads / writes a T at a byte offset (memcpy: no alignment or aliasing assumptions).
-template <class T>
-T load_at(std::span<const std::uint8_t> bytes, std::size_t offset) noexcept {
-  T v{};
-  std::memcpy(&v, bytes.data() + offset, sizeof(T));
-  return v;
-}
-template <class T>
-void store_at(std::span<std::uint8_t> bytes, std::size_t offset, const T& v) noexcept {
-  std::memcpy(bytes.data() + offset, &v, sizeof(T));
-}
-
-/// True when the fixed text field has a NUL (a descriptor from another process may not).
-template <std::size_t N>
-constexpr bool has_terminator(const std::array<char, N>& field) noexcept {
-  for (char c : field)
-    if (c == '\0') return true;
-  return false;
-}
-
-}  // namespace detail
 
 // ---------------------------------------------------------------------------
 /// Element type of tensor data (values as HORUS's repr(u8) TensorDtype).
