@@ -1,0 +1,160 @@
+// RingWriter<T>: the sending hot path. One writer owns one lane (claimed on first use), so a
+// send is a slot write (seqlock_slot.hpp) and a store of the lane's head: no lock, no
+// read-modify-write, no syscall. A full lane overwrites its oldest slot; has_space() tells
+// a caller that wants to wait instead (the subscribers' cursors, ring_control.hpp).
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <type_traits>
+#include <utility>
+
+#include "horus/shm/ring_control.hpp"
+#include "horus/shm/ring_layout.hpp"
+#include "horus/shm/seqlock_slot.hpp"
+
+namespace horus::shm {
+
+/// The sending side of one handle: owns a lane once it has sent. Not thread-safe.
+/// T is a trivially copyable message, or ByteMessage for serialized messages (write_bytes).
+template <class T>
+class RingWriter {
+ public:
+  static constexpr bool kBytes = std::is_same_v<T, ByteMessage>;
+
+  RingWriter() = default;
+  RingWriter(Ring ring, std::uint64_t token) noexcept : ring_(ring), token_(token), stride_(ring.stride()) {}
+  RingWriter(RingWriter&& o) noexcept { *this = std::move(o); }
+  RingWriter& operator=(RingWriter&& o) noexcept {
+    if (this != &o) {
+      release();
+      ring_ = o.ring_;
+      token_ = o.token_;
+      lane_ = o.lane_;
+      head_ = o.head_;
+      mask_ = o.mask_;
+      slots_ = o.slots_;
+      lane_head_ = o.lane_head_;
+      latest_ = o.latest_;
+      space_limit_ = o.space_limit_;
+      claim_head_ = o.claim_head_;
+      sent_before_ = o.sent_before_;
+      stride_ = o.stride_;
+      o.lane_ = kNoLane;
+      o.slots_ = nullptr;
+    }
+    return *this;
+  }
+  ~RingWriter() { release(); }
+
+  bool has_lane() const noexcept { return slots_ != nullptr; }
+  /// The lane this writer owns (when has_lane()).
+  std::uint32_t lane() const noexcept { return lane_; }
+  /// The lane's next sequence number (messages ever written to it).
+  std::uint64_t head() const noexcept { return head_; }
+  /// Claims a lane; false when every lane of the topic is in use.
+  bool ensure_lane() noexcept {
+    if (has_lane()) return true;
+    auto lane = ring_.claim_lane(token_);
+    if (!lane) return false;
+    lane_ = *lane;
+    lane_head_ = &ring_.lane(lane_).head;
+    // The claim synchronised with the previous owner's release: this is its last head.
+    head_ = lane_head_->load(std::memory_order_acquire);
+    claim_head_ = head_;
+    mask_ = ring_.capacity() - 1;
+    latest_ = &ring_.header().latest_lane;
+    space_limit_ = 0;
+    slots_ = ring_.lane_slots(lane_);
+    return true;
+  }
+
+  /// Publishes; overwrites the oldest slot of the lane when it is full. Requires ensure_lane().
+  [[gnu::always_inline]] void write(const T& msg) noexcept
+    requires(!kBytes)
+  {
+    commit(msg);
+  }
+
+  /// Publishes an encoded message of at most max_serialized_size(payload_size) bytes.
+  void write_bytes(std::span<const std::byte> msg) noexcept
+    requires kBytes
+  {
+    commit(msg);
+  }
+
+  /// Largest encoded message write_bytes() accepts.
+  std::uint32_t max_bytes() const noexcept { return max_serialized_size(ring_.header().payload_size); }
+
+  /// True if write() would not overwrite a message some other subscriber has not read. The limit
+  /// is cached (like rigtorp's SPSCQueue caches the read index): subscribers' cursors are
+  /// read again only when the cached limit is reached.
+  bool has_space(std::uint64_t self_subscriber) noexcept {
+    if (head_ < space_limit_) return true;
+    space_limit_ = ring_.space_limit(lane_, head_, self_subscriber);
+    return head_ < space_limit_;
+  }
+
+  /// Reads the subscribers' cursors again (has_space() caches what it read).
+  void refresh_space(std::uint64_t self_subscriber) noexcept {
+    space_limit_ = ring_.space_limit(lane_, head_, self_subscriber);
+  }
+
+  /// After has_space() returned true: every subscriber (but the caller's own) has read the
+  /// lane's messages below this sequence number.
+  std::uint64_t read_by_all() const noexcept {
+    const std::uint64_t cap = mask_ + 1;
+    return space_limit_ >= cap ? space_limit_ - cap : 0;
+  }
+
+  /// Messages written through this writer (derived from the lane head: no counter on the hot path).
+  std::uint64_t sent() const noexcept { return sent_before_ + (has_lane() ? head_ - claim_head_ : 0); }
+
+  void release() noexcept {
+    if (has_lane()) {
+      sent_before_ += head_ - claim_head_;
+      ring_.release_lane(lane_, token_);
+    }
+    lane_ = kNoLane;
+    slots_ = nullptr;
+  }
+
+ private:
+  static constexpr std::uint32_t kNoLane = ~0u;
+
+  std::size_t stride() const noexcept {
+    if constexpr (kBytes) return stride_;
+    else return slot_stride_for(sizeof(T));
+  }
+
+  template <class P>
+  [[gnu::always_inline]] void commit(const P& msg) noexcept {
+    const std::uint64_t s = head_;
+    write_slot(slots_ + (s & mask_) * stride(), s, msg);
+    head_ = s + 1;
+    // Release, after the slot's committing store: whoever sees the new head sees message s
+    // committed. This writer never reads it back (head_ is its copy); see ring_control.hpp.
+    lane_head_->store(s + 1, std::memory_order_release);
+    // Only written when it changes, so one publisher keeps this line shared and cheap.
+    // Relaxed: a hint read_latest() checks against the heads (ring_control.hpp).
+    if (latest_->load(std::memory_order_relaxed) != lane_) latest_->store(lane_, std::memory_order_relaxed);
+  }
+
+  // Hot fields first, read on every write.
+  std::byte* slots_ = nullptr;  // this lane's slots; null until a lane is claimed
+  std::uint64_t head_ = 0;
+  std::uint64_t mask_ = 0;
+  std::atomic<std::uint64_t>* lane_head_ = nullptr;
+  std::atomic<std::uint32_t>* latest_ = nullptr;
+  std::uint32_t lane_ = kNoLane;
+  std::uint64_t space_limit_ = 0;  // head values below this are known to have space
+  std::uint64_t claim_head_ = 0;   // head when the lane was claimed
+  std::uint64_t sent_before_ = 0;  // messages sent through lanes released earlier
+  Ring ring_;
+  std::uint64_t token_ = 0;
+  std::size_t stride_ = 0;  // used for ByteMessage only (fixed-size T: a constant)
+};
+
+}  // namespace horus::shm
