@@ -36,6 +36,7 @@
 #endif
 #include "horus/msg/all.hpp"
 #include "horus/topic.hpp"
+#include "message_trips.hpp"
 
 namespace {
 
@@ -47,43 +48,6 @@ bool parent_gone() {
   if (::poll(&p, 1, 0) <= 0) return false;
   char c;
   return ::read(0, &c, 1) <= 0 || c == 'q';
-}
-
-std::string short_name(std::string_view q) { return std::string(q.substr(q.rfind("::") + 2)); }
-
-template <class T>
-struct Echo {
-  horus::Topic<T> in;
-  horus::Topic<T> out;
-  void pump() {
-    while (auto m = in.recv()) out.send(*m);
-  }
-};
-
-template <class... T>
-int echo_all(const std::string& prefix, Clock::time_point deadline, horus::msg::TypeList<T...>) {
-  std::tuple<std::optional<Echo<T>>...> echoes;
-  bool ok = true;
-  auto open = [&]<class M>(std::optional<Echo<M>>& e) {
-    const std::string base = prefix + "." + short_name(horus::type_name<M>());
-    auto in = horus::Topic<M>::open(base);
-    auto out = horus::Topic<M>::open(base + ".echo");
-    if (!in || !out) {
-      std::fprintf(stderr, "horus_dds_peer: %s\n", (!in ? in.error() : out.error()).message().c_str());
-      ok = false;
-      return;
-    }
-    e.emplace(Echo<M>{std::move(*in), std::move(*out)});
-  };
-  std::apply([&](auto&... e) { (open(e), ...); }, echoes);
-  if (!ok) return 3;
-  std::printf("ready\n");
-  std::fflush(stdout);
-  while (Clock::now() < deadline && !parent_gone()) {
-    std::apply([&](auto&... e) { (e->pump(), ...); }, echoes);
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
-  return 0;
 }
 
 int publish_pose(const std::string& topic, Clock::time_point deadline) {
@@ -193,7 +157,7 @@ int main(int argc, char** argv) {
   }
   const std::string mode = argv[1];
   const auto deadline = Clock::now() + std::chrono::seconds(std::atoi(argv[argc - 1]));
-  if (mode == "echo") return echo_all(argv[2], deadline, horus::msg::AllMessages{});
+  if (mode == "echo") return horus_test::echo_all(argv[2], horus_test::standard_types(), deadline, &parent_gone);
   if (mode == "publish-pose") return publish_pose(argv[2], deadline);
   if (mode == "expect-mismatch") return expect_mismatch(argv[2], deadline);
   if (mode == "raw" && argc == 5) return raw_writer(argv[2], argv[3], deadline);

@@ -62,7 +62,7 @@ TEST_P(DdsPairs, EveryMessageTypeRoundTripsFieldByField) {
   const auto prefix = horus_test::unique_name("dds.every");
   Peer peer(GetParam().peer, {"echo", prefix, "120"});
   ASSERT_TRUE(peer.ready()) << "the peer did not start";
-  const auto failures = round_trip_all(GetParam().mine, prefix, horus::msg::AllMessages{});
+  const auto failures = round_trip_all(GetParam().mine, prefix, horus_test::standard_types());
   for (const auto& f : failures) ADD_FAILURE() << f;
   EXPECT_EQ(peer.stop(), 0);
 }

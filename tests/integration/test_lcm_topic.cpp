@@ -54,7 +54,7 @@ TEST_F(LcmTopic, EveryMessageTypeRoundTripsThroughAnotherProcessFieldByField) {
   const std::string prefix = horus_test::unique_name("lcm");
   Peer peer(Backend::Lcm, {"echo", prefix, "120"});
   ASSERT_TRUE(peer.ready()) << "the echo peer did not start";
-  for (const auto& f : horus_test::round_trip_all(Backend::Lcm, prefix, horus::msg::AllMessages{})) ADD_FAILURE() << f;
+  for (const auto& f : horus_test::round_trip_all(Backend::Lcm, prefix, horus_test::standard_types())) ADD_FAILURE() << f;
   EXPECT_EQ(peer.stop(), 0);
 }
 

@@ -18,8 +18,9 @@ namespace {
 using horus::Backend;
 using namespace horus::msg;
 
-using InteropTypes = TypeList<Pose2D, TransformStamped, Imu, LaserScan, BatteryState, JoystickInput, OccupancyGrid,
-                              Image, Tensor, wiretest::All, wiretest::Keywords, wiretest::Widths>;
+const std::vector<horus_test::MessageType> kInteropTypes =
+    horus_test::types_named({"Pose2D", "TransformStamped", "Imu", "LaserScan", "BatteryState", "JoystickInput",
+                             "OccupancyGrid", "Image", "Tensor", "All", "Keywords", "Widths"});
 
 struct Case {
   Backend horus;
@@ -49,7 +50,7 @@ TEST_P(Interop, AThirdPartyProgramEchoesEveryConstructFieldByField) {
   const std::string prefix = horus_test::unique_name("interop");
   horus_test::Peer peer(program, backend, {domain_, horus::wire_name(backend, prefix).value(), "120"});
   ASSERT_TRUE(peer.ready()) << peer_name << " did not start";
-  for (const auto& f : horus_test::round_trip_all(backend, prefix, InteropTypes{})) ADD_FAILURE() << f;
+  for (const auto& f : horus_test::round_trip_all(backend, prefix, kInteropTypes)) ADD_FAILURE() << f;
   EXPECT_EQ(peer.stop(), 0);
 }
 

@@ -33,8 +33,6 @@ namespace {
 
 using horus::Backend;
 using namespace std::chrono_literals;
-using InteropTypes = horus::msg::detail::Concat<horus::msg::AllMessages,
-                                        horus::msg::TypeList<wiretest::All, wiretest::Keywords, wiretest::Widths>>::type;
 
 std::string test_url() {
   return "udpm://239.255.76.67:" + std::to_string(20000 + (::getpid() * 7 + 3) % 20000) +
@@ -111,7 +109,7 @@ TEST_F(LcmInterop, AnLcmGenProgramEchoesEveryMessageTypeFieldByField) {
   const std::string prefix = horus_test::unique_name("lcmi");
   horus_test::Peer peer(program, Backend::Lcm, {prefix, "120"});
   ASSERT_TRUE(peer.ready()) << "lcm_echo did not start";
-  for (const auto& f : horus_test::round_trip_all(Backend::Lcm, prefix, InteropTypes{})) ADD_FAILURE() << f;
+  for (const auto& f : horus_test::round_trip_all(Backend::Lcm, prefix, horus_test::standard_and_wire_test_types())) ADD_FAILURE() << f;
   EXPECT_EQ(peer.stop(), 0) << "lcm_echo could not decode or re-encode a message (its stderr says which)";
 }
 

@@ -1,5 +1,5 @@
-// Helpers of the DDS tests: a peer process, topic options for a backend, and a round trip of
-// every type of a list through an echoing peer.
+// Helpers of the DDS and LCM tests: a peer process and topic options for a backend. The round
+// trip of every type through an echoing peer is in message_trips.hpp (compiled once).
 #pragma once
 
 #include <fcntl.h>
@@ -18,6 +18,7 @@
 
 #include "horus/msg/all.hpp"
 #include "horus/topic.hpp"
+#include "message_trips.hpp"
 #include "message_samples.hpp"
 
 extern char** environ;
@@ -117,64 +118,5 @@ class Peer {
   int stdout_ = -1;
   int status_ = -1;
 };
-
-/// Sends a sample of every type of the list on <prefix>.<Type> and expects it back, equal
-/// field for field, on <prefix>.<Type>.echo (from an echoing peer); the failures, one per type.
-
-template <class T>
-struct RoundTrip {
-  std::optional<horus::Topic<T>> out;
-  std::optional<horus::Topic<T>> back;
-  T sent = horus_test::topic_sample<T>();
-  bool done = false;
-  std::string failure;
-};
-
-template <class... T>
-std::vector<std::string> round_trip_all(Backend mine, const std::string& prefix, horus::msg::TypeList<T...>) {
-  std::tuple<RoundTrip<T>...> trips;
-  std::vector<std::string> failures;
-  auto open = [&]<class M>(RoundTrip<M>& r) {
-    const std::string base = prefix + "." + short_name(horus::type_name<M>());
-    auto out = horus::Topic<M>::open(base, on(mine));
-    auto back = horus::Topic<M>::open(base + ".echo", on(mine));
-    if (!out || !back) {
-      failures.push_back(short_name(horus::type_name<M>()) + ": " + (!out ? out.error() : back.error()).message());
-      r.done = true;
-      return;
-    }
-    r.out.emplace(std::move(*out));
-    r.back.emplace(std::move(*back));
-  };
-  std::apply([&](auto&... r) { (open(r), ...); }, trips);
-  // Send every 300 ms until the echo comes back (best-effort types may lose a sample while
-  // discovery completes), for at most 90 s.
-  const auto deadline = Clock::now() + 90s;
-  auto last_send = Clock::now() - 1s;
-  std::size_t pending = sizeof...(T);
-  while (pending > 0 && Clock::now() < deadline) {
-    const bool resend = Clock::now() - last_send > 300ms;
-    if (resend) last_send = Clock::now();
-    pending = 0;
-    auto step = [&]<class M>(RoundTrip<M>& r) {
-      if (r.done) return;
-      if (resend) r.out->send(r.sent);
-      while (auto got = r.back->recv()) {
-        if (auto same = horus_test::SameMessage(*got, r.sent); !same) r.failure = same.message();
-        r.done = true;
-      }
-      if (!r.done) ++pending;
-    };
-    std::apply([&](auto&... r) { (step(r), ...); }, trips);
-    std::this_thread::sleep_for(2ms);
-  }
-  auto collect = [&]<class M>(RoundTrip<M>& r) {
-    const auto name = short_name(horus::type_name<M>());
-    if (!r.done) failures.push_back(name + ": no echo within 90 s");
-    else if (!r.failure.empty()) failures.push_back(name + ": came back different: " + r.failure);
-  };
-  std::apply([&](auto&... r) { (collect(r), ...); }, trips);
-  return failures;
-}
 
 }  // namespace horus_test
