@@ -27,6 +27,7 @@
 #include "horus/json.hpp"
 #include "horus/msg/all.hpp"
 #include "horus/shm/shm_segment.hpp"
+#include "typed_reader.hpp"
 
 namespace {
 
@@ -34,19 +35,6 @@ std::atomic<bool> g_stop{false};
 extern "C" void on_signal(int) { g_stop.store(true); }
 
 using clock_type = std::chrono::steady_clock;
-
-// Calls f.template operator()<T>() for the standard message called type_name; false if none.
-template <class F>
-bool with_standard_type(std::string_view type_name, F&& f) {
-  bool found = false;
-  horus::msg::for_each_message([&]<class T>(std::string_view) {
-    if (!found && horus::type_name<T>() == type_name) {
-      found = true;
-      f.template operator()<T>();
-    }
-  });
-  return found;
-}
 
 nlohmann::json entry_json(const horus::discovery::TopicEntry& e) {
   nlohmann::json j;
@@ -136,7 +124,7 @@ int cmd_info(const std::string& ns, const std::string& name) {
   return 0;
 }
 
-// Opens `name` as its standard type and runs body(topic); an error when it is not one.
+// Opens `name` as its standard type and runs body(reader); an error when it is not one.
 template <class Body>
 int with_topic(const std::string& ns, const std::string& name, const char* cmd, Body&& body) {
   auto e = horus::discovery::find_topic(ns, name);
@@ -144,35 +132,30 @@ int with_topic(const std::string& ns, const std::string& name, const char* cmd, 
     fmt::print(stderr, "horus topic {}: {}\n", cmd, e.error());
     return 1;
   }
-  int rc = 0;
-  const bool known = with_standard_type(e->type_name, [&]<class T>() {
-    auto topic = horus::Topic<T>::open(name, horus::TopicOptions{horus::Backend::SharedMemory, {}, {}});
-    if (!topic) {
-      fmt::print(stderr, "horus topic {}: {}\n", cmd, topic.error().message());
-      rc = 1;
-      return;
-    }
-    rc = body(*topic);
-  });
-  if (!known) {
+  std::string error;
+  auto reader = horus::tools::open_reader(e->type_name, name, error);
+  if (!reader && !error.empty()) {
+    fmt::print(stderr, "horus topic {}: {}\n", cmd, error);
+    return 1;
+  }
+  if (!reader) {
     fmt::print(stderr,
                "horus topic {}: topic '{}' carries {}, which is not a standard horus message; this tool decodes "
                "the {} standard types (see messages/README.md)\n",
                cmd, name, e->type_name, horus::msg::AllMessages::size);
     return 1;
   }
-  return rc;
+  return body(*reader);
 }
 
 int cmd_echo(const std::string& ns, const std::string& name, bool json, long count, double timeout_s) {
-  return with_topic(ns, name, "echo", [&](auto& topic) {
+  return with_topic(ns, name, "echo", [&](horus::tools::TypedReader& reader) {
     long printed = 0;
     const auto deadline = clock_type::now() + std::chrono::duration_cast<clock_type::duration>(
                                                   std::chrono::duration<double>(timeout_s > 0 ? timeout_s : 1e9));
     while (!g_stop.load() && (count <= 0 || printed < count) && clock_type::now() < deadline) {
-      if (auto m = topic.recv()) {
-        if (json) fmt::print("{}\n", horus::to_json(*m).dump());
-        else fmt::print("{}\n", horus::log_summary(*m));
+      if (auto text = reader.recv_text(json)) {
+        fmt::print("{}\n", *text);
         std::fflush(stdout);
         ++printed;
       } else {
@@ -184,7 +167,7 @@ int cmd_echo(const std::string& ns, const std::string& name, bool json, long cou
 }
 
 int cmd_hz(const std::string& ns, const std::string& name, double duration_s, double window_s) {
-  return with_topic(ns, name, "hz", [&](auto& topic) {
+  return with_topic(ns, name, "hz", [&](horus::tools::TypedReader& reader) {
     const auto start = clock_type::now();
     const auto end = start + std::chrono::duration_cast<clock_type::duration>(
                                  std::chrono::duration<double>(duration_s > 0 ? duration_s : 1e9));
@@ -195,7 +178,7 @@ int cmd_hz(const std::string& ns, const std::string& name, double duration_s, do
     std::uint64_t total = 0;
     while (!g_stop.load() && clock_type::now() < end) {
       bool got = false;
-      while (auto m = topic.recv()) {
+      while (reader.recv_any()) {
         const auto now = clock_type::now();
         if (have_last) periods.push_back(std::chrono::duration<double>(now - last).count());
         last = now;
