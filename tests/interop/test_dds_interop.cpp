@@ -10,6 +10,7 @@
 #include <string>
 
 #include "dds_support.hpp"
+#include "horus/dds/transports.hpp"
 #include "test_support.hpp"
 #include "wire_test_types.hpp"
 
@@ -47,7 +48,7 @@ TEST_P(Interop, AThirdPartyProgramEchoesEveryConstructFieldByField) {
     GTEST_SKIP() << peer_name << " was not built: " << (ss.str().empty() ? "see interop.BuildThirdPartyPeers" : ss.str());
   }
   const std::string prefix = horus_test::unique_name("interop");
-  horus_test::Peer peer(program, backend, {domain_, horus::dds_topic_name(prefix).value(), "120"});
+  horus_test::Peer peer(program, backend, {domain_, horus::dds::topic_name(prefix).value(), "120"});
   ASSERT_TRUE(peer.ready()) << peer_name << " did not start";
   for (const auto& f : horus_test::round_trip_all(backend, prefix, InteropTypes{})) ADD_FAILURE() << f;
   EXPECT_EQ(peer.stop(), 0);
