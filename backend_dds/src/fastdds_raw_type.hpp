@@ -26,6 +26,7 @@
 #include <fastdds/rtps/common/SerializedPayload.h>
 
 #include "horus/network.hpp"
+#include "horus/transport/encapsulation.hpp"
 
 namespace horus::dds::fastdds_detail {
 
@@ -47,12 +48,6 @@ struct RawReadSample {
   std::uint32_t length = 0;
 };
 
-/// XCDR1 final padding: the body is padded with zeros to a multiple of 4 (XTypes 7.6.3.1.2 puts
-/// the count in the two low bits of the options).
-inline std::uint32_t xcdr1_padding(std::size_t body_size) noexcept {
-  return static_cast<std::uint32_t>((4 - body_size % 4) % 4);
-}
-
 /// The largest body a sample can carry (the serialized payload length is 32-bit).
 inline constexpr std::size_t kMaxBodySize = 0xFFFFFFFFu - 8u;
 
@@ -69,21 +64,16 @@ class RawXcdr1Type final : public eprosima::fastdds::dds::TopicDataType {
   bool serialize(void* data, eprosima::fastrtps::rtps::SerializedPayload_t* payload) override {
     auto* s = static_cast<RawWriteSample*>(data);
     if (s == nullptr || s->kind != RawKind::Write || s->writer == nullptr || s->body_size > kMaxBodySize) return false;
-    const std::uint32_t pad = xcdr1_padding(s->body_size);
-    const std::size_t total = 4 + s->body_size + pad;
+    const std::size_t total = net::encapsulation::serialized_size(s->body_size);
     if (payload->max_size < total) return false;  // the pool hands out getSerializedSizeProvider() bytes
-    std::uint8_t* p = payload->data;
-    p[0] = 0x00;  // CDR_LE: {0x00, 0x01}
-    p[1] = 0x01;
-    p[2] = 0x00;
-    p[3] = static_cast<std::uint8_t>(pad);
+    auto* p = reinterpret_cast<std::byte*>(payload->data);
+    net::encapsulation::write_header_and_padding(std::span<std::byte>(p, total), s->body_size);  // CDR_LE
     try {
-      s->writer->fill(s->writer->context, std::span<std::byte>(reinterpret_cast<std::byte*>(p + 4), s->body_size));
+      s->writer->fill(s->writer->context, std::span<std::byte>(p + net::encapsulation::kHeaderSize, s->body_size));
     } catch (...) {
       s->error = std::current_exception();
       return false;
     }
-    if (pad != 0) std::memset(p + 4 + s->body_size, 0, pad);
     payload->length = static_cast<std::uint32_t>(total);
     payload->encapsulation = CDR_LE;
     return true;
@@ -101,7 +91,7 @@ class RawXcdr1Type final : public eprosima::fastdds::dds::TopicDataType {
     return [data]() -> std::uint32_t {
       const auto* s = static_cast<const RawWriteSample*>(data);
       if (s == nullptr || s->kind != RawKind::Write || s->body_size > kMaxBodySize) return 4;
-      return static_cast<std::uint32_t>(4 + s->body_size + xcdr1_padding(s->body_size));
+      return static_cast<std::uint32_t>(net::encapsulation::serialized_size(s->body_size));
     };
   }
 

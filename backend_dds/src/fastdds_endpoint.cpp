@@ -1,0 +1,241 @@
+// The endpoint of the Fast DDS transport (see fastdds_transport.cpp): Core delivers what arrives
+// through the endpoint's gate (horus/transport/endpoint_gate.hpp), the dispatcher delivers what
+// arose on an application thread, FastddsEndpoint owns the DataWriter and DataReader.
+#include <algorithm>
+#include <cstdint>
+#include <exception>
+#include <string>
+#include <utility>
+#include <variant>
+
+#include <fastdds/dds/core/LoanableSequence.hpp>
+#include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+
+#include "fastdds_internal.hpp"
+
+namespace horus::dds::fastdds_detail {
+namespace {
+
+constexpr std::int32_t kHeartbeatMs = 100;  // reliable writer: quick repair of lost fragments
+
+std::string endpoint_label(const net::EndpointSpec& spec) {
+  return "topic '" + spec.topic + "' (DDS topic '" + spec.wire_topic + "')";
+}
+
+}  // namespace
+
+// ---- Core -------------------------------------------------------------------------------------
+
+Core::Core(net::EndpointSpec spec, net::Listener& listener, Dispatcher& dispatcher)
+    : spec_(std::move(spec)), dispatcher_(dispatcher), gate_(listener, endpoint_label(spec_)) {}
+
+void Core::close() {
+  gate_.close();
+  reader_.store(nullptr, std::memory_order_release);
+  std::lock_guard qk(queue_mu_);
+  errors_.clear();
+}
+
+void Core::post_error(std::string message) {
+  {
+    std::lock_guard lk(queue_mu_);
+    errors_.push_back(std::move(message));
+  }
+  drain();
+}
+
+void Core::drain() {
+  if (t_app_call > 0) {
+    bool has_errors;
+    {
+      std::lock_guard lk(queue_mu_);
+      has_errors = !errors_.empty();
+    }
+    if (has_errors) dispatcher_.post(shared_from_this());
+    return;  // no remote sample arrives on an application thread; the filter keeps our own out
+  }
+  gate_.drain([this](net::EndpointGate::Calls& calls) { deliver(calls); });
+}
+
+void Core::deliver_sample(net::EndpointGate::Calls& calls, const RawReadSample& s) {
+  const std::span<const std::byte> bytes(reinterpret_cast<const std::byte*>(s.data), s.data != nullptr ? s.length : 0);
+  auto parsed = net::encapsulation::parse(bytes);
+  if (const auto* problem = std::get_if<std::string>(&parsed)) {
+    calls.error(topic_label() + ": " + *problem);
+    return;
+  }
+  calls.sample(std::get<net::Sample>(parsed));
+}
+
+// Inside the gate.
+void Core::deliver(net::EndpointGate::Calls& calls) {
+  std::vector<std::string> errors;
+  {
+    std::lock_guard lk(queue_mu_);
+    errors.swap(errors_);
+  }
+  for (const auto& e : errors) calls.error(e);
+  fd::DataReader* reader = reader_.load(std::memory_order_acquire);
+  if (reader == nullptr) return;
+  fd::LoanableSequence<RawReadSample> data;
+  fd::SampleInfoSeq infos;
+  while (calls.open() && reader->take(data, infos) == ReturnCode_t::RETCODE_OK) {
+    for (fd::LoanableCollection::size_type i = 0; i < infos.length(); ++i) {
+      const fd::SampleInfo& info = infos[i];
+      if (!info.valid_data) continue;
+      if (is_local(info.sample_identity.writer_guid().guidPrefix)) continue;  // our own sample
+      deliver_sample(calls, data[i]);
+    }
+    reader->return_loan(data, infos);
+  }
+}
+
+// ---- Dispatcher -------------------------------------------------------------------------------
+
+void Dispatcher::post(std::shared_ptr<Core> core) {
+  {
+    std::lock_guard lk(mu_);
+    if (stopping_) return;
+    queue_.push_back(std::move(core));
+    if (!thread_.joinable()) thread_ = std::thread([this] { run(); });
+  }
+  cv_.notify_one();
+}
+
+void Dispatcher::stop() {
+  {
+    std::lock_guard lk(mu_);
+    stopping_ = true;
+  }
+  cv_.notify_all();
+  if (thread_.joinable()) thread_.join();
+  std::lock_guard lk(mu_);
+  queue_.clear();
+}
+
+void Dispatcher::run() {
+  std::unique_lock lk(mu_);
+  for (;;) {
+    cv_.wait(lk, [this] { return stopping_ || !queue_.empty(); });
+    if (stopping_) return;
+    auto core = std::move(queue_.front());
+    queue_.pop_front();
+    lk.unlock();
+    core->drain();
+    core.reset();
+    lk.lock();
+  }
+}
+
+// ---- FastddsEndpoint --------------------------------------------------------------------------
+
+FastddsEndpoint::~FastddsEndpoint() {
+  AppCall app;
+  transport_->detach(core_);
+  core_->close();  // waits for a callback in progress; none after this
+  if (reader_ != nullptr) {
+    reader_->set_listener(nullptr);
+    transport_->subscriber()->delete_datareader(reader_);
+  }
+  if (filtered_ != nullptr) transport_->delete_filtered(filtered_);
+  if (writer_ != nullptr) {
+    writer_->set_listener(nullptr);
+    transport_->publisher()->delete_datawriter(writer_);
+  }
+  transport_->release_topic(core_->spec().wire_topic);
+}
+
+Result<void> FastddsEndpoint::write(std::size_t body_size, const net::BodyWriter& writer) {
+  if (body_size > kMaxBodySize)
+    return fail(Errc::MessageTooLarge, "topic '" + core_->spec().topic + "': a body of " + std::to_string(body_size) +
+                                           " bytes exceeds the largest DDS sample (" + std::to_string(kMaxBodySize) +
+                                           " bytes)");
+  if (writer.fill == nullptr)
+    return fail(Errc::InvalidArgument,
+                "topic '" + core_->spec().topic + "': write() needs a BodyWriter with a fill function");
+  RawWriteSample sample;
+  sample.body_size = body_size;
+  sample.writer = &writer;
+  ReturnCode_t rc;
+  {
+    AppCall app;
+    Writing writing;
+    rc = writer_->write(&sample, rtps::c_InstanceHandle_Unknown);
+  }
+  if (sample.error) std::rethrow_exception(sample.error);
+  if (rc == ReturnCode_t::RETCODE_OK) return {};
+  if (rc == ReturnCode_t::RETCODE_TIMEOUT)
+    return fail(Errc::Timeout, core_->topic_label() + ": the " +
+                                   std::string(net::to_string(core_->spec().qos.reliability)) +
+                                   " writer could not take a sample of " + std::to_string(body_size) +
+                                   " bytes within its " + std::to_string(kMaxBlockingMs) + " ms blocking bound");
+  if (rc == ReturnCode_t::RETCODE_OUT_OF_RESOURCES)
+    return fail(Errc::Io, core_->topic_label() + ": Fast DDS is out of resources for a sample of " +
+                              std::to_string(body_size) + " bytes");
+  return fail(Errc::Io, core_->topic_label() + ": Fast DDS failed to write a sample of " + std::to_string(body_size) +
+                            " bytes (return code " + std::to_string(rc()) + ")");
+}
+
+Result<void> FastddsEndpoint::create(fd::Topic* topic, fd::ContentFilteredTopic* filtered) {
+  filtered_ = filtered;
+  const net::EndpointSpec& spec = core_->spec();
+  const net::Qos& q = spec.qos;
+  const auto depth = static_cast<std::int32_t>(std::min<std::uint32_t>(q.depth, 1u << 20));
+  const bool reliable = q.reliability == net::Reliability::Reliable;
+  const bool transient = q.durability == net::Durability::TransientLocal;
+  const eprosima::fastrtps::Duration_t max_blocking(0, static_cast<std::uint32_t>(kMaxBlockingMs) * 1000000u);
+
+  fd::DataWriterQos wq;
+  wq.reliability().kind = reliable ? fd::RELIABLE_RELIABILITY_QOS : fd::BEST_EFFORT_RELIABILITY_QOS;
+  wq.reliability().max_blocking_time = max_blocking;
+  wq.durability().kind = transient ? fd::TRANSIENT_LOCAL_DURABILITY_QOS : fd::VOLATILE_DURABILITY_QOS;
+  wq.history().kind = fd::KEEP_LAST_HISTORY_QOS;
+  wq.history().depth = depth;
+  wq.resource_limits().max_instances = 1;
+  wq.resource_limits().max_samples_per_instance = depth;
+  wq.resource_limits().max_samples = depth;
+  wq.resource_limits().allocated_samples = std::min(depth, 16);
+  wq.data_sharing().off();
+  wq.representation().m_value = {fd::XCDR_DATA_REPRESENTATION};
+  wq.publish_mode().kind = fd::SYNCHRONOUS_PUBLISH_MODE;
+  wq.endpoint().history_memory_policy = rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+  wq.reliable_writer_qos().times.heartbeatPeriod =
+      eprosima::fastrtps::Duration_t(0, static_cast<std::uint32_t>(kHeartbeatMs) * 1000000u);
+
+  fd::DataReaderQos rq;
+  rq.reliability().kind = wq.reliability().kind;
+  rq.reliability().max_blocking_time = max_blocking;
+  rq.durability().kind = wq.durability().kind;
+  rq.history().kind = fd::KEEP_LAST_HISTORY_QOS;
+  rq.history().depth = depth;
+  rq.resource_limits().max_instances = 1;
+  rq.resource_limits().max_samples_per_instance = depth;
+  rq.resource_limits().max_samples = depth;
+  rq.resource_limits().allocated_samples = std::min(depth, 16);
+  rq.data_sharing().off();
+  rq.type_consistency().representation.m_value = {fd::XCDR_DATA_REPRESENTATION};
+  rq.endpoint().history_memory_policy = rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+
+  // The reader is created disabled (subscriber QoS), so the core knows it before data can arrive.
+  reader_ = transport_->subscriber()->create_datareader(
+      filtered, rq, &reader_listener_,
+      fd::StatusMask::data_available() << fd::StatusMask::subscription_matched()
+                                       << fd::StatusMask::requested_incompatible_qos());
+  if (reader_ == nullptr)
+    return fail(Errc::Io, core_->topic_label() + ": Fast DDS could not create the DataReader (QoS " +
+                              describe(q) + ")");
+  core_->attach_reader(reader_);
+  writer_ = transport_->publisher()->create_datawriter(
+      topic, wq, &writer_listener_,
+      fd::StatusMask::publication_matched() << fd::StatusMask::offered_incompatible_qos());
+  if (writer_ == nullptr)
+    return fail(Errc::Io, core_->topic_label() + ": Fast DDS could not create the DataWriter (QoS " +
+                              describe(q) + ")");
+  if (reader_->enable() != ReturnCode_t::RETCODE_OK)
+    return fail(Errc::Io, core_->topic_label() + ": Fast DDS could not enable the DataReader");
+  return {};
+}
+
+}  // namespace horus::dds::fastdds_detail

@@ -1,0 +1,270 @@
+// The instance of the LCM transport: an lcm_t and one receive thread (Engine::run) that polls
+// {the lcm fd, an eventfd that stops it} and calls lcm_handle(), which runs the handlers of one
+// message in that thread. Every listener call is made by that thread while it holds
+// Engine::handle_mutex_, through the endpoint's gate (horus/transport/endpoint_gate.hpp).
+//
+// Subscribing and unsubscribing. liblcm 1.3.1 cannot unsubscribe safely while another thread is
+// inside lcm_handle(): lcm_dispatch_handlers() walks the channel's handler array by index with
+// LCM's lock released around each callback, and lcm_unsubscribe() reorders that array
+// (g_ptr_array_remove_fast), so a handler can be skipped or called twice. So every
+// lcm_subscribe/lcm_unsubscribe runs under handle_mutex_ too, i.e. never concurrently with
+// lcm_handle. Threads that need it announce themselves first (waiting_) and the receive thread
+// gives way before its next lcm_handle, so open() and ~LcmEndpoint wait for at most the message
+// being dispatched, never for the poll timeout. When ~LcmEndpoint or open() runs on the receive
+// thread itself (from a listener callback), the lock is already held: subscribing is done at once
+// (LCM allows it in a handler), unsubscribing is deferred until lcm_handle() returns, and the
+// closed gate stops the subscription's callbacks at once.
+#include <poll.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "lcm_internal.hpp"
+
+namespace horus::lcm::detail {
+namespace {
+
+constexpr int kPollTimeoutMs = 100;
+constexpr auto kDropCheckPeriod = std::chrono::milliseconds(100);
+
+thread_local const Engine* tl_receive_engine = nullptr;  // set on each engine's receive thread
+
+// A channel as an exact GLib regex: LCM subscribes to "^<channel>$".
+std::string regex_escape(std::string_view channel) {
+  static constexpr std::string_view kMeta = ".[]()*+?{}|^$\\";
+  std::string out;
+  out.reserve(channel.size() * 2);
+  for (char c : channel) {
+    if (kMeta.find(c) != std::string_view::npos) out += '\\';
+    out += c;
+  }
+  return out;
+}
+
+void on_message(const lcm_recv_buf_t* rb, const char* /*channel*/, void* user) {
+  auto* raw = static_cast<Subscription*>(user);
+  if (!raw->gate.is_open() || raw->paused.load(std::memory_order_acquire)) return;
+  // The listener may close its own endpoint: the gate stays alive until the call leaves it.
+  const std::shared_ptr<Subscription> sub = raw->shared_from_this();
+  sub->gate.run([&](net::EndpointGate::Calls& calls) {
+    if (sub->paused.load(std::memory_order_acquire)) return;
+    const std::span<const std::byte> body(static_cast<const std::byte*>(rb->data), rb->data_size);
+    calls.sample(net::Sample{body, false});  // LCM encodes big-endian
+  });
+}
+
+}  // namespace
+
+// Holds handle_mutex_, ahead of the receive thread; a no-op on the receive thread, which
+// holds it whenever it runs listener code.
+class Engine::HandleLock {
+ public:
+  explicit HandleLock(Engine& e) : engine_(e), on_thread_(e.on_receive_thread()) {
+    if (on_thread_) return;
+    engine_.waiting_.fetch_add(1, std::memory_order_acq_rel);
+    lock_ = std::unique_lock(engine_.handle_mutex_);
+  }
+  HandleLock(const HandleLock&) = delete;
+  HandleLock& operator=(const HandleLock&) = delete;
+  ~HandleLock() {
+    if (on_thread_) return;
+    engine_.waiting_.fetch_sub(1, std::memory_order_acq_rel);
+    lock_.unlock();
+    engine_.handle_cv_.notify_all();
+  }
+  bool on_receive_thread() const noexcept { return on_thread_; }
+
+ private:
+  Engine& engine_;
+  const bool on_thread_;
+  std::unique_lock<std::mutex> lock_;
+};
+
+Engine::~Engine() {
+  lcm_destroy(lcm_);  // unsubscribes what is left, stops LCM's own threads
+  ::close(event_fd_);
+}
+
+bool Engine::on_receive_thread() const noexcept { return tl_receive_engine == this; }
+
+void Engine::request_stop() noexcept {
+  stop_.store(true, std::memory_order_release);
+  const std::uint64_t one = 1;
+  while (::write(event_fd_, &one, sizeof one) < 0 && errno == EINTR) {
+  }
+}
+
+Result<void> Engine::subscribe(const std::shared_ptr<Subscription>& sub, const std::string& channel) {
+  const std::string pattern = regex_escape(channel);
+  HandleLock lock(*this);
+  subs_.reserve(subs_.size() + 1);  // so that push_back below cannot throw after subscribing
+  lcm_subscription_t* handle = lcm_subscribe(lcm_, pattern.c_str(), &on_message, sub.get());
+  if (handle == nullptr)
+    return fail(Errc::Io, sub->label() + ": liblcm refused the subscription (it printed the reason on stderr)");
+  lcm_subscription_set_queue_capacity(handle, 0);  // unlimited: the topic's ring bounds it
+  sub->handle = handle;
+  subs_.push_back(sub);
+  return {};
+}
+
+void Engine::set_receiving(const std::shared_ptr<Subscription>& sub, const std::string& channel, bool on) noexcept {
+  sub->paused.store(!on, std::memory_order_release);
+  HandleLock lock(*this);
+  if (!sub->gate.is_open()) return;
+  if (on) {
+    std::erase(deferred_, sub);  // an unsubscribe still waiting for lcm_handle to return
+    if (sub->handle != nullptr) return;
+    try {
+      lcm_subscription_t* handle = lcm_subscribe(lcm_, regex_escape(channel).c_str(), &on_message, sub.get());
+      if (handle == nullptr) {
+        sub->report(sub->label() + ": liblcm refused to subscribe again (it printed the reason on stderr); "
+                                   "nothing more arrives on this channel");
+        return;
+      }
+      lcm_subscription_set_queue_capacity(handle, 0);
+      sub->handle = handle;
+    } catch (...) {
+    }
+    return;
+  }
+  if (sub->handle == nullptr) return;
+  if (lock.on_receive_thread()) {
+    try {
+      deferred_.push_back(sub);
+    } catch (...) {  // stays subscribed; paused keeps its samples out
+    }
+    return;
+  }
+  lcm_unsubscribe(lcm_, sub->handle);
+  sub->handle = nullptr;
+}
+
+void Engine::unsubscribe(const std::shared_ptr<Subscription>& sub) noexcept {
+  sub->gate.close();
+  HandleLock lock(*this);
+  std::erase(subs_, sub);
+  if (sub->handle == nullptr) return;
+  if (lock.on_receive_thread()) {
+    // Inside lcm_handle (a listener closed an endpoint): unsubscribe once it returns.
+    try {
+      deferred_.push_back(sub);
+      return;
+    } catch (...) {  // no memory: LCM allows unsubscribing from a handler (the gate stops it)
+    }
+  }
+  lcm_unsubscribe(lcm_, sub->handle);
+  sub->handle = nullptr;
+}
+
+std::unique_lock<std::mutex> Engine::lock_for_dispatch() {
+  std::unique_lock lock(handle_mutex_);
+  handle_cv_.wait(lock, [this] { return waiting_.load(std::memory_order_acquire) == 0; });
+  return lock;
+}
+
+// Called with handle_mutex_ held, outside lcm_handle.
+void Engine::run_deferred_locked() noexcept {
+  for (const auto& sub : deferred_) {
+    if (sub->handle != nullptr) lcm_unsubscribe(lcm_, sub->handle);
+    sub->handle = nullptr;
+  }
+  deferred_.clear();
+}
+
+// Called with handle_mutex_ held. Listener code may open or close endpoints meanwhile.
+void Engine::report_all_locked(const std::function<std::string()>& make_message) noexcept {
+  std::vector<std::shared_ptr<Subscription>> subs;
+  std::string message;
+  try {
+    subs = subs_;
+    message = make_message();
+  } catch (...) {
+    return;
+  }
+  for (const auto& sub : subs) sub->report(message);
+}
+
+void Engine::loop() noexcept {
+  tl_receive_engine = this;
+  bool lcm_open = lcm_fd_ >= 0;
+  last_drop_check_ = std::chrono::steady_clock::now();
+  while (!stop_.load(std::memory_order_acquire)) {
+    pollfd fds[2] = {{event_fd_, POLLIN, 0}, {lcm_fd_, POLLIN, 0}};
+    const int n = ::poll(fds, lcm_open ? 2 : 1, kPollTimeoutMs);
+    if (n < 0 && errno != EINTR) {
+      const int err = errno;
+      std::unique_lock lock = lock_for_dispatch();
+      report_all_locked([&] {
+        return "LCM URL '" + url_ + "': the receive thread stopped: poll() failed: " + std::strerror(err) +
+               "; no more samples will arrive";
+      });
+      break;
+    }
+    if (n > 0 && (fds[0].revents & POLLIN) != 0) {
+      std::uint64_t value = 0;
+      [[maybe_unused]] const ssize_t r = ::read(event_fd_, &value, sizeof value);
+    }
+    if (stop_.load(std::memory_order_acquire)) break;
+    if (n > 0 && lcm_open && (fds[1].revents & (POLLIN | POLLHUP | POLLERR)) != 0) {
+      std::unique_lock lock = lock_for_dispatch();
+      const int rc = lcm_handle(lcm_);  // dispatches one message; the fd said one is queued
+      if (rc != 0) {
+        lcm_open = false;  // do not spin on a descriptor that stays readable
+        // A log read to its end (file://, mode r) is not an error.
+        if (!(info_.provider == Provider::File && info_.file_read))
+          report_all_locked([&] {
+            return "LCM URL '" + url_ + "': lcm_handle() failed (liblcm printed the reason on stderr); " +
+                   "no more samples will arrive through this transport";
+          });
+      }
+      run_deferred_locked();
+    }
+    account_drops();
+  }
+  {
+    std::unique_lock lock(handle_mutex_);
+    run_deferred_locked();
+  }
+  tl_receive_engine = nullptr;
+}
+
+// Reads the kernel's drops counter of the LCM receive socket; reports increases.
+void Engine::account_drops() noexcept {
+  if (drop_inode_ == 0) return;
+  const auto now = std::chrono::steady_clock::now();
+  if (now - last_drop_check_ < kDropCheckPeriod) return;
+  last_drop_check_ = now;
+  std::optional<std::uint32_t> drops;
+  try {
+    drops = socket_drops(drop_inode_, udp_table_);
+  } catch (...) {
+    return;
+  }
+  if (!drops) return;
+  const std::uint32_t delta = *drops - last_drops_;  // the counter is 32-bit and wraps
+  last_drops_ = *drops;
+  if (delta == 0) return;
+  std::unique_lock lock = lock_for_dispatch();
+  std::vector<std::shared_ptr<Subscription>> subs;
+  try {
+    subs = subs_;
+  } catch (...) {
+    return;
+  }
+  for (const auto& sub : subs) {
+    // A paused endpoint (nobody in the process reads it) loses nothing it wanted.
+    sub->gate.run([&](net::EndpointGate::Calls& calls) {
+      if (!sub->paused.load(std::memory_order_acquire)) calls.lost(delta);
+    });
+  }
+  run_deferred_locked();
+}
+
+}  // namespace horus::lcm::detail

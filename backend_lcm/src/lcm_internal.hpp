@@ -1,0 +1,143 @@
+// The pieces of the LCM transport (private to backend_lcm):
+//   lcm_url.cpp        URL parsing and the environment (check_url, url_from_environment),
+//                      channel names (check_channel, channel_name)
+//   lcm_drops.cpp      kernel drop counting: this process's UDP sockets in /proc/self/net/udp
+//   lcm_engine.cpp     the instance: an lcm_t and its receive thread (Engine), subscriptions
+//   lcm_transport.cpp  the endpoint, the transport, the per-URL cache, registration
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <lcm/lcm.h>
+
+#include "horus/error.hpp"
+#include "horus/lcm/transport.hpp"
+#include "horus/network.hpp"
+#include "horus/transport/endpoint_gate.hpp"
+
+namespace horus::lcm::detail {
+
+// ---- URLs (lcm_url.cpp) -----------------------------------------------------------------------
+
+enum class Provider { Udpm, Memq, File, Tcpq };
+
+struct UrlInfo {
+  Provider provider = Provider::Udpm;
+  std::uint16_t port = 0;  // udpm
+  bool file_read = true;   // file: mode r (the default)
+};
+
+/// Checks `url` and says what it is (Errc::Config naming the problem otherwise).
+Result<UrlInfo> parse_url(std::string_view url);
+/// A decimal number 0..max, digits only.
+std::optional<std::uint64_t> parse_decimal(std::string_view s, std::uint64_t max) noexcept;
+
+// ---- kernel drops (lcm_drops.cpp) -------------------------------------------------------------
+
+/// One row of /proc/net/udp.
+struct UdpRow {
+  std::uint16_t local_port = 0;
+  bool unconnected = false;  // rem_address 00000000:0000
+  std::uint64_t inode = 0;
+  std::uint32_t drops = 0;
+};
+
+/// The whole of a (small, /proc) file; false when it cannot be read.
+bool read_whole_file(const char* path, std::string& out);
+void for_each_udp_row(const std::string& table, const std::function<void(const UdpRow&)>& f);
+/// This process's unconnected UDP sockets bound to `port` (LCM's receive socket binds
+/// INADDR_ANY:port; its send socket is connected to the group), sorted.
+std::vector<std::uint64_t> udp_sockets_on_port(std::uint16_t port);
+/// The kernel's drops counter of socket `inode` (`table` is scratch space), if readable.
+std::optional<std::uint32_t> socket_drops(std::uint64_t inode, std::string& table);
+
+// ---- the instance (lcm_engine.cpp) ------------------------------------------------------------
+
+/// One open endpoint as the receive thread sees it (the `user` pointer of its LCM subscription).
+/// Its listener calls go through its gate.
+struct Subscription : std::enable_shared_from_this<Subscription> {
+  Subscription(net::Listener& l, std::string label) : gate(l, std::move(label)) {}
+  net::EndpointGate gate;                // closed first by ~LcmEndpoint: no listener call after
+  lcm_subscription_t* handle = nullptr;  // guarded by the engine's handle lock
+  std::atomic<bool> paused{false};       // set_receiving(false): samples are not delivered
+
+  const std::string& label() const noexcept { return gate.label(); }
+  void report(std::string_view message) noexcept {
+    gate.run([&](net::EndpointGate::Calls& calls) { calls.error(message); });
+  }
+};
+
+/// What the receive thread owns: the lcm_t (destroyed last, by whichever thread releases the
+/// engine last: the transport, or the receive thread when it was detached).
+class Engine {
+ public:
+  Engine(std::string url, const UrlInfo& info, lcm_t* lcm, int event_fd, int lcm_fd) noexcept
+      : url_(std::move(url)), info_(info), lcm_(lcm), event_fd_(event_fd), lcm_fd_(lcm_fd) {}
+  Engine(const Engine&) = delete;
+  Engine& operator=(const Engine&) = delete;
+  ~Engine();
+
+  const std::string& url() const noexcept { return url_; }
+  const UrlInfo& info() const noexcept { return info_; }
+  bool on_receive_thread() const noexcept;
+
+  /// Drop accounting: the LCM receive socket's inode and its drops counter at creation.
+  void set_drop_socket(std::uint64_t inode, std::uint32_t drops) noexcept {
+    drop_inode_ = inode;
+    last_drops_ = drops;
+  }
+
+  static void run(std::shared_ptr<Engine> self) { self->loop(); }
+  void request_stop() noexcept;
+
+  int publish(const char* channel, const void* data, unsigned size) noexcept {
+    return lcm_publish(lcm_, channel, data, size);  // internally locked in every provider
+  }
+
+  Result<void> subscribe(const std::shared_ptr<Subscription>& sub, const std::string& channel);
+  /// Stops or resumes the LCM subscription of an open endpoint (Endpoint::set_receiving): while
+  /// it is off, LCM's reader drops the channel's datagrams before queueing them.
+  void set_receiving(const std::shared_ptr<Subscription>& sub, const std::string& channel, bool on) noexcept;
+  /// After this returns, `sub` gets no more callbacks.
+  void unsubscribe(const std::shared_ptr<Subscription>& sub) noexcept;
+
+ private:
+  class HandleLock;
+
+  std::unique_lock<std::mutex> lock_for_dispatch();
+  void run_deferred_locked() noexcept;
+  void report_all_locked(const std::function<std::string()>& make_message) noexcept;
+  void loop() noexcept;
+  void account_drops() noexcept;
+
+  const std::string url_;
+  const UrlInfo info_;
+  lcm_t* const lcm_;
+  const int event_fd_;
+  const int lcm_fd_;
+  std::atomic<bool> stop_{false};
+
+  std::mutex handle_mutex_;  // held by the receive thread around lcm_handle and listener calls
+  std::condition_variable handle_cv_;
+  std::atomic<int> waiting_{0};                          // threads waiting for handle_mutex_
+  std::vector<std::shared_ptr<Subscription>> subs_;      // open endpoints; guarded by handle_mutex_
+  std::vector<std::shared_ptr<Subscription>> deferred_;  // to unsubscribe; guarded by handle_mutex_
+
+  // Receive thread only (set before it starts).
+  std::uint64_t drop_inode_ = 0;
+  std::uint32_t last_drops_ = 0;
+  std::chrono::steady_clock::time_point last_drop_check_{};
+  std::string udp_table_;
+};
+
+}  // namespace horus::lcm::detail
