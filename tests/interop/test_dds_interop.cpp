@@ -10,7 +10,6 @@
 #include <string>
 
 #include "dds_support.hpp"
-#include "horus/dds/transports.hpp"
 #include "test_support.hpp"
 #include "wire_test_types.hpp"
 
