@@ -17,14 +17,11 @@
 // true (C programs store booleans in an int8_t). This header needs no LCM library.
 #pragma once
 
-#include <algorithm>
-#include <bit>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
 #include <expected>
 #include <limits>
-#include <new>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -32,20 +29,21 @@
 #include <vector>
 
 #include "horus/byte_buffer.hpp"
-#include "horus/wire/local.hpp"
+#include "horus/reflect.hpp"
 #include "horus/wire/lcm_mapping.hpp"
 #include "horus/wire/mapping.hpp"
-#include "horus/reflect.hpp"
+#include "horus/wire/reader.hpp"
+#include "horus/wire/walk.hpp"
 
 namespace horus::lcm {
 
 namespace detail {
 using reflect::detail::is_std_array;
 using reflect::detail::is_std_vector;
+using wire::is_number;
+using wire::Path;
+using wire::Reader;
 namespace map = idlgen::lcm;
-
-template <class V>
-inline constexpr bool is_number = std::is_arithmetic_v<V> && !std::is_same_v<V, bool>;
 
 // The wire integer or float of a primitive field (see lcm_mapping.hpp).
 template <class V>
@@ -209,133 +207,12 @@ constexpr std::uint64_t fingerprint_of() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Encoding.
-
-struct Counter {
-  std::size_t pos = 0;
-  void bytes(const void*, std::size_t n) noexcept { pos += n; }
-  template <class W>
-  void number(W) noexcept {
-    pos += sizeof(W);
-  }
-  template <class W>
-  void numbers(const W*, std::size_t n) noexcept {
-    pos += n * sizeof(W);
-  }
-};
+// The wire: the shared walk (horus/wire/walk.hpp) with big-endian numbers, no padding.
 
 template <class W>
 W to_big(W v) noexcept {
-  if constexpr (sizeof(W) == 1) {
-    return v;
-  } else {
-    using U = std::conditional_t<sizeof(W) == 2, std::uint16_t, std::conditional_t<sizeof(W) == 4, std::uint32_t, std::uint64_t>>;
-    return std::bit_cast<W>(std::byteswap(std::bit_cast<U>(v)));
-  }
+  return ::horus::wire::byteswap_number(v);
 }
-
-class Writer {
- public:
-  Writer(std::byte* out, std::size_t size) noexcept : base_(out), size_(size) {}
-  void bytes(const void* src, std::size_t n) {
-    check(n);
-    if (n != 0) std::memcpy(base_ + pos, src, n);
-    pos += n;
-  }
-  template <class W>
-  void number(W v) {
-    check(sizeof(W));
-    v = to_big(v);
-    std::memcpy(base_ + pos, &v, sizeof(W));
-    pos += sizeof(W);
-  }
-  template <class W>
-  void numbers(const W* src, std::size_t n) {
-    check(n * sizeof(W));
-    for (std::size_t i = 0; i < n; ++i) {
-      const W v = to_big(src[i]);
-      std::memcpy(base_ + pos + i * sizeof(W), &v, sizeof(W));
-    }
-    pos += n * sizeof(W);
-  }
-  std::size_t pos = 0;
-
- private:
-  void check(std::size_t n) const {
-    if (n > size_ - pos) throw std::length_error("horus::lcm::encode: the output buffer is smaller than encoded_size(msg)");
-  }
-  std::byte* base_;
-  std::size_t size_;
-};
-
-template <class S>
-void put_length(S& s, std::size_t n, const char* what) {
-  if (n > map::kMaxLength)
-    throw std::length_error(std::string("horus::lcm::encode: a ") + what + " of " + std::to_string(n) +
-                            " elements; LCM lengths are int32 (at most 2^31 - 1)");
-  s.number(static_cast<std::int32_t>(n));
-}
-
-template <class S, class V>
-void put(S& s, const V& v) {
-  if constexpr (std::is_same_v<V, bool>) {
-    s.number(static_cast<std::uint8_t>(v ? 1 : 0));
-  } else if constexpr (is_number<V> || std::is_enum_v<V>) {
-    s.number(static_cast<wire_t<V>>(v));
-  } else if constexpr (std::is_same_v<V, std::string>) {
-    if (std::memchr(v.data(), '\0', v.size()) != nullptr)
-      throw std::invalid_argument("horus::lcm::encode: a string with a NUL byte inside; LCM strings end at the "
-                                  "first NUL, so it cannot be sent whole");
-    put_length(s, v.size() + 1, "string");
-    s.bytes(v.data(), v.size());
-    s.number(std::uint8_t{0});
-  } else if constexpr (is_std_vector<V>::value) {
-    using E = typename V::value_type;
-    put_length(s, v.size(), "variable-size array");
-    if constexpr (is_number<E> && sizeof(E) == 1) {
-      s.bytes(v.data(), v.size());
-    } else if constexpr (is_number<E> && std::is_same_v<wire_t<E>, E>) {
-      s.numbers(v.data(), v.size());
-    } else {
-      for (const auto& e : v) put(s, e);
-    }
-  } else if constexpr (is_std_array<V>::value) {
-    using E = typename V::value_type;
-    if constexpr (is_number<E> && sizeof(E) == 1) {
-      s.bytes(v.data(), v.size());
-    } else if constexpr (is_number<E> && std::is_same_v<wire_t<E>, E>) {
-      s.numbers(v.data(), v.size());
-    } else {
-      for (const auto& e : v) put(s, e);
-    }
-  } else {
-    static_assert(Reflected<V>, "horus::lcm: not a reflected message or supported field type");
-    reflect::for_each_field(v, [&](std::string_view, const auto& f) { put(s, f); });
-  }
-}
-
-// ---------------------------------------------------------------------------------------------
-// Decoding.
-
-// Fewest bytes an encoded V can take: bounds a corrupt count before allocating.
-template <class V>
-constexpr std::size_t min_size() {
-  if constexpr (std::is_same_v<V, bool> || is_number<V> || std::is_enum_v<V>) {
-    return sizeof(wire_t<V>);
-  } else if constexpr (std::is_same_v<V, std::string>) {
-    return 5;
-  } else if constexpr (is_std_vector<V>::value) {
-    return 4;
-  } else if constexpr (is_std_array<V>::value) {
-    return std::tuple_size_v<V> * min_size<typename V::value_type>();
-  } else {
-    std::size_t n = 0;
-    reflect::for_each_field_desc<V>([&](const auto& fd) { n += min_size<typename std::remove_cvref_t<decltype(fd)>::type>(); });
-    return n;
-  }
-}
-
-using Path = codec::detail::Path;
 
 inline std::string hex64(std::uint64_t v) {
   static constexpr char kDigits[] = "0123456789abcdef";
@@ -349,52 +226,6 @@ inline std::string fingerprint_error(std::string_view type, std::uint64_t got, s
          " (a message of another LCM type on this channel, another version of the type, or not an LCM message)";
 }
 
-class Reader {
- public:
-  Reader(std::span<const std::byte> in, const ByteSink* byte_sink) noexcept
-      : sink(byte_sink), base_(in.data()), size_(in.size()) {}
-  std::size_t remaining() const noexcept { return size_ - pos_; }
-  const std::byte* here() const noexcept { return base_ + pos_; }
-  void skip(std::size_t n) noexcept { pos_ += n; }
-  template <class W>
-  bool number(W& v, const Path& path) {
-    if (sizeof(W) > remaining()) {
-      error = path.text() + ": needs " + std::to_string(sizeof(W)) + " bytes, " + std::to_string(remaining()) +
-              " remain (truncated message)";
-      return false;
-    }
-    std::memcpy(&v, base_ + pos_, sizeof(W));
-    v = to_big(v);
-    pos_ += sizeof(W);
-    return true;
-  }
-  std::string error;
-  const ByteSink* sink;
-
- private:
-  const std::byte* base_;
-  std::size_t size_;
-  std::size_t pos_ = 0;
-};
-
-// A length member: an int32 from 0 to what the remaining bytes can hold.
-inline bool get_length(Reader& r, std::size_t& n, std::size_t min_bytes, const Path& path) {
-  std::int32_t raw = 0;
-  if (!r.number(raw, path)) return false;
-  if (raw < 0) {
-    r.error = path.text() + ": length " + std::to_string(raw) + " is negative (corrupt message)";
-    return false;
-  }
-  n = static_cast<std::size_t>(raw);
-  if (n > r.remaining() / std::max<std::size_t>(min_bytes, 1)) {
-    r.error = path.text() + ": length " + std::to_string(raw) + " needs at least " +
-              std::to_string(n * std::max<std::size_t>(min_bytes, 1)) + " bytes, " + std::to_string(r.remaining()) +
-              " remain (corrupt or truncated message)";
-    return false;
-  }
-  return true;
-}
-
 // An enum's underlying integer, or the type itself.
 template <class V>
 struct unenum {
@@ -406,122 +237,119 @@ struct unenum<V> {
   using type = std::underlying_type_t<V>;
 };
 
-template <class V>
-bool get_scalar(Reader& r, V& v, const Path& path) {
-  wire_t<V> raw{};
-  if (!r.number(raw, path)) return false;
-  if constexpr (std::is_same_v<V, bool>) {
-    v = raw != 0;
-  } else if constexpr (std::is_enum_v<V> && idlgen::is_idl_enum<V>()) {
-    if (raw < 0 || static_cast<std::size_t>(raw) >= idlgen::idl_enum_count<V>()) {
-      r.error = path.text() + ": enum value " + std::to_string(raw) + ", expected 0.." +
-                std::to_string(idlgen::idl_enum_count<V>() - 1) + " (corrupt message or another version of the type)";
-      return false;
+template <class S>
+void put_length(S& s, std::size_t n, const char* what) {
+  if (n > map::kMaxLength)
+    throw std::length_error(std::string("horus::lcm::encode: a ") + what + " of " + std::to_string(n) +
+                            " elements; LCM lengths are int32 (at most 2^31 - 1)");
+  const auto v = static_cast<std::int32_t>(n);
+  s.swapped(&v, 1);
+}
+
+// A length member: an int32 from 0 to what the remaining bytes can hold.
+inline bool get_length(Reader& r, std::size_t& n, std::size_t min_bytes, const Path& path) {
+  std::int32_t raw = 0;
+  if (!r.number(raw, true)) return r.truncated(path, 4, "message");
+  if (raw < 0) return r.fail(path, ": length ", raw, " is negative (corrupt message)");
+  if (!r.fits(static_cast<std::uint64_t>(raw), min_bytes))
+    return r.too_many(path, "length", static_cast<std::uint64_t>(raw), min_bytes, "message");
+  n = static_cast<std::size_t>(raw);
+  return true;
+}
+
+/// LCM's primitives for the shared walk: big-endian numbers of the widths in lcm_mapping.hpp
+/// (unsigned types widened), int32 lengths, strings with their NUL, no padding.
+struct Format {
+  static constexpr std::string_view kNoun = "message";
+  static constexpr std::size_t kMinString = 5;
+  static constexpr std::size_t kPadding = 0;
+  static constexpr std::string_view kOutOfMemory = ": out of memory decoding ";
+  static constexpr std::string_view kLeftOver =
+      " bytes left over after the message (another version of the type, or a corrupt message)";
+  template <class V>
+  static constexpr bool block = false;
+  // Runs of numbers that travel as themselves (bytes, or numbers LCM does not widen).
+  template <class E>
+  static constexpr bool run = is_number<E> && (sizeof(E) == 1 || std::is_same_v<wire_t<E>, E>);
+  template <class V>
+  static constexpr std::size_t scalar_size = sizeof(wire_t<V>);
+
+  template <class S, class V>
+  static void put_scalar(S& s, const V& v) {
+    if constexpr (std::is_same_v<V, bool>) {
+      const auto b = static_cast<std::uint8_t>(v ? 1 : 0);
+      s.bytes(&b, 1);
+    } else {
+      const auto w = static_cast<wire_t<V>>(v);
+      s.swapped(&w, 1);
     }
-    v = static_cast<V>(raw);
-  } else {
-    using I = typename unenum<V>::type;
-    if constexpr (std::is_integral_v<I> && !std::is_same_v<wire_t<V>, I> && sizeof(wire_t<V>) > sizeof(I)) {
-      // A widened unsigned integer: the value must fit.
-      if (raw < 0 || static_cast<std::uint64_t>(raw) > std::numeric_limits<I>::max()) {
-        r.error = path.text() + ": value " + std::to_string(raw) + " is out of range for a " +
-                  std::to_string(sizeof(I) * 8) + "-bit unsigned field (expected 0.." +
-                  std::to_string(std::numeric_limits<I>::max()) + ")";
-        return false;
+  }
+  template <class S>
+  static void put_count(S& s, std::size_t n) {
+    put_length(s, n, "variable-size array");
+  }
+  template <class S>
+  static void put_string(S& s, const std::string& v) {
+    if (std::memchr(v.data(), '\0', v.size()) != nullptr)
+      throw std::invalid_argument("horus::lcm::encode: a string with a NUL byte inside; LCM strings end at the "
+                                  "first NUL, so it cannot be sent whole");
+    put_length(s, v.size() + 1, "string");
+    s.bytes(v.data(), v.size());
+    const std::uint8_t nul = 0;
+    s.bytes(&nul, 1);
+  }
+  template <class S, class E>
+  static void put_run(S& s, const E* p, std::size_t n) {
+    if constexpr (sizeof(E) == 1) s.bytes(p, n);
+    else s.swapped(p, n);
+  }
+
+  template <class V>
+  static bool get_scalar(Reader& r, V& v, const Path& path) {
+    wire_t<V> raw{};
+    if (!r.number(raw, true)) return r.truncated(path, sizeof(raw), kNoun);
+    if constexpr (std::is_same_v<V, bool>) {
+      v = raw != 0;  // C programs store booleans in an int8_t
+    } else if constexpr (std::is_enum_v<V> && idlgen::is_idl_enum<V>()) {
+      if (raw < 0 || static_cast<std::size_t>(raw) >= idlgen::idl_enum_count<V>())
+        return r.fail(path, ": enum value ", raw, ", expected 0..", idlgen::idl_enum_count<V>() - 1,
+                      " (corrupt message or another version of the type)");
+      v = static_cast<V>(raw);
+    } else {
+      using I = typename unenum<V>::type;
+      if constexpr (std::is_integral_v<I> && !std::is_same_v<wire_t<V>, I> && sizeof(wire_t<V>) > sizeof(I)) {
+        // A widened unsigned integer: the value must fit.
+        if (raw < 0 || static_cast<std::uint64_t>(raw) > std::numeric_limits<I>::max())
+          return r.fail(path, ": value ", raw, " is out of range for a ", sizeof(I) * 8,
+                        "-bit unsigned field (expected 0..", std::numeric_limits<I>::max(), ")");
       }
+      v = static_cast<V>(static_cast<I>(raw));
     }
-    v = static_cast<V>(static_cast<I>(raw));
+    return true;
   }
-  return true;
-}
-
-template <class E, class Out>
-bool get_numbers(Reader& r, Out* out, std::size_t n, const Path& path) {
-  if (n == 0) return true;  // out may be null (an empty vector)
-  if (n > r.remaining() / sizeof(E)) {
-    r.error = path.text() + ": needs " + std::to_string(n * sizeof(E)) + " bytes, " + std::to_string(r.remaining()) +
-              " remain (truncated message)";
-    return false;
+  static bool get_count(Reader& r, std::size_t& n, std::size_t min_bytes, const Path& path) {
+    return get_length(r, n, min_bytes, path);
   }
-  std::memcpy(out, r.here(), n * sizeof(E));
-  if constexpr (sizeof(E) > 1)
-    for (std::size_t i = 0; i < n; ++i) out[i] = to_big(out[i]);
-  r.skip(n * sizeof(E));
-  return true;
-}
-
-template <class V>
-bool get(Reader& r, V& v, const Path& path) {
-  if constexpr (std::is_same_v<V, bool> || is_number<V> || std::is_enum_v<V>) {
-    return get_scalar(r, v, path);
-  } else if constexpr (std::is_same_v<V, std::string>) {
+  static bool get_string(Reader& r, std::string& v, const Path& path) {
     std::size_t n = 0;
     if (!get_length(r, n, 1, path)) return false;
-    if (n == 0) {
-      r.error = path.text() + ": string length 0; LCM strings count their NUL, so the least is 1 (corrupt message)";
-      return false;
-    }
+    if (n == 0)
+      return r.fail(path, ": string length 0; LCM strings count their NUL, so the least is 1 (corrupt message)");
     const auto* p = reinterpret_cast<const char*>(r.here());
-    if (p[n - 1] != '\0') {
-      r.error = path.text() + ": a string of " + std::to_string(n) + " bytes without its NUL terminator (corrupt message)";
-      return false;
-    }
-    if (std::memchr(p, '\0', n - 1) != nullptr) {  // lcm-gen's C and C++ would read it shorter
-      r.error = path.text() + ": a string with a NUL byte inside (LCM strings end at the first NUL; corrupt message)";
-      return false;
-    }
+    if (p[n - 1] != '\0')
+      return r.fail(path, ": a string of ", n, " bytes without its NUL terminator (corrupt message)");
+    if (std::memchr(p, '\0', n - 1) != nullptr)  // lcm-gen's C and C++ would read it shorter
+      return r.fail(path, ": a string with a NUL byte inside (LCM strings end at the first NUL; corrupt message)");
     v.assign(p, n - 1);
     r.skip(n);
     return true;
-  } else if constexpr (is_std_vector<V>::value) {
-    using E = typename V::value_type;
-    std::size_t n = 0;
-    if (!get_length(r, n, min_size<E>(), path)) return false;
-    if constexpr (is_number<E> && sizeof(E) == 1) {
-      if constexpr (std::is_same_v<V, ByteBuffer>) {
-        if (r.sink != nullptr && r.sink->place != nullptr && !r.sink->place(r.sink->context, n, v)) {
-          r.error = path.text() + ": no buffer for " + std::to_string(n) + " bytes (every pool slot is in use)";
-          return false;
-        }
-      }
-      const auto* p = reinterpret_cast<const E*>(r.here());
-      v.assign(p, p + n);  // checked by get_length
-      r.skip(n);
-      return true;
-    } else if constexpr (is_number<E> && std::is_same_v<wire_t<E>, E>) {
-      if (n == 0) {
-        v.clear();
-        return true;
-      }
-      v.resize(n);
-      return get_numbers<E>(r, v.data(), n, path);
-    } else {
-      // Grow as elements decode: a corrupt length costs at most what the bytes can hold.
-      v.clear();
-      v.reserve(std::min<std::size_t>(n, 4096));
-      for (std::size_t i = 0; i < n; ++i) {
-        v.emplace_back();
-        if (!get(r, v.back(), Path{&path, {}, i})) return false;
-      }
-      return true;
-    }
-  } else if constexpr (is_std_array<V>::value) {
-    using E = typename V::value_type;
-    if constexpr (is_number<E> && (sizeof(E) == 1 || std::is_same_v<wire_t<E>, E>)) {
-      return get_numbers<E>(r, v.data(), v.size(), path);
-    } else {
-      for (std::size_t i = 0; i < v.size(); ++i)
-        if (!get(r, v[i], Path{&path, {}, i})) return false;
-      return true;
-    }
-  } else {
-    bool ok = true;
-    reflect::for_each_field(v, [&](std::string_view name, auto& f) {
-      if (ok) ok = get(r, f, Path{&path, name});
-    });
-    return ok;
   }
-}
+  template <class E>
+  static bool get_run(Reader& r, E* out, std::size_t n, const Path& path) {
+    if (!r.numbers(out, n, true)) return r.truncated(path, n * sizeof(E), kNoun);
+    return true;
+  }
+};
 
 }  // namespace detail
 
@@ -543,9 +371,9 @@ constexpr std::uint64_t fingerprint() {
 template <Reflected T>
   requires expressible<T>
 std::size_t encoded_size(const T& msg) {
-  detail::Counter c;
+  wire::Counter c;
   c.pos = 8;
-  detail::put(c, msg);
+  wire::put<detail::Format>(c, msg);
   return c.pos;
 }
 
@@ -554,9 +382,9 @@ template <Reflected T>
   requires expressible<T>
 std::size_t encode(const T& msg, std::span<std::byte> out) {
   static constexpr std::uint64_t kFingerprint = fingerprint<T>();
-  detail::Writer w(out.data(), out.size());
-  w.number(kFingerprint);
-  detail::put(w, msg);
+  wire::Writer w(out.data(), out.size(), "horus::lcm::encode: the output buffer is smaller than encoded_size(msg)");
+  w.swapped(&kFingerprint, 1);
+  wire::put<detail::Format>(w, msg);
   return w.pos;
 }
 
@@ -575,27 +403,14 @@ template <Reflected T>
   requires expressible<T> && std::is_default_constructible_v<T>
 std::expected<T, std::string> decode(std::span<const std::byte> in, const ByteSink* sink = nullptr) {
   static constexpr std::uint64_t kFingerprint = fingerprint<T>();
-  T msg{};
-  detail::Reader r(in, sink);
-  const detail::Path root{nullptr, type_name<T>()};
-  std::uint64_t fp = 0;
   if (in.size() < 8)
     return std::unexpected(std::string(type_name<T>()) + ": " + std::to_string(in.size()) +
                            " bytes, shorter than the 8-byte fingerprint (not an LCM message)");
-  r.number(fp, root);
-  if (fp != kFingerprint)
-    return std::unexpected(detail::fingerprint_error(type_name<T>(), fp, kFingerprint));
-  try {
-    if (!detail::get(r, msg, root)) return std::unexpected(std::move(r.error));
-  } catch (const std::bad_alloc&) {
-    return std::unexpected(std::string(type_name<T>()) + ": out of memory decoding " + std::to_string(in.size()) + " bytes");
-  } catch (const std::length_error& e) {
-    return std::unexpected(std::string(type_name<T>()) + ": " + e.what());
-  }
-  if (r.remaining() != 0)
-    return std::unexpected(std::string(type_name<T>()) + ": " + std::to_string(r.remaining()) +
-                           " bytes left over after the message (another version of the type, or a corrupt message)");
-  return msg;
+  detail::Reader r(in, sink);
+  std::uint64_t fp = 0;
+  r.number(fp, true);
+  if (fp != kFingerprint) return std::unexpected(detail::fingerprint_error(type_name<T>(), fp, kFingerprint));
+  return wire::decode_message<detail::Format, T>(r, in.size());
 }
 
 }  // namespace horus::lcm
