@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cstdlib>
 #include <string>
 #include <vector>
@@ -35,12 +36,15 @@ bool backend_available(const Backend& b) noexcept {
 }
 
 namespace {
-// The fleet transports HORUS_BACKEND may name: the registered ones, and the ones horus ships
-// (named in messages even when this build lacks them).
+// The transports horus ships, named in messages even when this build lacks them.
+constexpr std::array<std::string_view, 3> kShipped{Backend::CycloneDds.transport(), Backend::FastDds.transport(),
+                                                   Backend::Lcm.transport()};
+
+// The fleet transports HORUS_BACKEND may name: the registered ones, and the ones horus ships.
 std::string valid_backends() {
   std::string out = "auto, shm, inproc";
   auto names = net::transport_names();
-  for (std::string_view shipped : {"cyclonedds", "fastdds", "lcm"})
+  for (std::string_view shipped : kShipped)
     if (std::find(names.begin(), names.end(), shipped) == names.end()) names.emplace_back(shipped);
   for (std::size_t i = 0; i < names.size(); ++i) out += (i + 1 == names.size() ? " or " : ", ") + names[i];
   return out;
@@ -54,7 +58,7 @@ Result<Backend> backend_from_environment() {
   if (v == "auto" || v == "shm") return Backend::SharedMemory;
   if (v == "inproc") return Backend::InProcess;
   if (const auto* t = net::find_transport(v)) return Backend::network(t->name);
-  for (std::string_view shipped : {"cyclonedds", "fastdds", "lcm"})
+  for (std::string_view shipped : kShipped)
     if (v == shipped)
       return fail(Errc::Config, fmt::format("HORUS_BACKEND={}: this build of horus has no {} backend (its Debian "
                                             "package was missing when horus was built; scripts/install-deps.sh "

@@ -35,6 +35,30 @@ TestRing make_ring(std::uint32_t capacity, std::uint32_t payload_size) {
   return t;
 }
 
+// n readers (tokens 100, 101, ...) that have subscribed, and n writers (tokens 1, 2, ...) that
+// hold a lane; a subscription or lane refused is a test failure.
+template <class T>
+std::vector<RingReader<T>> subscribed_readers(const Ring& ring, int n) {
+  std::vector<RingReader<T>> readers;
+  readers.reserve(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    readers.emplace_back(ring, static_cast<std::uint64_t>(100 + i));
+    EXPECT_TRUE(readers.back().subscribe()) << "reader " << i;
+  }
+  return readers;
+}
+
+template <class T>
+std::vector<RingWriter<T>> writers_with_lanes(const Ring& ring, int n) {
+  std::vector<RingWriter<T>> writers;
+  writers.reserve(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    writers.emplace_back(ring, static_cast<std::uint64_t>(1 + i));
+    EXPECT_TRUE(writers.back().ensure_lane()) << "writer " << i;
+  }
+  return writers;
+}
+
 struct Msg {
   std::uint64_t seq;
   std::uint64_t writer;
@@ -145,20 +169,11 @@ TEST(RingProtocol, SeveralWritersAndReadersEachGetEveryMessageOnceInEachWritersO
   constexpr int kReaders = 3;
   constexpr std::uint64_t kCount = 4'000;
   auto t = make_ring(32, sizeof(Msg));
-  std::vector<RingReader<Msg>> readers;
-  readers.reserve(kReaders);
-  for (int i = 0; i < kReaders; ++i) {
-    readers.emplace_back(t.ring, 100 + i);
-    ASSERT_TRUE(readers.back().subscribe());
-  }
-  std::vector<RingWriter<Msg>> writers;
-  writers.reserve(kWriters);
+  auto readers = subscribed_readers<Msg>(t.ring, kReaders);
+  auto writers = writers_with_lanes<Msg>(t.ring, kWriters);
+  if (::testing::Test::HasFailure()) return;
   std::vector<std::uint32_t> lanes;
-  for (int i = 0; i < kWriters; ++i) {
-    writers.emplace_back(t.ring, 1 + i);
-    ASSERT_TRUE(writers.back().ensure_lane());
-    lanes.push_back(writers.back().lane());
-  }
+  for (const auto& w : writers) lanes.push_back(w.lane());
   std::atomic<int> done{0};
   std::atomic<int> writers_stuck{0};
   std::vector<Received> got(kReaders);
@@ -399,18 +414,9 @@ void stress_without_tearing(std::uint64_t per_writer) {
   constexpr int kWriters = 2;
   constexpr int kReaders = 2;
   auto t = make_ring(4, sizeof(T));
-  std::vector<RingReader<T>> readers;
-  readers.reserve(kReaders);
-  for (int i = 0; i < kReaders; ++i) {
-    readers.emplace_back(t.ring, 100 + i);
-    ASSERT_TRUE(readers.back().subscribe());
-  }
-  std::vector<RingWriter<T>> writers;
-  writers.reserve(kWriters);
-  for (int i = 0; i < kWriters; ++i) {
-    writers.emplace_back(t.ring, 1 + i);
-    ASSERT_TRUE(writers.back().ensure_lane());
-  }
+  auto readers = subscribed_readers<T>(t.ring, kReaders);
+  auto writers = writers_with_lanes<T>(t.ring, kWriters);
+  if (::testing::Test::HasFailure()) return;
   std::atomic<int> done{0};
   std::latch start(kWriters + kReaders);
   struct Seen {
