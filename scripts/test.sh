@@ -15,7 +15,7 @@ ctest --preset default -j "$jobs"
 
 if [ "${HORUS_TEST_TSAN:-1}" != "0" ]; then
   cmake --preset tsan
-  cmake --build --preset tsan -j "$jobs" --target test_ring_protocol test_topic_concurrency test_topic_serialized test_pool \
+  cmake --build --preset tsan -j "$jobs" --target test_ring_protocol test_topic_concurrency test_wait test_topic_serialized test_pool \
     test_lcm_transport
   # TSan needs the classic address-space layout; kernels with more mmap randomness break it.
   run=()

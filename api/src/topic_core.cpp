@@ -229,7 +229,9 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
     } catch (const std::bad_alloc&) {
       return fail(Errc::Io, fmt::format("topic '{}': cannot map {} bytes for its ring", name, bytes));
     }
-    core->ring = shm::Ring::format(core->region.data(), cfg);
+    shm::RingConfig heap_cfg = cfg;
+    heap_cfg.process_private = true;  // this process's memory: private futex wake-ups
+    core->ring = shm::Ring::format(core->region.data(), heap_cfg);
     if (pool_bytes != 0) core->pool = shm::Pool::format(static_cast<std::byte*>(core->region.data()) + ring_bytes, pool_cfg);
   }
   // Drop entries of topics that were closed, so the map does not grow without bound.

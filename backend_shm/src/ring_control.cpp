@@ -1,9 +1,13 @@
 // The ring's control plane: claiming and releasing lanes and subscriber entries (by owner
 // token), and the counts. The protocol and the memory order are described in ring_control.hpp.
+#include <signal.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <atomic>
 #include <optional>
 
+#include "horus/shm/doorbell.hpp"
 #include "horus/shm/ring_control.hpp"
 #include "horus/shm/ring_layout.hpp"
 
@@ -56,8 +60,41 @@ void Ring::remove_subscriber(std::uint32_t entry, std::uint64_t token) const noe
   // Losses it never noticed stay counted in the topic's total after it leaves.
   const std::uint64_t unnoticed = unnoticed_losses(entry);
   if (unnoticed != 0) hdr_->dropped_total.fetch_add(unnoticed, std::memory_order_relaxed);
+  // A waiter that died blocked (or a handle closed while another thread waits on it) leaves
+  // its registrations: they leave the doorbell's count with the entry (doorbell.hpp).
+  if (const std::uint32_t w = e.waiting.count.exchange(0, std::memory_order_acq_rel); w != 0)
+    hdr_->doorbell.waiters.fetch_sub(w, std::memory_order_acq_rel);
   e.owner.store(0, std::memory_order_relaxed);
   e.state.store(SubscriberEntry::kFree, std::memory_order_release);
+}
+
+bool Ring::wake_waiters() const noexcept { return ring_doorbell(hdr_->doorbell); }
+
+std::uint32_t Ring::reap_dead_waiters() const noexcept {
+  std::uint32_t reaped = 0;
+  const std::uint32_t hwm = hdr_->sub_hwm.load(std::memory_order_acquire);
+  for (std::uint32_t i = 0; i < hwm; ++i) {
+    auto& share = subs_[i].waiting;
+    if (share.count.load(std::memory_order_relaxed) == 0) continue;
+    const pid_t pid = share.pid.load(std::memory_order_relaxed);
+    if (pid <= 0 || ::kill(pid, 0) == 0 || errno != ESRCH) continue;
+    if (const std::uint32_t n = share.count.exchange(0, std::memory_order_acq_rel); n != 0) {
+      hdr_->doorbell.waiters.fetch_sub(n, std::memory_order_acq_rel);
+      reaped += n;
+    }
+  }
+  return reaped;
+}
+
+bool Ring::has_unread(std::uint32_t entry, std::uint64_t token) const noexcept {
+  const auto& e = subs_[entry];
+  if (e.state.load(std::memory_order_acquire) != SubscriberEntry::kActive ||
+      e.owner.load(std::memory_order_relaxed) != token)
+    return false;
+  const std::uint32_t lanes = hdr_->lane_hwm.load(std::memory_order_acquire);
+  for (std::uint32_t l = 0; l < lanes; ++l)
+    if (lanes_[l].head.load(std::memory_order_acquire) > e.cursor[l].load(std::memory_order_relaxed)) return true;
+  return false;
 }
 
 std::uint32_t Ring::publisher_count() const noexcept {

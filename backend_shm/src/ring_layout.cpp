@@ -62,6 +62,7 @@ Ring Ring::format(void* region, const RingConfig& cfg) noexcept {
   hdr->subs_offset = o.subs;
   hdr->slots_offset = o.slots;
   hdr->total_size = o.total;
+  hdr->doorbell.process_private = cfg.process_private ? 1u : 0u;
   for (std::uint32_t i = 0; i < kMaxPublishers; ++i) new (base + o.lanes + i * sizeof(LaneHeader)) LaneHeader{};
   for (std::uint32_t i = 0; i < kMaxSubscribers; ++i)
     new (base + o.subs + i * sizeof(SubscriberEntry)) SubscriberEntry{};

@@ -4,4 +4,6 @@
 #include "horus/error.hpp"
 #include "horus/messages.hpp"
 #include "horus/metrics.hpp"
+#include "horus/executor.hpp"
 #include "horus/topic.hpp"
+#include "horus/waitset.hpp"

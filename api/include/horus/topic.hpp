@@ -36,6 +36,7 @@
 #include "horus/backend.hpp"
 #include "horus/detail/network_bridge.hpp"
 #include "horus/detail/slots.hpp"
+#include "horus/detail/waiting.hpp"
 #include "horus/error.hpp"
 #include "horus/loan.hpp"
 #include "horus/message_traits.hpp"
@@ -44,6 +45,8 @@
 #include "horus/qos.hpp"
 
 namespace horus {
+
+class WaitSet;  // horus/waitset.hpp
 
 template <class T>
 class Topic {
@@ -168,6 +171,34 @@ class Topic {
     return std::nullopt;
   }
 
+  /// Takes the next unread message, waiting up to `timeout` for one (every scope and backend:
+  /// in-process, shared memory, and what arrives from DDS or LCM). A zero or negative timeout
+  /// does not wait (as recv()). The thread sleeps in the kernel (futex) until a publisher's
+  /// send wakes it; it uses no CPU while it waits. Nothing when the timeout passed.
+  std::optional<T> recv_for(std::chrono::nanoseconds timeout) {
+    if (!port_.ensure_subscribed()) [[unlikely]] {
+      ++port_.counters.recv_failures;
+      return std::nullopt;
+    }
+    if (auto m = codec_.read(port_)) return m;
+    if (timeout > std::chrono::nanoseconds::zero()) {
+      const auto deadline = detail::deadline_after(timeout);
+      while (wait_until(deadline))
+        if (auto m = codec_.read(port_)) return m;  // (a corrupt slot skipped: wait again)
+    }
+    ++port_.counters.recv_failures;
+    return std::nullopt;
+  }
+
+  /// Waits up to `timeout` until recv() would return a message; true then. A zero or negative
+  /// timeout does not wait (as has_message()).
+  bool wait_for(std::chrono::nanoseconds timeout) {
+    port_.received = true;
+    if (!port_.ensure_subscribed()) return false;
+    if (port_.reader().has_message()) return true;
+    return timeout > std::chrono::nanoseconds::zero() && wait_until(detail::deadline_after(timeout));
+  }
+
   /// Same as recv(), for symmetry with try_send().
   [[gnu::always_inline]] std::optional<T> try_recv() { return recv(); }
 
@@ -232,6 +263,10 @@ class Topic {
   /// metrics().decode_failures(); messages the backend lost (LCM: datagrams the kernel
   /// dropped) count in dropped_count().
   std::uint64_t network_errors() const noexcept { return core().net ? detail::network_errors(core()) : 0; }
+  /// Threads (of every process on the host) blocked in recv_for/wait_for/WaitSet on this topic.
+  std::uint32_t waiter_count() const noexcept {
+    return core().ring.doorbell().waiters.load(std::memory_order_relaxed);
+  }
   /// Slots per publisher lane.
   std::uint32_t capacity() const noexcept { return core().ring.capacity(); }
   /// Largest message the topic carries: sizeof(T), for a serialized T the largest encoded
@@ -244,6 +279,19 @@ class Topic {
 
  private:
   explicit Topic(std::shared_ptr<detail::TopicCore> core) : port_(std::move(core)) {}
+
+  friend class WaitSet;
+  // What a WaitSet waits on: this handle's subscriber entry. The handle stays a subscriber
+  // (its first send does not make it a pure publisher). Nothing when no entry is free.
+  std::optional<detail::WaitTarget> wait_target() {
+    port_.received = true;
+    if (!port_.ensure_subscribed()) return std::nullopt;
+    return detail::WaitTarget{port_.shared_core(), port_.reader().entry(), port_.reader().token()};
+  }
+
+  bool wait_until(detail::WaitClock::time_point deadline) {
+    return detail::wait_for_unread(core(), port_.reader().entry(), port_.reader().token(), deadline);
+  }
 
   detail::TopicCore& core() const noexcept { return port_.core(); }
 

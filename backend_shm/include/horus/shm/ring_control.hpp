@@ -56,6 +56,8 @@
 // - RingHeader::latest_lane. Relaxed: a hint. read_latest() checks it against the heads it
 //   loaded (acquire) and reads the message through its slot's sequence, so a stale hint only
 //   chooses another lane's newest message.
+// - RingHeader::doorbell and SubscriberEntry::waiters: doorbell.hpp (a publisher's relaxed
+//   load of the waiter count after its head store, and the bounded race that leaves).
 // - RingHeader::dropped_total: relaxed read-modify-writes, a statistic no decision reads.
 // - lane_hwm / sub_hwm: raised with an acq_rel compare-exchange once the lane or entry is
 //   claimed, loaded with acquire. They only bound loops: a reader that loads a value from
@@ -121,6 +123,18 @@ class Ring {
   std::uint64_t undetected_losses() const noexcept;
   /// Messages sent on the topic since it was created (all lanes).
   std::uint64_t total_sent() const noexcept;
+
+  // --- Event-driven receive (doorbell.hpp) ---
+
+  Doorbell& doorbell() const noexcept { return hdr_->doorbell; }
+  /// A send found waiters: wakes them if they may be asleep (RingWriter's slow path); false
+  /// when nobody was armed.
+  bool wake_waiters() const noexcept;
+  /// Takes back the doorbell registrations of waiters whose process is gone; returns how many.
+  std::uint32_t reap_dead_waiters() const noexcept;
+  /// True when subscriber `entry`, still owned by `token`, has a message it has not read (a
+  /// lane head past its published cursor); false once the entry has another owner.
+  bool has_unread(std::uint32_t entry, std::uint64_t token) const noexcept;
 
  private:
   explicit Ring(std::byte* base) noexcept;

@@ -4,7 +4,7 @@
 // pointers), so the same code runs on heap memory (process-local topics) and on
 // a POSIX shared-memory segment:
 //
-//   offset 0                    RingHeader            (constants, lane/sub high-water marks, drop total)
+//   offset 0                    RingHeader            (constants, lane/sub high-water marks, drop total, doorbell)
 //   lanes_offset                LaneHeader[kMaxPublishers]    (owner token, head)
 //   subs_offset                 SubscriberEntry[kMaxSubscribers] (state, owner, cursor per lane)
 //   slots_offset                lane 0: slot[capacity] | lane 1: slot[capacity] | ...
@@ -24,6 +24,8 @@
 #include <cstdint>
 #include <type_traits>
 
+#include "horus/shm/doorbell.hpp"
+
 namespace horus::shm {
 
 inline constexpr std::size_t kCacheLine = 64;
@@ -34,7 +36,7 @@ inline constexpr std::uint32_t kMaxSubscribers = 64;
 /// Largest number of slots per lane.
 inline constexpr std::uint32_t kMaxCapacity = 1u << 20;
 inline constexpr std::uint64_t kRingMagic = 0x3147'4E52'5355'524FULL;  // "ORUSRNG1"
-inline constexpr std::uint32_t kLayoutVersion = 1;
+inline constexpr std::uint32_t kLayoutVersion = 2;  // 2: the doorbell (event-driven receive)
 
 struct alignas(kCacheLine) RingHeader {
   // Written once by format(), read-only afterwards.
@@ -55,6 +57,9 @@ struct alignas(kCacheLine) RingHeader {
   alignas(kCacheLine) std::atomic<std::uint32_t> latest_lane;
   // Written by subscribers when they detect a loss (slow path only).
   alignas(kCacheLine) std::atomic<std::uint64_t> dropped_total;
+  // Blocked receivers (doorbell.hpp). Read by every send; written only as receivers go to
+  // sleep and wake up, so polling topics keep it in every core's cache. A 128-byte pair of its own.
+  alignas(2 * kCacheLine) Doorbell doorbell;
 };
 
 struct alignas(kCacheLine) LaneHeader {
@@ -66,6 +71,8 @@ struct alignas(kCacheLine) SubscriberEntry {
   static constexpr std::uint32_t kFree = 0, kClaiming = 1, kActive = 2;
   std::atomic<std::uint32_t> state;
   std::atomic<std::uint64_t> owner;
+  // This entry's share of the doorbell's waiters (taken back when a dead owner is reaped).
+  WaitShare waiting;
   // Next sequence the subscriber will read, per lane (published after each read).
   alignas(kCacheLine) std::atomic<std::uint64_t> cursor[kMaxPublishers];
 };
@@ -93,6 +100,7 @@ struct RingConfig {
   std::uint32_t capacity = 0;      // slots per lane (power of two)
   std::uint32_t payload_size = 0;  // bytes per message
   std::uint64_t type_hash = 0;
+  bool process_private = false;  // a heap region (one process): private futex wake-ups
 };
 
 }  // namespace horus::shm

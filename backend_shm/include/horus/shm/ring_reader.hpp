@@ -89,6 +89,8 @@ class RingReader {
     shared_cursor_ = nullptr;
   }
 
+  /// This reader's subscriber entry (when subscribed): what a blocked receiver registers with.
+  std::uint32_t entry() const noexcept { return entry_; }
   /// The token of this reader's subscriber entry (0 when not subscribed).
   std::uint64_t token() const noexcept { return subscribed() ? token_ : 0; }
 

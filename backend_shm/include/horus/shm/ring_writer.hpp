@@ -1,6 +1,7 @@
 // RingWriter<T>: the sending hot path. One writer owns one lane (claimed on first use), so a
-// send is a slot write (seqlock_slot.hpp) and a store of the lane's head: no lock, no
-// read-modify-write, no syscall. A full lane overwrites its oldest slot; has_space() tells
+// send is a slot write (seqlock_slot.hpp), a store of the lane's head and a load of the
+// doorbell's waiter count: no lock, no read-modify-write, no syscall (unless a receiver
+// sleeps: doorbell.hpp). A full lane overwrites its oldest slot; has_space() tells
 // a caller that wants to wait instead (the subscribers' cursors, ring_control.hpp).
 #pragma once
 
@@ -38,6 +39,7 @@ class RingWriter {
       slots_ = o.slots_;
       lane_head_ = o.lane_head_;
       latest_ = o.latest_;
+      waiters_ = o.waiters_;
       space_limit_ = o.space_limit_;
       claim_head_ = o.claim_head_;
       sent_before_ = o.sent_before_;
@@ -66,6 +68,7 @@ class RingWriter {
     claim_head_ = head_;
     mask_ = ring_.capacity() - 1;
     latest_ = &ring_.header().latest_lane;
+    waiters_ = &ring_.doorbell().waiters;
     space_limit_ = 0;
     slots_ = ring_.lane_slots(lane_);
     return true;
@@ -140,6 +143,16 @@ class RingWriter {
     // Only written when it changes, so one publisher keeps this line shared and cheap.
     // Relaxed: a hint read_latest() checks against the heads (ring_control.hpp).
     if (latest_->load(std::memory_order_relaxed) != lane_) latest_->store(lane_, std::memory_order_relaxed);
+    // Blocked receivers: one relaxed load when there are none (doorbell.hpp).
+    if (waiters_->load(std::memory_order_relaxed) != 0) [[unlikely]] wake();
+  }
+
+  // Waiters registered: wake them if armed; a count that stays registered and unarmed for
+  // kStaleCheck sends may be a waiter that died (doorbell.hpp).
+  [[gnu::noinline]] void wake() noexcept {
+    if (ring_.wake_waiters() || ++unarmed_ < kStaleCheck) return;
+    unarmed_ = 0;
+    ring_.reap_dead_waiters();
   }
 
   // Hot fields first, read on every write.
@@ -148,9 +161,11 @@ class RingWriter {
   std::uint64_t mask_ = 0;
   std::atomic<std::uint64_t>* lane_head_ = nullptr;
   std::atomic<std::uint32_t>* latest_ = nullptr;
+  const std::atomic<std::uint32_t>* waiters_ = nullptr;  // the ring's doorbell
   std::uint32_t lane_ = kNoLane;
   std::uint64_t space_limit_ = 0;  // head values below this are known to have space
   std::uint64_t claim_head_ = 0;   // head when the lane was claimed
+  std::uint32_t unarmed_ = 0;      // sends that found waiters but nobody armed (wake())
   std::uint64_t sent_before_ = 0;  // messages sent through lanes released earlier
   Ring ring_;
   std::uint64_t token_ = 0;

@@ -1,0 +1,143 @@
+// horus::Executor (horus/executor.hpp): a WaitSet over its topics and its stop trigger, with
+// the next timer's deadline as the wait's deadline.
+#include "horus/executor.hpp"
+
+#include <exception>
+#include <string>
+
+#include "horus/log.hpp"
+
+namespace horus {
+
+using Clock = std::chrono::steady_clock;
+
+Executor::Executor() {
+  stop_id_ = waitset_.attach(stop_);
+  wake_id_ = waitset_.attach(wake_);
+}
+
+Executor::~Executor() = default;
+
+Executor::Id Executor::add_subscription(WaitSet::Id wid, std::shared_ptr<Handler> handler) {
+  std::lock_guard lock(mutex_);
+  handlers_.emplace(wid, std::move(handler));
+  return wid;
+}
+
+Executor::Id Executor::every(std::chrono::nanoseconds period, std::function<void()> callback) {
+  if (period <= std::chrono::nanoseconds::zero())
+    throw Exception(Error(Errc::InvalidArgument, "Executor::every: period " + std::to_string(period.count()) +
+                                                     " ns; expected a positive period"));
+  if (!callback) throw Exception(Error(Errc::InvalidArgument, "Executor::every: empty callback"));
+  auto t = std::make_shared<Timer>(Timer{0, period, Clock::now() + period, std::move(callback)});
+  Id id = 0;
+  {
+    std::lock_guard lock(mutex_);
+    id = t->id = next_timer_id_++;
+    timers_.emplace(id, std::move(t));
+  }
+  wake_.fire();  // a spin waiting with an older deadline takes this timer's
+  return id;
+}
+
+bool Executor::remove(Id id) {
+  std::shared_ptr<Handler> gone;  // destroyed outside the lock
+  {
+    std::lock_guard lock(mutex_);
+    if (timers_.erase(id) != 0) return true;
+    auto it = handlers_.find(id);
+    if (it == handlers_.end()) return false;
+    gone = std::move(it->second);
+    handlers_.erase(it);
+  }
+  waitset_.detach(id);
+  return true;
+}
+
+void Executor::callback_failed(std::string_view what) noexcept {
+  const std::uint64_t n = errors_.fetch_add(1, std::memory_order_relaxed) + 1;
+  if (n != 1 && n % 1024 != 0) return;
+  std::string why = "an unknown exception";
+  try {
+    throw;
+  } catch (const std::exception& e) {
+    why = e.what();
+  } catch (...) {
+  }
+  try {
+    detail::log().error("executor: a callback for {} threw: {} ({} callbacks have thrown so far); going on", what, why, n);
+  } catch (...) {
+  }
+}
+
+Clock::time_point Executor::next_timer() const {
+  std::lock_guard lock(mutex_);
+  auto next = Clock::time_point::max();
+  for (const auto& [id, t] : timers_) next = std::min(next, t->next);
+  return next;
+}
+
+std::size_t Executor::run_due_timers() {
+  std::vector<std::shared_ptr<Timer>> due;
+  const auto now = Clock::now();
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& [id, t] : timers_)
+      if (t->next <= now) due.push_back(t);
+  }
+  for (auto& t : due) {
+    // The next tick on the fixed grid; ticks already past are skipped, not run in a burst.
+    t->next += t->period;
+    if (t->next <= now) {
+      const auto behind = (now - t->next) / t->period + 1;
+      overruns_.fetch_add(static_cast<std::uint64_t>(behind), std::memory_order_relaxed);
+      t->next += behind * t->period;
+    }
+    try {
+      t->callback();
+    } catch (...) {
+      callback_failed("a timer");
+    }
+  }
+  runs_.fetch_add(due.size(), std::memory_order_relaxed);
+  return due.size();
+}
+
+std::size_t Executor::spin_once(std::chrono::nanoseconds timeout) {
+  std::lock_guard spinning(spin_mutex_);
+  std::size_t n = run_due_timers();
+  const auto deadline = std::min(n != 0 ? Clock::now() : detail::deadline_after(timeout), next_timer());
+  const WaitSet::Result r = waitset_.wait_until(deadline);
+  if (r.contains(wake_id_)) wake_.reset();  // before the timers are looked at again
+  for (const WaitSet::Id id : r.ready) {
+    if (id == stop_id_ || id == wake_id_) continue;
+    std::shared_ptr<Handler> h;
+    {
+      std::lock_guard lock(mutex_);
+      auto it = handlers_.find(id);
+      if (it == handlers_.end()) continue;  // removed meanwhile
+      h = it->second;
+    }
+    n += h->drain(*this, kBatch);
+  }
+  return n + run_due_timers();
+}
+
+void Executor::spin_until(Clock::time_point deadline) {
+  for (;;) {
+    if (stop_.fired()) {
+      stop_.reset();
+      return;
+    }
+    const auto now = Clock::now();
+    if (now >= deadline) return;
+    spin_once(deadline == Clock::time_point::max() ? std::chrono::nanoseconds::max()
+                                                   : std::chrono::duration_cast<std::chrono::nanoseconds>(deadline - now));
+  }
+}
+
+void Executor::spin() { spin_until(Clock::time_point::max()); }
+
+void Executor::spin_for(std::chrono::nanoseconds duration) { spin_until(detail::deadline_after(duration)); }
+
+}  // namespace horus

@@ -1,0 +1,88 @@
+// Doorbell: how a blocked receiver is woken, through the memory its topic lives in.
+//
+// Every ring has one Doorbell in its header (a shared segment's or a heap region's), and a
+// horus::Trigger has one in process memory. Two words:
+//   waiters  threads that are about to sleep or asleep on it. A publisher loads it (relaxed)
+//            after every send: zero, the common case, costs that load and nothing else.
+//   word     the futex word. Its low bit is "armed": a waiter sets it just before it sleeps,
+//            and the first publisher that finds it set clears it (compare-exchange, the epoch
+//            goes up) and makes the one FUTEX_WAKE. Later publishers find it clear and make no
+//            syscall until a waiter has looked at the ring again and re-armed it, so a waiter
+//            that is busy draining messages costs its publishers nothing.
+//
+// The waiting side (wait_any): register in `waiters`, arm each word, look at the ring(s)
+// again, then sleep in FUTEX_WAIT (one doorbell) or futex_waitv (several), with an absolute
+// CLOCK_MONOTONIC deadline. Every return (woken, the word changed under us, a signal, a
+// timeout, a spurious wake-up) goes back to looking at the rings; only a ready item or the
+// deadline ends the wait.
+//
+// The one race, and how it is bounded. A publisher does not fence between its store of the
+// lane head and its load of `waiters` (that fence would cost more than the whole send), so a
+// publisher that loaded `waiters` just before a waiter registered may skip the wake while its
+// head store is still on its way to memory, after the waiter has looked. Such a store becomes
+// visible within nanoseconds (a store buffer drains by itself, and on any interrupt or context
+// switch), so the waiter's first sleep after registering is capped at kFirstSlice: the message
+// is then seen at most that late, never lost, whatever the timeout. Any later publisher sees
+// the registration (it is a read-modify-write) and rings.
+//
+// Processes that die. A waiter killed while blocked leaves its registration in the count; the
+// count is kept per subscriber entry too (a WaitShare: how many, and the waiting pid), and it is
+// taken back (a) by the segment's reaper when it frees a dead subscriber's entry
+// (Ring::remove_subscriber), and (b) by a publisher that keeps finding waiters registered but
+// nobody armed: every kStaleCheck such sends it looks for shares of processes that are gone
+// (Ring::reap_dead_waiters). The kernel forgets a dead process's futex waits by itself. A publisher killed between clearing
+// the armed bit and its FUTEX_WAKE leaves the waiter asleep until its first slice or its
+// deadline, never longer.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <span>
+
+namespace horus::shm {
+
+struct Doorbell {
+  std::atomic<std::uint32_t> waiters{0};
+  std::atomic<std::uint32_t> word{0};  // the futex word; low bit: armed
+  std::uint32_t process_private = 0;   // 1: memory of one process only (FUTEX_PRIVATE_FLAG)
+  std::uint32_t reserved = 0;
+};
+static_assert(std::atomic<std::uint32_t>::is_always_lock_free);
+
+/// One subscriber entry's part of a doorbell's waiter count (it lives in the entry).
+struct WaitShare {
+  std::atomic<std::uint32_t> count{0};
+  std::atomic<std::int32_t> pid{0};  // the process that registered last
+};
+
+/// Sends that find waiters registered but the doorbell not armed, before a publisher looks for
+/// waiters that died (a waiter draining messages is registered and unarmed too).
+inline constexpr std::uint32_t kStaleCheck = 4096;
+
+/// A waiter's first sleep after it registered is at most this long (see the race above).
+inline constexpr std::chrono::microseconds kFirstSlice{200};
+
+/// The publisher's side, after a send found waiters: clears the armed bit and wakes every
+/// sleeper; false (and nothing done) when nobody is armed. Async-signal-safe (atomics and one
+/// syscall).
+bool ring_doorbell(Doorbell& bell) noexcept;
+
+/// One thing a waiter waits for: a doorbell, an optional per-entry share of its count (a
+/// subscriber entry's; null for a Trigger), and the test that ends the wait.
+struct WaitItem {
+  Doorbell* bell = nullptr;
+  WaitShare* share = nullptr;
+  bool (*ready)(const void* ctx) noexcept = nullptr;
+  const void* ctx = nullptr;
+};
+
+/// The largest number of items one wait_any call sleeps on (the kernel's futex_waitv limit).
+inline constexpr std::size_t kMaxWaitItems = 128;
+
+/// Waits until some item is ready or `deadline` passes (steady_clock::time_point::max(): no
+/// deadline). Returns whether an item was ready when it returned. At most kMaxWaitItems items.
+/// Kernels without futex_waitv (before 5.16) wait on several items in 1 ms slices.
+bool wait_any(std::span<const WaitItem> items, std::chrono::steady_clock::time_point deadline) noexcept;
+
+}  // namespace horus::shm

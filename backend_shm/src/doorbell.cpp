@@ -1,0 +1,125 @@
+// The futex calls behind Doorbell (the protocol is described in doorbell.hpp).
+#include "horus/shm/doorbell.hpp"
+
+#include <linux/futex.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <climits>
+#include <ctime>
+
+namespace horus::shm {
+
+namespace {
+using Clock = std::chrono::steady_clock;  // CLOCK_MONOTONIC, the clock the futex deadlines use
+
+int private_flag(const Doorbell& b) noexcept { return b.process_private != 0 ? FUTEX_PRIVATE_FLAG : 0; }
+
+timespec to_timespec(Clock::time_point t) noexcept {
+  const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
+  return timespec{static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
+}
+
+std::atomic<bool> g_no_waitv{false};  // the kernel said ENOSYS once
+
+// Sleeps on one word while it holds `val`, until `until` (max: no deadline).
+void sleep_one(Doorbell& b, std::uint32_t val, Clock::time_point until) noexcept {
+  const timespec ts = to_timespec(until);
+  ::syscall(SYS_futex, &b.word, FUTEX_WAIT_BITSET | private_flag(b), val,
+            until == Clock::time_point::max() ? nullptr : &ts, nullptr, FUTEX_BITSET_MATCH_ANY);
+}
+
+// Sleeps on several words at once; false when the kernel has no futex_waitv.
+bool sleep_many(const futex_waitv* v, std::size_t n, Clock::time_point until) noexcept {
+  const timespec ts = to_timespec(until);
+  const long r = ::syscall(SYS_futex_waitv, v, static_cast<unsigned>(n), 0u,
+                           until == Clock::time_point::max() ? nullptr : &ts, CLOCK_MONOTONIC);
+  if (r < 0 && errno == ENOSYS) {
+    g_no_waitv.store(true, std::memory_order_relaxed);
+    return false;
+  }
+  return true;
+}
+
+bool any_ready(std::span<const WaitItem> items) noexcept {
+  return std::any_of(items.begin(), items.end(), [](const WaitItem& it) { return it.ready(it.ctx); });
+}
+
+// Sets the armed bit (unless set) and returns the word's value with it.
+std::uint32_t arm(Doorbell& b) noexcept {
+  std::uint32_t w = b.word.load(std::memory_order_acquire);
+  while ((w & 1u) == 0 && !b.word.compare_exchange_weak(w, w | 1u, std::memory_order_seq_cst)) {
+  }
+  return w | 1u;
+}
+
+// Takes one registration back: from the entry's share when it still holds it (the reaper or
+// an unsubscribe may have taken the whole share back already, with the count).
+void unregister(const WaitItem& it) noexcept {
+  if (it.share != nullptr) {
+    std::uint32_t n = it.share->count.load(std::memory_order_relaxed);
+    while (n != 0 && !it.share->count.compare_exchange_weak(n, n - 1, std::memory_order_acq_rel)) {
+    }
+    if (n == 0) return;
+  }
+  it.bell->waiters.fetch_sub(1, std::memory_order_acq_rel);
+}
+}  // namespace
+
+bool ring_doorbell(Doorbell& bell) noexcept {
+  std::uint32_t w = bell.word.load(std::memory_order_relaxed);
+  while ((w & 1u) != 0) {
+    // Disarm and start a new epoch: exactly one publisher makes the syscall.
+    if (bell.word.compare_exchange_weak(w, w + 1, std::memory_order_acq_rel, std::memory_order_relaxed)) {
+      ::syscall(SYS_futex, &bell.word, FUTEX_WAKE | private_flag(bell), INT_MAX, nullptr, nullptr, 0);
+      return true;
+    }
+  }
+  return false;
+}
+
+bool wait_any(std::span<const WaitItem> items, Clock::time_point deadline) noexcept {
+  if (any_ready(items)) return true;
+  if (items.empty() || Clock::now() >= deadline) return false;
+  const std::size_t n = std::min(items.size(), kMaxWaitItems);
+  for (std::size_t i = 0; i < n; ++i) {
+    items[i].bell->waiters.fetch_add(1, std::memory_order_seq_cst);
+    if (items[i].share != nullptr) {
+      items[i].share->pid.store(static_cast<std::int32_t>(::getpid()), std::memory_order_relaxed);
+      items[i].share->count.fetch_add(1, std::memory_order_seq_cst);
+    }
+  }
+  futex_waitv v[kMaxWaitItems];
+  bool ready = false;
+  bool first = true;
+  for (;;) {
+    for (std::size_t i = 0; i < n; ++i) {
+      Doorbell& b = *items[i].bell;
+      v[i] = futex_waitv{arm(b), reinterpret_cast<std::uintptr_t>(&b.word),
+                         static_cast<std::uint32_t>(FUTEX_32 | private_flag(b)), 0};
+    }
+    // Armed: any publisher from now on rings. Look once more before sleeping.
+    if (any_ready(items)) {
+      ready = true;
+      break;
+    }
+    const auto now = Clock::now();
+    if (now >= deadline) break;
+    auto until = deadline;
+    if (first) until = std::min(deadline, now + kFirstSlice);
+    first = false;
+    if (n == 1) {
+      sleep_one(*items[0].bell, static_cast<std::uint32_t>(v[0].val), until);
+    } else if (g_no_waitv.load(std::memory_order_relaxed) || !sleep_many(v, n, until)) {
+      // No futex_waitv: sleep on the first item, looking at the others every millisecond.
+      sleep_one(*items[0].bell, static_cast<std::uint32_t>(v[0].val),
+                std::min(until, Clock::now() + std::chrono::milliseconds(1)));
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) unregister(items[i]);
+  return ready;
+}
+
+}  // namespace horus::shm
