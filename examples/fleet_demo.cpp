@@ -10,6 +10,7 @@
 //
 // Topics, per robot i: fleet.robot_<i>.heartbeat (Heartbeat, 2 Hz), fleet.robot_<i>.pose
 // (Pose2D, --pose-rate Hz), fleet.robot_<i>.tf (TransformStamped, half the pose rate).
+// Robots and the monitor run on a horus::Executor: timers and message callbacks, no sleep loop.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
@@ -25,6 +26,7 @@
 #include <string>
 #include <thread>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "horus/horus.hpp"
@@ -44,8 +46,13 @@ std::uint64_t now_ns() {
 
 std::string topic_of(int robot, const char* what) { return fmt::format("fleet.robot_{}.{}", robot, what); }
 
-// One robot: drives a circle and publishes at fixed rates until `stop`.
-void run_robot(int id, double pose_rate_hz, const std::atomic<bool>& stop) {
+horus::Executor* g_executor = nullptr;  // what SIGINT/SIGTERM stop
+extern "C" void on_signal(int) {
+  if (g_executor != nullptr) g_executor->stop();  // async-signal-safe
+}
+
+// One robot: drives a circle and publishes at fixed rates (an Executor timer) for `duration`.
+void run_robot(int id, double pose_rate_hz, std::chrono::nanoseconds duration) {
   horus::Topic<msg::Heartbeat> heartbeat(topic_of(id, "heartbeat"));
   horus::Topic<msg::Pose2D> pose(topic_of(id, "pose"));
   horus::Topic<msg::TransformStamped> tf(topic_of(id, "tf"));
@@ -55,12 +62,12 @@ void run_robot(int id, double pose_rate_hz, const std::atomic<bool>& stop) {
   hb.node_id = static_cast<std::uint32_t>(id);
 
   const auto start = clock_type::now();
-  const auto period = std::chrono::duration_cast<clock_type::duration>(std::chrono::duration<double>(1.0 / pose_rate_hz));
   const int ticks_per_heartbeat = std::max(1, static_cast<int>(pose_rate_hz / 2.0));
   const double radius = 1.0 + id;
   const double omega = 0.3 / radius;  // ~0.3 m/s along the circle
-  auto next = start;
-  for (int tick = 0; !stop.load(std::memory_order_relaxed); ++tick) {
+  int tick = 0;
+  horus::Executor ex;
+  ex.every(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(1.0 / pose_rate_hz)), [&] {
     const double t = std::chrono::duration<double>(clock_type::now() - start).count();
     const double angle = omega * t + id * std::numbers::pi / 3.0;
     auto p = msg::Pose2D::make(radius * std::cos(angle), radius * std::sin(angle), angle + std::numbers::pi / 2.0);
@@ -77,43 +84,43 @@ void run_robot(int id, double pose_rate_hz, const std::atomic<bool>& stop) {
       hb.timestamp_ns = p.timestamp_ns;
       heartbeat.send(hb);
     }
-    next += period;
-    std::this_thread::sleep_until(next);
-  }
+    ++tick;
+  });
+  g_executor = &ex;
+  ex.spin_for(duration);
+  g_executor = nullptr;
 }
 
-// What the monitor knows of one robot.
+// What the monitor knows of one robot (its callbacks on the monitor's Executor fill it in).
 struct RobotView {
   int id = 0;
-  horus::Topic<msg::Heartbeat> heartbeat;
-  horus::Topic<msg::Pose2D> pose;
-  horus::Topic<msg::TransformStamped> tf;
+  horus::Executor::Id heartbeat = 0, pose = 0, tf = 0;  // the subscriptions
   msg::Heartbeat last_hb{};
   msg::Pose2D last_pose{};
   std::uint64_t hb_count = 0, pose_count = 0, tf_count = 0;
   std::uint64_t hb_prev = 0, pose_prev = 0, tf_prev = 0;
 
-  explicit RobotView(int i)
-      : id(i), heartbeat(topic_of(i, "heartbeat")), pose(topic_of(i, "pose")), tf(topic_of(i, "tf")) {}
-
-  void drain() {
-    while (auto m = heartbeat.recv()) {
-      last_hb = *m;
+  RobotView(int i, horus::Executor& ex) : id(i) {
+    heartbeat = ex.subscribe<msg::Heartbeat>(topic_of(i, "heartbeat"), [this](const msg::Heartbeat& m) {
+      last_hb = m;
       ++hb_count;
-    }
-    while (auto m = pose.recv()) {
-      last_pose = *m;
+    });
+    pose = ex.subscribe<msg::Pose2D>(topic_of(i, "pose"), [this](const msg::Pose2D& m) {
+      last_pose = m;
       ++pose_count;
-    }
-    while (tf.recv()) ++tf_count;
+    });
+    tf = ex.subscribe<msg::TransformStamped>(topic_of(i, "tf"), [this](const msg::TransformStamped&) { ++tf_count; });
   }
+  RobotView(const RobotView&) = delete;
 };
 
-void print_table(std::vector<RobotView>& fleet, double elapsed_s, double interval_s) {
+void print_table(const horus::Executor& ex, std::vector<std::unique_ptr<RobotView>>& fleet, double elapsed_s,
+                 double interval_s) {
   fmt::print("\nt = {:5.1f} s\n", elapsed_s);
   fmt::print("{:<9} {:>5} {:>6} {:>8} {:>8} {:>9} {:>8} {:>7} {:>7} {:>6}\n", "robot", "alive", "hb seq", "x [m]",
              "y [m]", "th [rad]", "pose Hz", "tf Hz", "hb Hz", "drops");
-  for (auto& r : fleet) {
+  for (auto& rp : fleet) {
+    auto& r = *rp;
     const auto rate = [&](std::uint64_t now, std::uint64_t& prev) {
       const double hz = static_cast<double>(now - prev) / interval_s;
       prev = now;
@@ -122,7 +129,9 @@ void print_table(std::vector<RobotView>& fleet, double elapsed_s, double interva
     const double pose_hz = rate(r.pose_count, r.pose_prev);
     const double tf_hz = rate(r.tf_count, r.tf_prev);
     const double hb_hz = rate(r.hb_count, r.hb_prev);
-    const std::uint64_t drops = r.heartbeat.dropped_count() + r.pose.dropped_count() + r.tf.dropped_count();
+    std::uint64_t drops = 0;
+    for (const auto id : {r.heartbeat, r.pose, r.tf})
+      if (auto m = ex.metrics(id)) drops += m->messages_dropped();
     fmt::print("{:<9} {:>5} {:>6} {:>8.2f} {:>8.2f} {:>9.2f} {:>8.1f} {:>7.1f} {:>7.1f} {:>6}\n",
                r.hb_count ? std::string(r.last_hb.node_name_str()) : fmt::format("robot_{}", r.id),
                r.last_hb.alive ? "yes" : "no", r.last_hb.sequence, r.last_pose.x, r.last_pose.y,
@@ -130,9 +139,6 @@ void print_table(std::vector<RobotView>& fleet, double elapsed_s, double interva
   }
   std::fflush(stdout);
 }
-
-std::atomic<bool> g_stop{false};
-extern "C" void on_signal(int) { g_stop.store(true); }
 
 // Starts `fleet_demo --role robot --id <id> ...` as a child process.
 pid_t spawn_robot(int id, double pose_rate_hz, double duration_s) {
@@ -149,32 +155,33 @@ pid_t spawn_robot(int id, double pose_rate_hz, double duration_s) {
 }
 
 int run_monitor(int robots, double duration_s, double print_interval_s, const std::function<void(double)>& tick) {
-  // The monitor subscribes before the robots start (in launch mode), so it sees their first messages.
-  std::vector<RobotView> fleet;
-  fleet.reserve(static_cast<std::size_t>(robots));
-  for (int i = 1; i <= robots; ++i) fleet.emplace_back(i);
+  // The monitor subscribes before the robots start (in launch mode), so it sees their first
+  // messages. It runs on an Executor: callbacks per message, timers for the table and the
+  // launcher's checks; it sleeps between messages instead of polling.
+  horus::Executor ex;
+  std::vector<std::unique_ptr<RobotView>> fleet;
+  for (int i = 1; i <= robots; ++i) fleet.push_back(std::make_unique<RobotView>(i, ex));
   fmt::print("horus fleet demo: {} robots, {} backend, {:.0f} s\n", robots,
-             horus::to_string(fleet.front().pose.backend()), duration_s);
+             horus::to_string(horus::backend_from_environment().value_or(horus::Backend::SharedMemory)), duration_s);
   if (tick) tick(-1.0);  // start the robots now
   const auto start = clock_type::now();
-  const auto interval = std::chrono::duration_cast<clock_type::duration>(std::chrono::duration<double>(print_interval_s));
-  auto next_print = start + interval;
-  const auto end = start + std::chrono::duration_cast<clock_type::duration>(std::chrono::duration<double>(duration_s));
-  while (clock_type::now() < end && !g_stop.load()) {
-    for (auto& r : fleet) r.drain();
-    if (tick) tick(std::chrono::duration<double>(clock_type::now() - start).count());
-    if (clock_type::now() >= next_print) {
-      print_table(fleet, std::chrono::duration<double>(clock_type::now() - start).count(), print_interval_s);
-      next_print += interval;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  for (auto& r : fleet) r.drain();
+  const auto seconds = [](double s) {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(s));
+  };
+  ex.every(seconds(print_interval_s), [&] {
+    print_table(ex, fleet, std::chrono::duration<double>(clock_type::now() - start).count(), print_interval_s);
+  });
+  if (tick) ex.every(std::chrono::milliseconds(50), [&] { tick(std::chrono::duration<double>(clock_type::now() - start).count()); });
+  g_executor = &ex;
+  ex.spin_for(seconds(duration_s));
+  g_executor = nullptr;
+  while (ex.spin_once(std::chrono::nanoseconds::zero()) != 0) {
+  }  // what is still waiting
   int silent = 0;
   std::uint64_t total = 0;
   for (const auto& r : fleet) {
-    total += r.hb_count + r.pose_count + r.tf_count;
-    if (r.pose_count == 0 || r.hb_count == 0 || r.tf_count == 0) ++silent;
+    total += r->hb_count + r->pose_count + r->tf_count;
+    if (r->pose_count == 0 || r->hb_count == 0 || r->tf_count == 0) ++silent;
   }
   fmt::print("\nreceived {} messages from {} robots; {} silent\n", total, robots, silent);
   return silent == 0 ? 0 : 1;
@@ -206,15 +213,8 @@ int main(int argc, char** argv) {
 
   try {
     if (role == "robot") {
-      std::atomic<bool> stop{false};
-      std::thread timer([&] {
-        const auto end = clock_type::now() + std::chrono::duration_cast<clock_type::duration>(
-                                                 std::chrono::duration<double>(duration_s));
-        while (clock_type::now() < end && !g_stop.load()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-        stop = true;
-      });
-      run_robot(id, pose_rate_hz, stop);
-      timer.join();
+      run_robot(id, pose_rate_hz,
+                std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(duration_s)));
       return 0;
     }
     if (role == "monitor") return run_monitor(robots, duration_s, print_interval_s, {});

@@ -159,7 +159,8 @@ int cmd_echo(const std::string& ns, const std::string& name, bool json, long cou
         std::fflush(stdout);
         ++printed;
       } else {
-        std::this_thread::sleep_for(std::chrono::microseconds(200));
+        // Sleeps until a message comes (at most 100 ms, to see Ctrl-C and the deadline).
+        reader.wait(std::min<clock_type::duration>(std::chrono::milliseconds(100), deadline - clock_type::now()));
       }
     }
     return (count > 0 && printed < count) ? 1 : 0;
@@ -186,7 +187,7 @@ int cmd_hz(const std::string& ns, const std::string& name, double duration_s, do
         ++total;
         got = true;
       }
-      if (!got) std::this_thread::sleep_for(std::chrono::microseconds(100));
+      if (!got) reader.wait(std::min<clock_type::duration>(std::chrono::milliseconds(100), next_report - clock_type::now()));
       if (clock_type::now() >= next_report) {
         next_report += std::chrono::duration_cast<clock_type::duration>(std::chrono::duration<double>(window_s));
         if (periods.empty()) {

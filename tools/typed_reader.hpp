@@ -3,6 +3,7 @@
 // type in typed_reader_*.cpp (two files, so the build compiles the halves in parallel).
 #pragma once
 
+#include <chrono>
 #include <memory>
 #include <optional>
 #include <string>
@@ -17,6 +18,8 @@ class TypedReader {
   virtual std::optional<std::string> recv_text(bool json) = 0;
   /// Takes the next message without printing it; false when there was none.
   virtual bool recv_any() = 0;
+  /// Sleeps until a message is waiting or `timeout` passes (Topic::wait_for); true: one is.
+  virtual bool wait(std::chrono::nanoseconds timeout) = 0;
 };
 
 /// Opens topic `name` (shared memory) as the standard message called `type_name`. Nothing, with

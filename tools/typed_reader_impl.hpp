@@ -19,6 +19,7 @@ class ReaderOf final : public TypedReader {
     return json ? horus::to_json(*m).dump() : horus::log_summary(*m);
   }
   bool recv_any() override { return topic_.recv().has_value(); }
+  bool wait(std::chrono::nanoseconds timeout) override { return topic_.wait_for(timeout); }
 
  private:
   Topic<T> topic_;

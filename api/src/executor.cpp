@@ -54,6 +54,13 @@ bool Executor::remove(Id id) {
   return true;
 }
 
+std::optional<TopicMetrics> Executor::metrics(Id id) const {
+  std::lock_guard lock(mutex_);
+  auto it = handlers_.find(id);
+  if (it == handlers_.end()) return std::nullopt;
+  return it->second->metrics();
+}
+
 void Executor::callback_failed(std::string_view what) noexcept {
   const std::uint64_t n = errors_.fetch_add(1, std::memory_order_relaxed) + 1;
   if (n != 1 && n % 1024 != 0) return;

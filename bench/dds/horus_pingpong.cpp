@@ -16,8 +16,9 @@
 //   RESULT impl=horus-<backend> type=<type> n=<n> p50_ns=.. p99_ns=.. p999_ns=.. mean_ns=.. [lost=k]
 // with one-way latency = RTT / 2; sink prints
 //   RESULT impl=.. type=.. mode=tput received=<n> seconds=<s> rate=<msgs/s> mbps=<MB/s>
-// counting from the first message to the stop marker the source sends after <seconds>. A receiving handle polls (recv() does not block), yielding
-// the CPU between polls so the backend's threads run.
+// counting from the first message to the stop marker the source sends after <seconds>. A receiving
+// handle blocks in recv_for (it sleeps until the backend's receive thread writes a message into
+// its ring), as the raw baselines block in a waitset or poll().
 #include <poll.h>
 #include <unistd.h>
 
@@ -95,16 +96,13 @@ int pong(const std::string& type, double seconds) {
   std::printf("ready\n");
   std::fflush(stdout);
   const auto end = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
-  std::uint32_t idle = 0;
   while (Clock::now() < end) {
-    if (auto m = in->recv()) {
+    if (auto m = in->recv_for(std::chrono::milliseconds(100))) {
       if (seq_of(*m) == kStop) return 0;
       out->send(*m);
-      idle = 0;
       continue;
     }
-    if ((++idle & 0x3fff) == 0 && stdin_closed()) return 0;
-    std::this_thread::yield();
+    if (stdin_closed()) return 0;
   }
   return 0;
 }
@@ -131,9 +129,10 @@ int ping(const std::string& type, const std::string& impl, long n, long warmup) 
       out->send(probe);
       bool answered = false;
       const auto until = Clock::now() + std::chrono::milliseconds(200);
-      while (!answered && Clock::now() < until) {
-        if (auto m = in->recv()) answered = seq_of(*m) == kProbe + k;
-        else std::this_thread::yield();
+      while (!answered) {
+        auto m = in->recv_for(until - Clock::now());
+        if (!m) break;
+        answered = seq_of(*m) == kProbe + k;
       }
       if (answered) break;
     }
@@ -158,12 +157,9 @@ int ping(const std::string& type, const std::string& impl, long n, long warmup) 
     bool got = false;
     const auto give_up = t0 + std::chrono::seconds(2);
     while (!got) {
-      if (auto m = in->recv()) {
-        got = seq_of(*m) == seq;  // skip stale ones
-        continue;
-      }
-      if (Clock::now() > give_up) break;
-      std::this_thread::yield();
+      auto m = in->recv_for(give_up - Clock::now());
+      if (!m) break;
+      got = seq_of(*m) == seq;  // skip stale ones
     }
     const auto t1 = Clock::now();
     if (i < warmup) continue;
@@ -212,11 +208,8 @@ int sink(const std::string& type, const std::string& impl, double seconds) {
   std::uint64_t received = 0, bytes = 0;
   Clock::time_point first{}, last{};
   while (Clock::now() < end) {
-    auto m = in->recv();
-    if (!m) {
-      std::this_thread::yield();
-      continue;
-    }
+    auto m = in->recv_for(std::chrono::milliseconds(100));
+    if (!m) continue;
     if (seq_of(*m) == kStop) break;
     last = Clock::now();
     if (received++ == 0) first = last;

@@ -82,6 +82,32 @@ INSTANTIATE_TEST_SUITE_P(Backends, DdsPairs,
 
 class DdsBackend : public DdsTest, public ::testing::WithParamInterface<Backend> {};
 
+TEST_P(DdsBackend, ABlockedRecvForWakesForEachMessageFromAnotherProcess) {
+  REQUIRE_BACKEND(GetParam());
+  const auto name = horus_test::unique_name("wait");
+  auto sub = horus::Topic<horus::msg::Pose2D>::open(name, on(GetParam()));
+  ASSERT_TRUE(sub) << sub.error().message();
+  Peer peer(GetParam(), {"publish-pose", name, "60"});  // a Pose2D every 20 ms
+  ASSERT_TRUE(peer.ready());
+  auto first = sub->recv_for(20s);
+  ASSERT_TRUE(first) << "nothing from the peer in 20 s";
+  // Each recv_for sleeps until the transport's receive thread writes the next one into the ring.
+  const auto t0 = std::chrono::steady_clock::now();
+  double last = first->x;
+  int got = 0;
+  for (; got < 10; ++got) {
+    auto m = sub->recv_for(5s);
+    if (!m) break;
+    EXPECT_GT(m->x, last);
+    last = m->x;
+  }
+  const auto took = std::chrono::steady_clock::now() - t0;
+  EXPECT_EQ(got, 10);
+  EXPECT_GE(took, 100ms) << "ten messages 20 ms apart came at once: recv_for did not wait for them";
+  EXPECT_EQ(sub->waiter_count(), 0u);
+  EXPECT_EQ(peer.stop(), 0);
+}
+
 TEST_P(DdsBackend, HandlesOfOneProcessGetEachMessageOnce) {
   REQUIRE_BACKEND(GetParam());
   const auto name = horus_test::unique_name("dds.once");

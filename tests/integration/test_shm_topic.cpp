@@ -15,6 +15,7 @@
 #include <thread>
 #include <vector>
 
+#include "horus/msg/geometry.hpp"
 #include "horus/shm/shm_segment.hpp"
 #include "horus/topic.hpp"
 #include "process_support.hpp"
@@ -268,6 +269,101 @@ TEST_F(ShmTopic, APublisherKilledWhileSendingNeverDeliversATornMessage) {
   while (auto m = sub->recv()) last = m;
   ASSERT_TRUE(last);
   EXPECT_EQ(last->publisher, 999u);
+}
+
+// -- Event-driven receive between processes (doorbell.hpp) -----------------------------------
+
+// Bounded wait until a condition holds (a publisher waits for the other process to be asleep).
+template <class P>
+bool eventually(P pred, std::chrono::milliseconds limit) {
+  const horus_test::Deadline d(limit);
+  while (!pred()) {
+    if (d.expired()) return false;
+    std::this_thread::sleep_for(std::chrono::microseconds(100));
+  }
+  return true;
+}
+
+TEST_F(ShmTopic, AProcessBlockedInRecvForIsWokenByEachOfAHundredSendsExactly) {
+  const auto name = horus_test::unique_name("wake");
+  Pipe ready;
+  const pid_t child = spawn([&] {
+    Topic<Stamp> sub(name);
+    ready.signal();
+    for (std::uint64_t i = 0; i < 100; ++i) {
+      auto m = sub.recv_for(std::chrono::seconds(10));
+      if (!m) return 3;                           // a wake-up was lost
+      if (m->seq != i || !m->intact()) return 4;  // out of order or torn
+    }
+    return sub.recv_for(std::chrono::milliseconds(50)) ? 5 : 0;  // 5: more than 100
+  });
+  ASSERT_TRUE(ready.wait());
+  Topic<Stamp> pub(name);
+  int slept = 0;
+  for (std::uint64_t i = 0; i < 100; ++i) {
+    // The receiver sleeps in the kernel before each message: every one is a real wake-up.
+    if (eventually([&] { return pub.waiter_count() == 1; }, std::chrono::milliseconds(2000))) ++slept;
+    pub.send(Stamp::make(1, i));
+  }
+  EXPECT_EQ(wait_for(child), 0);
+  EXPECT_GE(slept, 95) << "the receiver was seldom blocked: the test did not test wake-ups";
+  EXPECT_EQ(pub.waiter_count(), 0u);
+}
+
+TEST_F(ShmTopic, AWaiterKilledWhileBlockedLeavesNoRegistrationBehind) {
+  const auto name = horus_test::unique_name("killedwaiter");
+  Topic<horus::msg::CmdVel> pub(name);
+  Pipe ready;
+  const pid_t child = spawn([&] {
+    Topic<horus::msg::CmdVel> sub(name);
+    ready.signal();
+    (void)sub.recv_for(std::chrono::seconds(60));
+    return 0;
+  });
+  ASSERT_TRUE(ready.wait());
+  ASSERT_TRUE(eventually([&] { return pub.waiter_count() == 1; }, std::chrono::milliseconds(10000)));
+  ::kill(child, SIGKILL);
+  EXPECT_EQ(wait_for(child), 128 + SIGKILL);
+  // The first send wakes nobody (and disarms); the count is taken back by the sends that keep
+  // finding it registered and unarmed (kStaleCheck), without a syscall each.
+  for (std::uint32_t i = 0; i <= horus::shm::kStaleCheck + 1 && pub.waiter_count() != 0; ++i)
+    pub.send(horus::msg::CmdVel::make(1.0f, 0.0f));
+  EXPECT_EQ(pub.waiter_count(), 0u);
+  // A new waiter is woken as before.
+  Topic<horus::msg::CmdVel> sub(name);
+  std::thread t([&] {
+    eventually([&] { return pub.waiter_count() == 1; }, std::chrono::milliseconds(5000));
+    pub.send(horus::msg::CmdVel::make(2.0f, 0.0f));
+  });
+  auto m = sub.recv_for(std::chrono::seconds(10));
+  t.join();
+  ASSERT_TRUE(m);
+  EXPECT_FLOAT_EQ(m->linear, 2.0f);
+}
+
+TEST_F(ShmTopic, APublisherKilledNeverKeepsAWaiterPastItsTimeout) {
+  const auto name = horus_test::unique_name("killedpub");
+  Topic<horus::msg::CmdVel> sub(name);
+  Pipe ready;
+  const pid_t child = spawn([&] {
+    Topic<horus::msg::CmdVel> pub(name);
+    pub.send(horus::msg::CmdVel::make(1.0f, 0.0f));
+    ready.signal();
+    for (;;) std::this_thread::sleep_for(std::chrono::seconds(1));
+  });
+  ASSERT_TRUE(ready.wait());
+  ASSERT_TRUE(sub.recv_for(std::chrono::seconds(10)));
+  std::thread killer([&] {
+    eventually([&] { return sub.waiter_count() == 1; }, std::chrono::milliseconds(5000));
+    ::kill(child, SIGKILL);
+  });
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_FALSE(sub.recv_for(std::chrono::milliseconds(300)));
+  const auto took = std::chrono::steady_clock::now() - t0;
+  killer.join();
+  EXPECT_EQ(wait_for(child), 128 + SIGKILL);
+  EXPECT_GE(took, std::chrono::milliseconds(300));
+  EXPECT_LT(took, std::chrono::seconds(3));
 }
 
 }  // namespace

@@ -33,12 +33,14 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string_view>
 #include <utility>
 #include <vector>
 
 #include "horus/backend.hpp"
 #include "horus/error.hpp"
+#include "horus/metrics.hpp"
 #include "horus/topic.hpp"
 #include "horus/waitset.hpp"
 
@@ -90,6 +92,10 @@ class Executor {
   /// Makes spin()/spin_for() return. Async-signal-safe.
   void stop() noexcept { stop_.fire(); }
 
+  /// The metrics of a subscription's topic handle (messages received, dropped, ...); nothing
+  /// for an unknown id or a timer.
+  std::optional<TopicMetrics> metrics(Id id) const;
+
   /// Callbacks that threw (each logged).
   std::uint64_t callback_errors() const noexcept { return errors_.load(std::memory_order_relaxed); }
   /// Callbacks run so far (topics and timers).
@@ -102,6 +108,7 @@ class Executor {
     virtual ~Handler() = default;
     // Handles up to `max` waiting messages; returns how many.
     virtual std::size_t drain(Executor& ex, std::size_t max) = 0;
+    virtual TopicMetrics metrics() const = 0;
   };
   template <class T, class F>
   struct Subscription final : Handler {
@@ -122,6 +129,7 @@ class Executor {
       ex.runs_.fetch_add(n, std::memory_order_relaxed);
       return n;
     }
+    TopicMetrics metrics() const override { return topic.metrics(); }
     Topic<T> topic;
     F callback;
   };
