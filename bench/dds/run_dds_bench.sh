@@ -4,12 +4,13 @@
 # settings (UDP only, no shared memory), in the same run, on one host (loopback) and between
 # two network-namespace hosts joined by a veth pair (root needed for that part).
 #
-#   bench/dds/run_dds_bench.sh [--quick] [--local-only] [--rounds N] [--build-dir DIR]
+#   bench/dds/run_dds_bench.sh [--quick] [--local-only] [--poll] [--rounds N] [--build-dir DIR]
 #
 # Prints one table per setting: one-way latency (RTT/2) p50 / p99 / p99.9 in microseconds, the
 # median over rounds (raw and horus alternate), and horus p50 / raw p50; then throughput
 # (messages and MB per second a sink receives from a source sending back to back, reliable).
-# Every receiver polls (BENCH_POLL=1 for the raw programs: horus's recv() does not block).
+# Every receiver blocks: the raw programs in a waitset (dds_waitset_wait / WaitSet::wait), horus in
+# recv_for. --poll makes the raw programs poll instead (BENCH_POLL=1), as horus did before recv_for.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 build="$here/../../build/default"
@@ -20,16 +21,16 @@ while [ $# -gt 0 ]; do
   case "$1" in
     --quick) quick=1 ;;
     --local-only) local_only=1 ;;
+    --poll) export BENCH_POLL=1 ;;
     --rounds) rounds="$2"; shift ;;
     --build-dir) build="$2"; shift ;;
-    *) echo "usage: $0 [--quick] [--local-only] [--rounds N] [--build-dir DIR]" >&2; exit 2 ;;
+    *) echo "usage: $0 [--quick] [--local-only] [--poll] [--rounds N] [--build-dir DIR]" >&2; exit 2 ;;
   esac
   shift
 done
 bin="$build/bench"
 domain=$(( 1 + $$ % 200 ))
 if [ "$quick" = 1 ]; then n_small=2000; n_image=30; rounds=1; tput_s=1; else n_small=20000; n_image=200; tput_s=3; fi
-export BENCH_POLL=1
 
 impls=()
 [ -x "$bin/raw-cyclone-pingpong" ] && impls+=("raw-cyclone")

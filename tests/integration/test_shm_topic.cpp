@@ -349,7 +349,8 @@ TEST_F(ShmTopic, APublisherKilledNeverKeepsAWaiterPastItsTimeout) {
     Topic<horus::msg::CmdVel> pub(name);
     pub.send(horus::msg::CmdVel::make(1.0f, 0.0f));
     ready.signal();
-    for (;;) std::this_thread::sleep_for(std::chrono::seconds(1));
+    for (int i = 0; i < 600; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));  // until killed
+    return 0;
   });
   ASSERT_TRUE(ready.wait());
   ASSERT_TRUE(sub.recv_for(std::chrono::seconds(10)));

@@ -39,7 +39,6 @@ class RingWriter {
       slots_ = o.slots_;
       lane_head_ = o.lane_head_;
       latest_ = o.latest_;
-      waiters_ = o.waiters_;
       space_limit_ = o.space_limit_;
       claim_head_ = o.claim_head_;
       sent_before_ = o.sent_before_;
@@ -68,7 +67,6 @@ class RingWriter {
     claim_head_ = head_;
     mask_ = ring_.capacity() - 1;
     latest_ = &ring_.header().latest_lane;
-    waiters_ = &ring_.doorbell().waiters;
     space_limit_ = 0;
     slots_ = ring_.lane_slots(lane_);
     return true;
@@ -144,7 +142,16 @@ class RingWriter {
     // Relaxed: a hint read_latest() checks against the heads (ring_control.hpp).
     if (latest_->load(std::memory_order_relaxed) != lane_) latest_->store(lane_, std::memory_order_relaxed);
     // Blocked receivers: one relaxed load when there are none (doorbell.hpp).
-    if (waiters_->load(std::memory_order_relaxed) != 0) [[unlikely]] wake();
+    if (waiters()->load(std::memory_order_relaxed) != 0) [[unlikely]] wake();
+  }
+
+  // The doorbell's waiter count, found from latest_ (both in the ring header): one load fewer
+  // per send than a pointer of its own.
+  const std::atomic<std::uint32_t>* waiters() const noexcept {
+    constexpr std::ptrdiff_t kFromLatest = static_cast<std::ptrdiff_t>(offsetof(RingHeader, doorbell) +
+                                                                       offsetof(Doorbell, waiters)) -
+                                           static_cast<std::ptrdiff_t>(offsetof(RingHeader, latest_lane));
+    return reinterpret_cast<const std::atomic<std::uint32_t>*>(reinterpret_cast<const std::byte*>(latest_) + kFromLatest);
   }
 
   // Waiters registered: wake them if armed; a count that stays registered and unarmed for
@@ -161,7 +168,6 @@ class RingWriter {
   std::uint64_t mask_ = 0;
   std::atomic<std::uint64_t>* lane_head_ = nullptr;
   std::atomic<std::uint32_t>* latest_ = nullptr;
-  const std::atomic<std::uint32_t>* waiters_ = nullptr;  // the ring's doorbell
   std::uint32_t lane_ = kNoLane;
   std::uint64_t space_limit_ = 0;  // head values below this are known to have space
   std::uint64_t claim_head_ = 0;   // head when the lane was claimed
