@@ -63,9 +63,10 @@ Trigger::Trigger() : state_(std::make_shared<State>()) { state_->bell.process_pr
 
 void Trigger::fire() noexcept {
   state_->fired.store(true, std::memory_order_seq_cst);
-  // Waiters arm the doorbell, then look at `fired`: this fence pairs with theirs, so either
-  // they see the flag or this call sees them armed (no bounded race, unlike a publisher's).
-  std::atomic_thread_fence(std::memory_order_seq_cst);
+  // Waiters arm the doorbell (a seq_cst compare-exchange), then look at `fired` (seq_cst): with
+  // this seq_cst store and load, either they see the flag or this load sees them armed (no
+  // bounded race, unlike a publisher's). ring_doorbell's own load sees this value or a later one.
+  (void)state_->bell.word.load(std::memory_order_seq_cst);
   shm::ring_doorbell(state_->bell);
 }
 
@@ -95,7 +96,7 @@ struct WaitSet::State {
   // Wakes waits so that they take the list again (or see `closed`).
   void changed() noexcept {
     generation.fetch_add(1, std::memory_order_seq_cst);
-    std::atomic_thread_fence(std::memory_order_seq_cst);
+    (void)bell.word.load(std::memory_order_seq_cst);  // pairs with the waiters' arming (Trigger::fire)
     shm::ring_doorbell(bell);
   }
   // Drops attachments whose topic handle was destroyed (mutex held).

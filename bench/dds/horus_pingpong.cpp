@@ -18,7 +18,8 @@
 //   RESULT impl=.. type=.. mode=tput received=<n> seconds=<s> rate=<msgs/s> mbps=<MB/s>
 // counting from the first message to the stop marker the source sends after <seconds>. A receiving
 // handle blocks in recv_for (it sleeps until the backend's receive thread writes a message into
-// its ring), as the raw baselines block in a waitset or poll().
+// its ring), as the raw baselines block in a waitset or poll(); BENCH_POLL=1 makes it poll recv()
+// (yielding between polls), as the raw programs then poll too.
 #include <poll.h>
 #include <unistd.h>
 
@@ -79,6 +80,23 @@ horus::Result<horus::Topic<T>> open(const std::string& name, std::uint32_t capac
   return horus::Topic<T>::open(name, o);
 }
 
+// The next message within `timeout`: recv_for, or with BENCH_POLL=1 recv() in a loop yielding
+// between empty polls (as the raw programs poll with BENCH_POLL=1).
+template <class Handle>
+auto receive(Handle& in, Clock::duration timeout) {
+  static const bool poll = [] {
+    const char* v = std::getenv("BENCH_POLL");
+    return v != nullptr && std::string(v) == "1";
+  }();
+  if (!poll) return in.recv_for(timeout);
+  const auto until = Clock::now() + timeout;
+  for (;;) {
+    if (auto m = in.recv()) return m;
+    if (Clock::now() >= until) return decltype(in.recv()){};
+    std::this_thread::yield();
+  }
+}
+
 bool stdin_closed() {
   pollfd p{0, POLLIN, 0};
   char c;
@@ -97,7 +115,7 @@ int pong(const std::string& type, double seconds) {
   std::fflush(stdout);
   const auto end = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(seconds));
   while (Clock::now() < end) {
-    if (auto m = in->recv_for(std::chrono::milliseconds(100))) {
+    if (auto m = receive(*in, std::chrono::milliseconds(100))) {
       if (seq_of(*m) == kStop) return 0;
       out->send(*m);
       continue;
@@ -130,7 +148,7 @@ int ping(const std::string& type, const std::string& impl, long n, long warmup) 
       bool answered = false;
       const auto until = Clock::now() + std::chrono::milliseconds(200);
       while (!answered) {
-        auto m = in->recv_for(until - Clock::now());
+        auto m = receive(*in, until - Clock::now());
         if (!m) break;
         answered = seq_of(*m) == kProbe + k;
       }
@@ -157,7 +175,7 @@ int ping(const std::string& type, const std::string& impl, long n, long warmup) 
     bool got = false;
     const auto give_up = t0 + std::chrono::seconds(2);
     while (!got) {
-      auto m = in->recv_for(give_up - Clock::now());
+      auto m = receive(*in, give_up - Clock::now());
       if (!m) break;
       got = seq_of(*m) == seq;  // skip stale ones
     }
@@ -208,7 +226,7 @@ int sink(const std::string& type, const std::string& impl, double seconds) {
   std::uint64_t received = 0, bytes = 0;
   Clock::time_point first{}, last{};
   while (Clock::now() < end) {
-    auto m = in->recv_for(std::chrono::milliseconds(100));
+    auto m = receive(*in, std::chrono::milliseconds(100));
     if (!m) continue;
     if (seq_of(*m) == kStop) break;
     last = Clock::now();

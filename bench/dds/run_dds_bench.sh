@@ -10,7 +10,8 @@
 # median over rounds (raw and horus alternate), and horus p50 / raw p50; then throughput
 # (messages and MB per second a sink receives from a source sending back to back, reliable).
 # Every receiver blocks: the raw programs in a waitset (dds_waitset_wait / WaitSet::wait), horus in
-# recv_for. --poll makes the raw programs poll instead (BENCH_POLL=1), as horus did before recv_for.
+# recv_for. --poll makes every receiver poll instead (BENCH_POLL=1: the raw programs take in a
+# loop, horus calls recv() in a loop), yielding between empty polls.
 set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 build="$here/../../build/default"

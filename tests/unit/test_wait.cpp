@@ -308,9 +308,10 @@ TEST_F(WaitSetTest, DestroyingAWaitSetWakesItsWaitersWithClosed) {
   ws->attach(topic);
   std::atomic<int> closed{0};
   std::vector<std::thread> threads;
+  horus::WaitSet* set = ws.get();  // the threads never read the unique_ptr that reset() writes
   for (int i = 0; i < 2; ++i)
-    threads.emplace_back([&] {
-      if (ws->wait(30s).closed()) closed.fetch_add(1);
+    threads.emplace_back([set, &closed] {
+      if (set->wait(30s).closed()) closed.fetch_add(1);
     });
   EXPECT_TRUE(eventually([&] { return topic.waiter_count() == 2; }));
   const auto t0 = Clock::now();
