@@ -69,7 +69,17 @@ void unregister(const WaitItem& it) noexcept {
 }  // namespace
 
 bool ring_doorbell(Doorbell& bell) noexcept {
+  // The publisher stored its message (the lane head) before calling this; a waiter arms the word
+  // (a seq_cst read-modify-write) and then looks at the heads. Without a full fence between our
+  // head store and this load, both could read the old value (store buffering): we would see the
+  // word unarmed and the waiter the ring empty, and it would sleep with our message unseen until
+  // the next send or its deadline. Paid only when a waiter is registered.
+#if defined(__SANITIZE_THREAD__)
+  std::uint32_t w = bell.word.fetch_add(0, std::memory_order_seq_cst);  // TSan does not model fences
+#else
+  std::atomic_thread_fence(std::memory_order_seq_cst);
   std::uint32_t w = bell.word.load(std::memory_order_relaxed);
+#endif
   while ((w & 1u) != 0) {
     // Disarm and start a new epoch: exactly one publisher makes the syscall.
     if (bell.word.compare_exchange_weak(w, w + 1, std::memory_order_acq_rel, std::memory_order_relaxed)) {
@@ -100,7 +110,11 @@ bool wait_any(std::span<const WaitItem> items, Clock::time_point deadline) noexc
       v[i] = futex_waitv{arm(b), reinterpret_cast<std::uintptr_t>(&b.word),
                          static_cast<std::uint32_t>(FUTEX_32 | private_flag(b)), 0};
     }
-    // Armed: any publisher from now on rings. Look once more before sleeping.
+    // Armed: any publisher from now on rings. Look once more before sleeping (the fence pairs
+    // with ring_doorbell's; arm's compare-exchange is one already unless the word was armed).
+#if !defined(__SANITIZE_THREAD__)
+    std::atomic_thread_fence(std::memory_order_seq_cst);
+#endif
     if (any_ready(items)) {
       ready = true;
       break;

@@ -23,7 +23,11 @@
 // visible within nanoseconds (a store buffer drains by itself, and on any interrupt or context
 // switch), so the waiter's first sleep after registering is capped at kFirstSlice: the message
 // is then seen at most that late, never lost, whatever the timeout. Any later publisher sees
-// the registration (it is a read-modify-write) and rings. (Why not shorter: a futex sleep
+// the registration (it is a read-modify-write) and rings. A publisher that found waiters does
+// fence before it looks at the armed bit (ring_doorbell): a waiter re-arms after every wake-up,
+// and without that fence a message sent while it re-armed went unseen until the next send (a
+// 6 MB image topic over Cyclone DDS delivered 15 messages/s to a blocked receiver, 350 with it).
+// (Why not shorter: a futex sleep
 // whose timeout is a few hundred microseconds away is woken twice as slowly on our VMs,
 // 23 us instead of 11.6 us one-way in a raw futex ping-pong; from 5 ms on it costs nothing.)
 //
