@@ -63,10 +63,9 @@ Trigger::Trigger() : state_(std::make_shared<State>()) { state_->bell.process_pr
 
 void Trigger::fire() noexcept {
   state_->fired.store(true, std::memory_order_seq_cst);
-  // Waiters arm the doorbell (a seq_cst compare-exchange), then look at `fired` (seq_cst): with
-  // this seq_cst store and load, either they see the flag or this load sees them armed (no
-  // bounded race, unlike a publisher's). ring_doorbell's own load sees this value or a later one.
-  (void)state_->bell.word.load(std::memory_order_seq_cst);
+  // Waiters arm the doorbell, then look at `fired`; ring_doorbell fences before it looks at the
+  // armed bit, so either they see the flag or it sees them armed (no race: the waiter count
+  // is not consulted here, unlike a publisher's send).
   shm::ring_doorbell(state_->bell);
 }
 

@@ -64,7 +64,7 @@ void unregister(const WaitItem& it) noexcept {
     }
     if (n == 0) return;
   }
-  it.bell->waiters.fetch_sub(1, std::memory_order_acq_rel);
+  it.bell->state.fetch_sub(Doorbell::kWaiter, std::memory_order_acq_rel);
 }
 }  // namespace
 
@@ -95,7 +95,7 @@ bool wait_any(std::span<const WaitItem> items, Clock::time_point deadline) noexc
   if (items.empty() || Clock::now() >= deadline) return false;
   const std::size_t n = std::min(items.size(), kMaxWaitItems);
   for (std::size_t i = 0; i < n; ++i) {
-    items[i].bell->waiters.fetch_add(1, std::memory_order_seq_cst);
+    items[i].bell->state.fetch_add(Doorbell::kWaiter, std::memory_order_seq_cst);
     if (items[i].share != nullptr) {
       items[i].share->pid.store(static_cast<std::int32_t>(::getpid()), std::memory_order_relaxed);
       items[i].share->count.fetch_add(1, std::memory_order_seq_cst);

@@ -63,7 +63,7 @@ void Ring::remove_subscriber(std::uint32_t entry, std::uint64_t token) const noe
   // A waiter that died blocked (or a handle closed while another thread waits on it) leaves
   // its registrations: they leave the doorbell's count with the entry (doorbell.hpp).
   if (const std::uint32_t w = e.waiting.count.exchange(0, std::memory_order_acq_rel); w != 0)
-    hdr_->doorbell.waiters.fetch_sub(w, std::memory_order_acq_rel);
+    hdr_->doorbell.state.fetch_sub(w * Doorbell::kWaiter, std::memory_order_acq_rel);
   e.owner.store(0, std::memory_order_relaxed);
   e.state.store(SubscriberEntry::kFree, std::memory_order_release);
 }
@@ -79,7 +79,7 @@ std::uint32_t Ring::reap_dead_waiters() const noexcept {
     const pid_t pid = share.pid.load(std::memory_order_relaxed);
     if (pid <= 0 || ::kill(pid, 0) == 0 || errno != ESRCH) continue;
     if (const std::uint32_t n = share.count.exchange(0, std::memory_order_acq_rel); n != 0) {
-      hdr_->doorbell.waiters.fetch_sub(n, std::memory_order_acq_rel);
+      hdr_->doorbell.state.fetch_sub(n * Doorbell::kWaiter, std::memory_order_acq_rel);
       reaped += n;
     }
   }

@@ -265,7 +265,7 @@ class Topic {
   std::uint64_t network_errors() const noexcept { return core().net ? detail::network_errors(core()) : 0; }
   /// Threads (of every process on the host) blocked in recv_for/wait_for/WaitSet on this topic.
   std::uint32_t waiter_count() const noexcept {
-    return core().ring.doorbell().waiters.load(std::memory_order_relaxed);
+    return core().ring.doorbell().waiters();
   }
   /// Slots per publisher lane.
   std::uint32_t capacity() const noexcept { return core().ring.capacity(); }

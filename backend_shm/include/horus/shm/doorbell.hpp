@@ -2,15 +2,17 @@
 //
 // Every ring has one Doorbell in its header (a shared segment's or a heap region's), and a
 // horus::Trigger has one in process memory. Two words:
-//   waiters  threads that are about to sleep or asleep on it. A publisher loads it (relaxed)
-//            after every send: zero, the common case, costs that load and nothing else.
+//   state    its high half counts the threads that are about to sleep or asleep on it (the
+//            waiters); its low half is the owner's: a ring keeps its latest-lane hint there
+//            (ring_layout.hpp), so a publisher checks both with the one relaxed load it makes
+//            after every send. No waiter and no lane change, the common case, costs that load.
 //   word     the futex word. Its low bit is "armed": a waiter sets it just before it sleeps,
 //            and the first publisher that finds it set clears it (compare-exchange, the epoch
 //            goes up) and makes the one FUTEX_WAKE. Later publishers find it clear and make no
 //            syscall until a waiter has looked at the ring again and re-armed it, so a waiter
 //            that is busy draining messages costs its publishers nothing.
 //
-// The waiting side (wait_any): register in `waiters`, arm each word, look at the ring(s)
+// The waiting side (wait_any): register in the waiters, arm each word, look at the ring(s)
 // again, then sleep in FUTEX_WAIT (one doorbell) or futex_waitv (several), with an absolute
 // CLOCK_MONOTONIC deadline. Every return (woken, the word changed under us, a signal, a
 // timeout, a spurious wake-up) goes back to looking at the rings; only a ready item or the
@@ -49,10 +51,15 @@
 namespace horus::shm {
 
 struct Doorbell {
-  std::atomic<std::uint32_t> waiters{0};
-  std::atomic<std::uint32_t> word{0};  // the futex word; low bit: armed
-  std::uint32_t process_private = 0;   // 1: memory of one process only (FUTEX_PRIVATE_FLAG)
-  std::uint32_t reserved = 0;
+  /// One waiter in `state` (the high half).
+  static constexpr std::uint64_t kWaiter = std::uint64_t{1} << 32;
+  std::atomic<std::uint64_t> state{0};  // high half: waiters; low half: the owner's (see above)
+  std::atomic<std::uint32_t> word{0};   // the futex word; low bit: armed
+  std::uint32_t process_private = 0;    // 1: memory of one process only (FUTEX_PRIVATE_FLAG)
+
+  std::uint32_t waiters() const noexcept {
+    return static_cast<std::uint32_t>(state.load(std::memory_order_relaxed) >> 32);
+  }
 };
 static_assert(std::atomic<std::uint32_t>::is_always_lock_free);
 

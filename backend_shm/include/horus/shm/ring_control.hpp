@@ -53,10 +53,10 @@
 //   * the counts (unnoticed_losses(), undetected_losses()) are statistics: another thread
 //     may see a cursor a moment late, and a loss may then show up both there and in
 //     dropped_total (also relaxed) for that moment.
-// - RingHeader::latest_lane. Relaxed: a hint. read_latest() checks it against the heads it
+// - RingHeader::latest_lane() (the low half of doorbell.state). Relaxed: a hint. read_latest() checks it against the heads it
 //   loaded (acquire) and reads the message through its slot's sequence, so a stale hint only
 //   chooses another lane's newest message.
-// - RingHeader::doorbell and SubscriberEntry::waiters: doorbell.hpp (a publisher's relaxed
+// - RingHeader::doorbell and SubscriberEntry::waiting: doorbell.hpp (a publisher's relaxed
 //   load of the waiter count after its head store, and the bounded race that leaves).
 // - RingHeader::dropped_total: relaxed read-modify-writes, a statistic no decision reads.
 // - lane_hwm / sub_hwm: raised with an acq_rel compare-exchange once the lane or entry is

@@ -36,7 +36,7 @@ inline constexpr std::uint32_t kMaxSubscribers = 64;
 /// Largest number of slots per lane.
 inline constexpr std::uint32_t kMaxCapacity = 1u << 20;
 inline constexpr std::uint64_t kRingMagic = 0x3147'4E52'5355'524FULL;  // "ORUSRNG1"
-inline constexpr std::uint32_t kLayoutVersion = 2;  // 2: the doorbell (event-driven receive)
+inline constexpr std::uint32_t kLayoutVersion = 3;  // 2: the doorbell; 3: the latest lane in its state word
 
 struct alignas(kCacheLine) RingHeader {
   // Written once by format(), read-only afterwards.
@@ -53,13 +53,17 @@ struct alignas(kCacheLine) RingHeader {
   // Read by every receive; changes only when a new lane or subscriber slot is first used.
   alignas(kCacheLine) std::atomic<std::uint32_t> lane_hwm;  // lanes [0, lane_hwm) may hold data
   std::atomic<std::uint32_t> sub_hwm;                       // entries [0, sub_hwm) may be active
-  // Written by publishers: the lane that sent last (for read_latest).
-  alignas(kCacheLine) std::atomic<std::uint32_t> latest_lane;
   // Written by subscribers when they detect a loss (slow path only).
   alignas(kCacheLine) std::atomic<std::uint64_t> dropped_total;
-  // Blocked receivers (doorbell.hpp). Read by every send; written only as receivers go to
-  // sleep and wake up, so polling topics keep it in every core's cache. A 128-byte pair of its own.
+  // Blocked receivers (doorbell.hpp), and in the low half of doorbell.state the lane that sent
+  // last (for read_latest; latest_lane()). Read by every send; written only when the sending
+  // lane changes and as receivers go to sleep and wake up, so a topic with one publisher and
+  // polling receivers keeps it in every core's cache. A 128-byte pair of its own.
   alignas(2 * kCacheLine) Doorbell doorbell;
+
+  std::uint32_t latest_lane(std::memory_order order) const noexcept {
+    return static_cast<std::uint32_t>(doorbell.state.load(order));
+  }
 };
 
 struct alignas(kCacheLine) LaneHeader {

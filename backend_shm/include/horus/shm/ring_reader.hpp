@@ -153,7 +153,7 @@ class RingReader {
       // Snapshot every head first: messages sent after this point are never skipped.
       const std::uint32_t lanes = lane_hwm_->load(std::memory_order_acquire);
       for (std::uint32_t l = 0; l < lanes; ++l) heads[l] = ring_.lane(l).head.load(std::memory_order_acquire);
-      std::uint32_t lane = ring_.header().latest_lane.load(std::memory_order_acquire);
+      std::uint32_t lane = ring_.header().latest_lane(std::memory_order_acquire);
       if (lane >= lanes || heads[lane] == 0) {
         // The hint is not visible yet: take any lane that has data.
         lane = lanes;

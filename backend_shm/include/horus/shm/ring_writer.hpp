@@ -38,7 +38,7 @@ class RingWriter {
       mask_ = o.mask_;
       slots_ = o.slots_;
       lane_head_ = o.lane_head_;
-      latest_ = o.latest_;
+      state_ = o.state_;
       space_limit_ = o.space_limit_;
       claim_head_ = o.claim_head_;
       sent_before_ = o.sent_before_;
@@ -66,7 +66,7 @@ class RingWriter {
     head_ = lane_head_->load(std::memory_order_acquire);
     claim_head_ = head_;
     mask_ = ring_.capacity() - 1;
-    latest_ = &ring_.header().latest_lane;
+    state_ = &ring_.header().doorbell.state;
     space_limit_ = 0;
     slots_ = ring_.lane_slots(lane_);
     return true;
@@ -138,25 +138,27 @@ class RingWriter {
     // Release, after the slot's committing store: whoever sees the new head sees message s
     // committed. This writer never reads it back (head_ is its copy); see ring_control.hpp.
     lane_head_->store(s + 1, std::memory_order_release);
-    // Only written when it changes, so one publisher keeps this line shared and cheap.
-    // Relaxed: a hint read_latest() checks against the heads (ring_control.hpp).
-    if (latest_->load(std::memory_order_relaxed) != lane_) latest_->store(lane_, std::memory_order_relaxed);
-    // Blocked receivers: one relaxed load when there are none (doorbell.hpp).
-    if (waiters()->load(std::memory_order_relaxed) != 0) [[unlikely]] wake();
+    // One relaxed load checks two things (doorbell.hpp): the latest-lane hint in the low half
+    // (only written when it changes, so one publisher keeps the line shared and cheap) and the
+    // blocked receivers in the high half (none: nothing more to do).
+    const std::uint64_t state = state_->load(std::memory_order_relaxed);
+    if (state != lane_) [[unlikely]] after_commit(state);
   }
 
-  // The doorbell's waiter count, found from latest_ (both in the ring header): one load fewer
-  // per send than a pointer of its own.
-  const std::atomic<std::uint32_t>* waiters() const noexcept {
-    constexpr std::ptrdiff_t kFromLatest = static_cast<std::ptrdiff_t>(offsetof(RingHeader, doorbell) +
-                                                                       offsetof(Doorbell, waiters)) -
-                                           static_cast<std::ptrdiff_t>(offsetof(RingHeader, latest_lane));
-    return reinterpret_cast<const std::atomic<std::uint32_t>*>(reinterpret_cast<const std::byte*>(latest_) + kFromLatest);
+  [[gnu::noinline]] void after_commit(std::uint64_t state) noexcept {
+    if (static_cast<std::uint32_t>(state) != lane_) {
+      // Relaxed: a hint read_latest() checks against the heads (ring_control.hpp). A
+      // compare-exchange, as waiters register in the high half meanwhile.
+      while (!state_->compare_exchange_weak(state, (state & ~std::uint64_t{0xffff'ffff}) | lane_,
+                                            std::memory_order_relaxed)) {
+      }
+    }
+    if ((state >> 32) != 0) wake();
   }
 
   // Waiters registered: wake them if armed; a count that stays registered and unarmed for
   // kStaleCheck sends may be a waiter that died (doorbell.hpp).
-  [[gnu::noinline]] void wake() noexcept {
+  void wake() noexcept {
     if (ring_.wake_waiters() || ++unarmed_ < kStaleCheck) return;
     unarmed_ = 0;
     ring_.reap_dead_waiters();
@@ -167,7 +169,7 @@ class RingWriter {
   std::uint64_t head_ = 0;
   std::uint64_t mask_ = 0;
   std::atomic<std::uint64_t>* lane_head_ = nullptr;
-  std::atomic<std::uint32_t>* latest_ = nullptr;
+  std::atomic<std::uint64_t>* state_ = nullptr;  // the doorbell's state: latest lane, waiters
   std::uint32_t lane_ = kNoLane;
   std::uint64_t space_limit_ = 0;  // head values below this are known to have space
   std::uint64_t claim_head_ = 0;   // head when the lane was claimed
