@@ -5,6 +5,10 @@
 //   horus topic echo NAME [--json] [-n N] print messages as they arrive (standard types)
 //   horus topic hz NAME [--duration S]    live rate with min/max/std of the periods
 //   horus clean                           remove segments whose processes are all gone
+//   horus config check FILE               validate a configuration file (exit 1 naming the error)
+//   horus config explain NAME [--file F]  which rule, scope, backend and QoS a topic gets, and
+//                                         from where (code is not known here: environment,
+//                                         file, default); the file is F or HORUS_CONFIG's
 //
 // list/info/clean read the segments without joining them; echo and hz subscribe like any
 // other process (they count as a subscriber while they run).
@@ -18,6 +22,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -215,6 +220,70 @@ int cmd_hz(const std::string& ns, const std::string& name, double duration_s, do
   });
 }
 
+int cmd_config_check(const std::string& file) {
+  auto c = horus::Config::load(file);
+  if (!c) {
+    fmt::print(stderr, "horus config check: {}\n", c.error().message());
+    return 1;
+  }
+  fmt::print("{}: valid; {} rule{}\n", file, c->rules().size(), c->rules().size() == 1 ? "" : "s");
+  return 0;
+}
+
+std::string from_where(horus::Source s, const horus::TopicChoice& c) {
+  if (s == horus::Source::File && c.rule != nullptr)
+    return fmt::format("file {}, line {}: rule '{}'", c.config->file(), c.rule->line, c.rule->match);
+  if (s == horus::Source::Environment) return "environment (HORUS_BACKEND)";
+  if (s == horus::Source::Default) return "default";
+  return std::string(horus::to_string(s));
+}
+
+int cmd_config_explain(const std::string& topic, const std::string& file) {
+  if (auto ok = horus::validate_topic_name(topic); !ok) {
+    fmt::print(stderr, "horus config explain: {}\n", ok.error().message());
+    return 2;
+  }
+  std::optional<horus::Config> own;
+  const horus::Config* config = nullptr;
+  if (!file.empty()) {
+    auto c = horus::Config::load(file);
+    if (!c) {
+      fmt::print(stderr, "horus config explain: {}\n", c.error().message());
+      return 1;
+    }
+    own = std::move(*c);
+    config = &*own;
+  } else {
+    auto c = horus::config_from_environment();
+    if (!c) {
+      fmt::print(stderr, "horus config explain: {}\n", c.error().message());
+      return 1;
+    }
+    config = *c;
+  }
+  auto choice = horus::choose(topic, horus::TopicOptions{}, config);
+  if (!choice) {
+    fmt::print(stderr, "horus config explain: {}\n", choice.error().message());
+    return 1;
+  }
+  const auto& c = *choice;
+  fmt::print("topic '{}'{}\n", topic, config != nullptr ? fmt::format(" (configuration file {})", config->file()) : "");
+  if (c.rule != nullptr) fmt::print("  rule        '{}' (line {})\n", c.rule->match, c.rule->line);
+  else fmt::print("  rule        none matches\n");
+  fmt::print("  scope       {:<16} {}\n", horus::to_string(c.backend.scope()), from_where(c.backend_from, c));
+  if (horus::is_network(c.backend)) {
+    fmt::print("  backend     {:<16} {}\n", c.backend.transport(), from_where(c.backend_from, c));
+    if (auto wire = horus::wire_name(c.backend, topic)) fmt::print("  wire name   {}\n", *wire);
+  }
+  fmt::print("  capacity    {:<16} {}\n", c.capacity ? std::to_string(*c.capacity) : "type default",
+             from_where(c.capacity_from, c));
+  fmt::print("  reliability {:<16} {}\n", c.reliability ? std::string(horus::net::to_string(*c.reliability)) : "type default",
+             from_where(c.reliability_from, c));
+  fmt::print("  durability  {:<16} {}\n", c.durability ? std::string(horus::net::to_string(*c.durability)) : "type default",
+             from_where(c.durability_from, c));
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -248,7 +317,18 @@ int main(int argc, char** argv) {
 
   auto* clean = app.add_subcommand("clean", "remove shared-memory segments whose processes are all gone");
 
+  auto* config = app.add_subcommand("config", "check and explain the configuration file (HORUS_CONFIG)");
+  config->require_subcommand(1);
+  std::string config_file;
+  auto* check = config->add_subcommand("check", "validate a configuration file");
+  check->add_option("file", config_file, "the YAML file")->required();
+  auto* explain = config->add_subcommand("explain", "what a topic name gets, and from where");
+  explain->add_option("name", name, "topic name")->required();
+  explain->add_option("--file", config_file, "the YAML file (default: HORUS_CONFIG's)");
+
   CLI11_PARSE(app, argc, argv);
+  if (*check) return cmd_config_check(config_file);
+  if (*explain) return cmd_config_explain(name, config_file);
   ::signal(SIGINT, on_signal);
   ::signal(SIGTERM, on_signal);
 

@@ -243,6 +243,11 @@ Result<std::string> url_from_environment() {
       return fail(Errc::Config, "environment variable " + std::string(name) + ": " + ok.error().message());
     return std::string(value);
   }
+  if (auto file = net::file_defaults(); file.lcm_url) {
+    if (auto ok = check_url(*file.lcm_url); !ok)
+      return fail(Errc::Config, file.origin + ", network.lcm_url: " + ok.error().message());
+    return *file.lcm_url;
+  }
   return std::string(kDefaultUrl);
 }
 

@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 
 #include <cstdlib>
+#include <mutex>
+#include <utility>
 
 namespace horus::net {
 
@@ -14,8 +16,26 @@ std::string_view to_string(Durability d) noexcept {
   return d == Durability::TransientLocal ? "transient local" : "volatile";
 }
 
+namespace {
+std::mutex g_file_mutex;
+FileDefaults g_file;  // guarded by g_file_mutex
+}  // namespace
+
+void set_file_defaults(FileDefaults defaults) {
+  std::lock_guard lock(g_file_mutex);
+  g_file = std::move(defaults);
+}
+
+FileDefaults file_defaults() {
+  std::lock_guard lock(g_file_mutex);
+  return g_file;
+}
+
 Result<Config> config_from_environment() {
   Config config;
+  const FileDefaults file = file_defaults();
+  config.domain_id = file.domain_id.value_or(0);
+  config.localhost_only = file.localhost_only.value_or(false);
   if (const char* env = std::getenv("HORUS_DOMAIN_ID"); env != nullptr && *env != '\0') {
     const std::string_view v(env);
     std::uint32_t id = 0;

@@ -17,6 +17,7 @@
 #include "horus/discovery/registry.hpp"
 #include "horus/horus.hpp"
 #include "horus/shm/shm_segment.hpp"
+#include "process_support.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -26,15 +27,7 @@ using horus_test::Stamp;
 std::string ns() { return horus::shm::shm_namespace().value(); }
 
 // Runs a command; returns its exit status and everything it printed.
-int run(const std::string& cmd, std::string& out) {
-  out.clear();
-  FILE* p = ::popen((cmd + " 2>&1").c_str(), "r");
-  if (p == nullptr) return -1;
-  char buf[4096];
-  while (std::fgets(buf, sizeof(buf), p) != nullptr) out += buf;
-  const int status = ::pclose(p);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
+int run(const std::string& cmd, std::string& out) { return horus_test::run_command(cmd, out); }
 
 // Calls send() every `period` on another thread until destroyed (a live publisher for the CLI).
 class Publishing {

@@ -12,11 +12,24 @@
 #include "horus/shm/shm_segment.hpp"
 
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <thread>
 
 namespace horus_test {
+
+/// Runs a shell command; its standard output and error in `out`, its exit status returned (-1
+/// when it did not exit normally).
+inline int run_command(const std::string& cmd, std::string& out) {
+  out.clear();
+  FILE* p = ::popen((cmd + " 2>&1").c_str(), "r");
+  if (p == nullptr) return -1;
+  char buf[4096];
+  while (std::fgets(buf, sizeof(buf), p) != nullptr) out += buf;
+  const int status = ::pclose(p);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
 
 /// A fixture for shared-memory tests between processes: HORUS_BACKEND unset, and after each
 /// test no segment this process made (topic names hold the pid) is left in /dev/shm.

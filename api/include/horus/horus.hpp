@@ -1,6 +1,7 @@
 // Everything a horus user needs: Topic<T>, errors, metrics and the standard messages.
 #pragma once
 
+#include "horus/config.hpp"
 #include "horus/error.hpp"
 #include "horus/messages.hpp"
 #include "horus/metrics.hpp"

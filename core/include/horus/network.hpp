@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -45,9 +46,22 @@ struct Config {
   bool operator==(const Config&) const = default;
 };
 
-/// The DDS settings of this process: HORUS_DOMAIN_ID (0 to kMaxDomainId, default 0) and
-/// HORUS_DDS_LOCALHOST (1/true/yes/on: loopback only, no multicast; 0/false/no/off or unset:
-/// the LAN). An error names the variable, its value and what is expected.
+/// Defaults from the configuration file's `network:` section (horus/config.hpp), used where
+/// the environment says nothing. `origin` names where they came from, for errors.
+struct FileDefaults {
+  std::optional<std::uint32_t> domain_id;
+  std::optional<bool> localhost_only;
+  std::optional<std::string> lcm_url;
+  std::string origin;
+};
+/// Set once the configuration file is read, before the first transport opens.
+void set_file_defaults(FileDefaults defaults);
+FileDefaults file_defaults();
+
+/// The DDS settings of this process: HORUS_DOMAIN_ID (0 to kMaxDomainId) and
+/// HORUS_DDS_LOCALHOST (1/true/yes/on: loopback only, no multicast; 0/false/no/off: the LAN);
+/// where one is unset, the configuration file's value (file_defaults()), else 0 and the LAN.
+/// An error names the variable, its value and what is expected.
 Result<Config> config_from_environment();
 
 /// One topic as a backend sees it.

@@ -7,12 +7,17 @@
 #include <string>
 #include <thread>
 
+#include "horus/config.hpp"
 #include "horus/topic.hpp"
 
 namespace horus {
 
 template <class T>
-Result<Topic<T>> Topic<T>::make(std::string_view name, const TopicOptions& options) {
+Result<Topic<T>> Topic<T>::make(std::string_view name, const TopicOptions& requested) {
+  // Code > environment > HORUS_CONFIG's file > defaults (horus/config.hpp).
+  auto resolved = resolve_topic_options(name, requested);
+  if (!resolved) return std::unexpected(std::move(resolved.error()));
+  const TopicOptions& options = *resolved;
   const detail::TypeInfo type{horus::type_name<T>(), horus::type_hash<T>, Codec::kPayloadBytes, kSerialized,
                               Codec::kPoolBytes};
   auto core = detail::open_core(name, type, options);

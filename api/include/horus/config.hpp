@@ -1,0 +1,112 @@
+// The configuration file (HORUS_CONFIG) and how a topic's settings are chosen.
+//
+//   network:                        # defaults for fleet topics
+//     backend: cyclonedds           # a registered transport: cyclonedds | fastdds | lcm
+//     domain_id: 0                  # DDS domain, 0..232
+//     localhost_only: false         # DDS: loopback only
+//     lcm_url: "udpm://239.255.76.67:7667?ttl=1"
+//   topics:                         # the first rule whose pattern matches wins
+//     - match: "fleet.**"           # '*' = one dot-separated segment, '**' = any number (also none)
+//       scope: fleet                # process | host | fleet
+//       backend: lcm                # this rule's transport (fleet topics only)
+//       reliability: reliable       # best_effort | reliable
+//       durability: transient_local # volatile | transient_local
+//       capacity: 64                # slots per publisher, a power of two
+//
+// Precedence, per setting: code (TopicOptions) > environment (HORUS_BACKEND, HORUS_DOMAIN_ID,
+// HORUS_DDS_LOCALHOST, HORUS_LCM_URL) > file > the message type's defaults. Parsing is strict:
+// an unknown key or value, a value of the wrong type, a bad pattern, a rule without `match`, a
+// backend this build lacks is an error naming the file, the line, the key and what is valid.
+// Nothing here includes yaml-cpp.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "horus/backend.hpp"
+#include "horus/error.hpp"
+#include "horus/network.hpp"
+
+namespace horus {
+
+/// Where a topic's setting came from (`horus config explain`).
+enum class Source : std::uint8_t { Code, Environment, File, Default };
+/// "code", "environment", "file", "default".
+std::string_view to_string(Source s) noexcept;
+
+/// One rule of the file's `topics:` list.
+struct TopicRule {
+  std::string match;  // the pattern
+  int line = 0;       // the rule's line in the file (1-based)
+  std::optional<Scope> scope;
+  std::optional<std::string> backend;  // a registered transport's name (fleet topics)
+  std::optional<net::Reliability> reliability;
+  std::optional<net::Durability> durability;
+  std::optional<std::uint32_t> capacity;
+};
+
+/// The file's `network:` section: defaults of fleet topics and of the transports.
+struct NetworkSection {
+  std::optional<std::string> backend;
+  std::optional<std::uint32_t> domain_id;
+  std::optional<bool> localhost_only;
+  std::optional<std::string> lcm_url;
+};
+
+/// A parsed configuration file.
+class Config {
+ public:
+  /// Parses YAML text; `file` names it in errors.
+  static Result<Config> parse(std::string_view text, std::string file = "<text>");
+  /// Reads and parses a file.
+  static Result<Config> load(const std::string& path);
+
+  const std::string& file() const noexcept { return file_; }
+  const NetworkSection& network() const noexcept { return network_; }
+  const std::vector<TopicRule>& rules() const noexcept { return rules_; }
+  /// The first rule whose pattern matches `topic`, or nullptr.
+  const TopicRule* match(std::string_view topic) const noexcept;
+
+ private:
+  std::string file_;
+  NetworkSection network_;
+  std::vector<TopicRule> rules_;
+};
+
+/// Checks a pattern: dot-separated segments, each a name segment (letters, digits, '_', '-'),
+/// '*' or '**'. The error says what is wrong.
+Result<void> check_topic_pattern(std::string_view pattern);
+/// Whether `pattern` (checked) matches `topic`: '*' is one segment, '**' any number of them.
+bool topic_pattern_matches(std::string_view pattern, std::string_view topic) noexcept;
+
+/// The process's configuration: the file HORUS_CONFIG names, read once per value of the
+/// variable (later calls return the same result); nullptr when HORUS_CONFIG is unset or empty.
+/// Its network section becomes the transports' defaults (net::set_file_defaults).
+Result<const Config*> config_from_environment();
+
+/// What a topic gets, setting by setting, and from where.
+struct TopicChoice {
+  Backend backend;  // the scope, and the transport of a fleet topic
+  Source backend_from = Source::Default;
+  std::optional<std::uint32_t> capacity;  // nullopt: the type's default
+  Source capacity_from = Source::Default;
+  std::optional<net::Reliability> reliability;  // nullopt: the type's default
+  Source reliability_from = Source::Default;
+  std::optional<net::Durability> durability;  // nullopt: the type's default
+  Source durability_from = Source::Default;
+  const TopicRule* rule = nullptr;  // the file's rule that matched
+  const Config* config = nullptr;   // the file, when there is one
+};
+
+/// Chooses a topic's settings: code > environment > `config` > defaults. `config` may be null.
+Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code, const Config* config);
+/// The same with the process's configuration (config_from_environment()).
+Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code);
+
+/// `code` with what the environment and the file choose filled in (what Topic<T>::open uses).
+Result<TopicOptions> resolve_topic_options(std::string_view topic, const TopicOptions& code);
+
+}  // namespace horus

@@ -1,0 +1,425 @@
+// The configuration file (horus/config.hpp): strict parsing with yaml-cpp, topic patterns, and
+// the choice of a topic's settings by precedence. The only place that reads YAML.
+#include "horus/config.hpp"
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <charconv>
+#include <cstring>
+#include <cstdlib>
+#include <fstream>
+#include <list>
+#include <mutex>
+#include <set>
+#include <sstream>
+#include <utility>
+
+#include "horus/names.hpp"
+#include "horus/shm/ring_layout.hpp"
+#include "horus/transport_registry.hpp"
+
+namespace horus {
+
+std::string_view to_string(Source s) noexcept {
+  switch (s) {
+    case Source::Code: return "code";
+    case Source::Environment: return "environment";
+    case Source::File: return "file";
+    case Source::Default: return "default";
+  }
+  return "?";
+}
+
+namespace {
+
+constexpr std::array<std::string_view, 2> kTopLevelKeys{"network", "topics"};
+constexpr std::array<std::string_view, 4> kNetworkKeys{"backend", "domain_id", "localhost_only", "lcm_url"};
+constexpr std::array<std::string_view, 6> kRuleKeys{"match", "scope", "backend", "reliability", "durability", "capacity"};
+
+template <std::size_t N>
+std::string one_of(const std::array<std::string_view, N>& names) {
+  std::string out;
+  for (std::size_t i = 0; i < N; ++i) out += (i == 0 ? "" : (i + 1 == N ? " or " : ", ")) + std::string(names[i]);
+  return out;
+}
+
+// Parses a YAML document's nodes into a Config, with errors that name the file, line and key.
+class Parser {
+ public:
+  explicit Parser(std::string file) : file_(std::move(file)) {}
+
+  std::string at(const YAML::Node& n, std::string_view key) const {
+    return fmt::format("{}, line {}, key '{}'", file_, n.Mark().line + 1, key);
+  }
+  std::unexpected<Error> bad(const YAML::Node& n, std::string_view key, std::string_view what) const {
+    return std::unexpected(Error(Errc::Config, fmt::format("{}: {}", at(n, key), what)));
+  }
+
+  // A scalar's text, or an error naming the key and the type expected.
+  Result<std::string> scalar(const YAML::Node& n, std::string_view key, std::string_view expected) const {
+    if (!n.IsScalar()) return bad(n, key, fmt::format("expected {}, found {}", expected, kind(n)));
+    return n.Scalar();
+  }
+
+  template <std::size_t N>
+  Result<void> known_keys(const YAML::Node& map, std::string_view where, const std::array<std::string_view, N>& keys) const {
+    std::set<std::string> seen;
+    for (const auto& kv : map) {
+      if (!kv.first.IsScalar()) return bad(kv.first, where, "a key must be a plain name");
+      const std::string k = kv.first.Scalar();
+      const std::string path = where.empty() ? k : std::string(where) + "." + k;
+      if (std::find(keys.begin(), keys.end(), k) == keys.end())
+        return bad(kv.first, path, fmt::format("unknown key; expected {}", one_of(keys)));
+      if (!seen.insert(k).second) return bad(kv.first, path, "given twice");
+    }
+    return {};
+  }
+
+  Result<std::uint32_t> integer(const YAML::Node& n, std::string_view key, std::uint32_t min, std::uint32_t max,
+                                std::string_view what) const {
+    auto s = scalar(n, key, what);
+    if (!s) return std::unexpected(s.error());
+    std::uint64_t v = 0;
+    const char* end = s->data() + s->size();
+    auto [p, ec] = std::from_chars(s->data(), end, v);
+    if (s->empty() || ec != std::errc() || p != end || v < min || v > max)
+      return bad(n, key, fmt::format("'{}' is not {}", *s, what));
+    return static_cast<std::uint32_t>(v);
+  }
+
+  Result<bool> boolean(const YAML::Node& n, std::string_view key) const {
+    auto s = scalar(n, key, "true or false");
+    if (!s) return std::unexpected(s.error());
+    if (*s == "true") return true;
+    if (*s == "false") return false;
+    return bad(n, key, fmt::format("'{}' is not a boolean; expected true or false", *s));
+  }
+
+  // A registered transport's name (as the registry owns it).
+  Result<std::string> transport(const YAML::Node& n, std::string_view key) const {
+    auto s = scalar(n, key, "a network backend name");
+    if (!s) return std::unexpected(s.error());
+    if (const auto* t = net::find_transport(*s)) return std::string(t->name);
+    const auto names = net::transport_names();
+    std::string valid;
+    for (std::size_t i = 0; i < names.size(); ++i) valid += (i == 0 ? "" : ", ") + names[i];
+    if (*s == "cyclonedds" || *s == "fastdds" || *s == "lcm")
+      return bad(n, key, fmt::format("this build of horus has no {} backend (its Debian package was missing when "
+                                     "horus was built); this build has: {}",
+                                     *s, valid.empty() ? "none" : valid));
+    if (*s == "shm" || *s == "inproc")
+      return bad(n, key, fmt::format("'{}' is not a network backend; say `scope: {}` instead; network backends: {}", *s,
+                                     *s == "shm" ? "host" : "process", valid));
+    return bad(n, key, fmt::format("unknown network backend '{}'; expected {}", *s, valid.empty() ? "none" : valid));
+  }
+
+  Result<void> network(const YAML::Node& n, NetworkSection& out) const {
+    if (!n.IsDefined() || n.IsNull()) return {};
+    if (!n.IsMap()) return bad(n, "network", fmt::format("expected a map of {}, found {}", one_of(kNetworkKeys), kind(n)));
+    if (auto ok = known_keys(n, "network", kNetworkKeys); !ok) return ok;
+    if (const auto v = n["backend"]) {
+      auto t = transport(v, "network.backend");
+      if (!t) return std::unexpected(t.error());
+      out.backend = *t;
+    }
+    if (const auto v = n["domain_id"]) {
+      auto id = integer(v, "network.domain_id", 0, net::kMaxDomainId,
+                        fmt::format("a DDS domain id; expected an integer from 0 to {}", net::kMaxDomainId));
+      if (!id) return std::unexpected(id.error());
+      out.domain_id = *id;
+    }
+    if (const auto v = n["localhost_only"]) {
+      auto b = boolean(v, "network.localhost_only");
+      if (!b) return std::unexpected(b.error());
+      out.localhost_only = *b;
+    }
+    if (const auto v = n["lcm_url"]) {
+      auto s = scalar(v, "network.lcm_url", "an LCM URL such as \"udpm://239.255.76.67:7667?ttl=1\"");
+      if (!s) return std::unexpected(s.error());
+      if (s->empty()) return bad(v, "network.lcm_url", "empty; expected an LCM URL such as \"udpm://239.255.76.67:7667?ttl=1\"");
+      out.lcm_url = *s;
+    }
+    return {};
+  }
+
+  Result<TopicRule> rule(const YAML::Node& n, std::size_t index, const NetworkSection& net_section) const {
+    const std::string where = fmt::format("topics[{}]", index);
+    if (!n.IsMap())
+      return bad(n, where, fmt::format("expected a rule (a map with match and any of scope, backend, reliability, "
+                                       "durability, capacity), found {}",
+                                       kind(n)));
+    if (auto ok = known_keys(n, where, kRuleKeys); !ok) return std::unexpected(ok.error());
+    TopicRule r;
+    r.line = n.Mark().line + 1;
+    const auto m = n["match"];
+    if (!m) return bad(n, where, "the rule has no 'match' (the topic-name pattern it applies to)");
+    auto pattern = scalar(m, where + ".match", "a topic-name pattern such as \"fleet.**\"");
+    if (!pattern) return std::unexpected(pattern.error());
+    if (auto ok = check_topic_pattern(*pattern); !ok) return bad(m, where + ".match", ok.error().message());
+    r.match = *pattern;
+    if (const auto v = n["scope"]) {
+      auto s = scalar(v, where + ".scope", "process, host or fleet");
+      if (!s) return std::unexpected(s.error());
+      if (*s == "process") r.scope = Scope::Process;
+      else if (*s == "host") r.scope = Scope::Host;
+      else if (*s == "fleet") r.scope = Scope::Fleet;
+      else return bad(v, where + ".scope", fmt::format("unknown scope '{}'; expected process, host or fleet", *s));
+    }
+    if (const auto v = n["backend"]) {
+      auto t = transport(v, where + ".backend");
+      if (!t) return std::unexpected(t.error());
+      if (r.scope && *r.scope != Scope::Fleet)
+        return bad(v, where + ".backend",
+                   fmt::format("a network backend applies to fleet topics only; this rule's scope is {}",
+                               to_string(*r.scope)));
+      r.scope = Scope::Fleet;
+      r.backend = *t;
+    }
+    if (r.scope == Scope::Fleet && !r.backend && !net_section.backend)
+      return bad(n, where, "scope fleet needs a network backend: set this rule's 'backend' or 'network.backend'");
+    if (const auto v = n["reliability"]) {
+      auto s = scalar(v, where + ".reliability", "best_effort or reliable");
+      if (!s) return std::unexpected(s.error());
+      if (*s == "reliable") r.reliability = net::Reliability::Reliable;
+      else if (*s == "best_effort") r.reliability = net::Reliability::BestEffort;
+      else return bad(v, where + ".reliability", fmt::format("unknown reliability '{}'; expected best_effort or reliable", *s));
+    }
+    if (const auto v = n["durability"]) {
+      auto s = scalar(v, where + ".durability", "volatile or transient_local");
+      if (!s) return std::unexpected(s.error());
+      if (*s == "volatile") r.durability = net::Durability::Volatile;
+      else if (*s == "transient_local") r.durability = net::Durability::TransientLocal;
+      else return bad(v, where + ".durability", fmt::format("unknown durability '{}'; expected volatile or transient_local", *s));
+    }
+    if (const auto v = n["capacity"]) {
+      auto c = integer(v, where + ".capacity", 1, shm::kMaxCapacity,
+                       fmt::format("a capacity; expected a power of two from 1 to {} (slots per publisher)", shm::kMaxCapacity));
+      if (!c) return std::unexpected(c.error());
+      if ((*c & (*c - 1)) != 0)
+        return bad(v, where + ".capacity",
+                   fmt::format("{} is not a power of two; expected a power of two from 1 to {} (slots per publisher)", *c,
+                               shm::kMaxCapacity));
+      r.capacity = *c;
+    }
+    return r;
+  }
+
+  static std::string_view kind(const YAML::Node& n) {
+    switch (n.Type()) {
+      case YAML::NodeType::Null: return "nothing";
+      case YAML::NodeType::Scalar: return "a scalar";
+      case YAML::NodeType::Sequence: return "a list";
+      case YAML::NodeType::Map: return "a map";
+      default: return "an undefined node";
+    }
+  }
+
+ private:
+  std::string file_;
+};
+
+// The segments of a dot-separated name.
+std::vector<std::string_view> segments(std::string_view s) {
+  std::vector<std::string_view> out;
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t dot = s.find('.', start);
+    out.push_back(s.substr(start, dot == std::string_view::npos ? std::string_view::npos : dot - start));
+    if (dot == std::string_view::npos) return out;
+    start = dot + 1;
+  }
+}
+
+bool match_from(const std::vector<std::string_view>& pat, std::size_t pi, const std::vector<std::string_view>& name,
+                std::size_t ni) {
+  for (; pi < pat.size(); ++pi, ++ni) {
+    if (pat[pi] == "**") {
+      for (std::size_t skip = ni; skip <= name.size(); ++skip)
+        if (match_from(pat, pi + 1, name, skip)) return true;
+      return false;
+    }
+    if (ni >= name.size() || (pat[pi] != "*" && pat[pi] != name[ni])) return false;
+  }
+  return ni == name.size();
+}
+
+}  // namespace
+
+Result<void> check_topic_pattern(std::string_view pattern) {
+  const auto rule = "expected dot-separated segments of letters, digits, '_' and '-', or '*' (one segment) or '**' "
+                    "(any number of segments), e.g. \"fleet.**\" or \"robot_*.camera.*\"";
+  if (pattern.empty()) return fail(Errc::Config, fmt::format("empty pattern; {}", rule));
+  for (std::string_view seg : segments(pattern)) {
+    if (seg.empty()) return fail(Errc::Config, fmt::format("pattern '{}' has an empty segment; {}", pattern, rule));
+    if (seg == "*" || seg == "**") continue;
+    for (char c : seg) {
+      if (c == '*')
+        return fail(Errc::Config,
+                    fmt::format("pattern '{}': '*' must be a whole segment (segment '{}'); {}", pattern, seg, rule));
+      const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
+      if (!ok) return fail(Errc::Config, fmt::format("pattern '{}': character '{}' is not allowed; {}", pattern, c, rule));
+    }
+  }
+  return {};
+}
+
+bool topic_pattern_matches(std::string_view pattern, std::string_view topic) noexcept {
+  try {
+    return match_from(segments(pattern), 0, segments(topic), 0);
+  } catch (...) {
+    return false;
+  }
+}
+
+Result<Config> Config::parse(std::string_view text, std::string file) {
+  Parser p(file);
+  YAML::Node root;
+  try {
+    root = YAML::Load(std::string(text));
+  } catch (const YAML::Exception& e) {
+    return fail(Errc::Config, fmt::format("{}, line {}, column {}: not valid YAML: {}", file, e.mark.line + 1,
+                                          e.mark.column + 1, e.msg));
+  }
+  Config c;
+  c.file_ = std::move(file);
+  try {
+    if (root.IsNull()) return c;
+    if (!root.IsMap())
+      return fail(Errc::Config, fmt::format("{}, line {}: expected a map with {}, found {}", c.file_,
+                                            root.Mark().line + 1, one_of(kTopLevelKeys), Parser::kind(root)));
+    if (auto ok = p.known_keys(root, "", kTopLevelKeys); !ok) return std::unexpected(ok.error());
+    if (auto ok = p.network(root["network"], c.network_); !ok) return std::unexpected(ok.error());
+    if (const auto topics = root["topics"]; topics && !topics.IsNull()) {
+      if (!topics.IsSequence())
+        return p.bad(topics, "topics", fmt::format("expected a list of rules (- match: ...), found {}", Parser::kind(topics)));
+      for (std::size_t i = 0; i < topics.size(); ++i) {
+        auto r = p.rule(topics[i], i, c.network_);
+        if (!r) return std::unexpected(r.error());
+        c.rules_.push_back(std::move(*r));
+      }
+    }
+  } catch (const YAML::Exception& e) {
+    return fail(Errc::Config, fmt::format("{}, line {}: {}", c.file_, e.mark.line + 1, e.msg));
+  }
+  return c;
+}
+
+Result<Config> Config::load(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return fail(Errc::Config, fmt::format("configuration file '{}' cannot be read: {}", path, std::strerror(errno)));
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) return fail(Errc::Config, fmt::format("configuration file '{}': read error", path));
+  return parse(text.str(), path);
+}
+
+const TopicRule* Config::match(std::string_view topic) const noexcept {
+  for (const auto& r : rules_)
+    if (topic_pattern_matches(r.match, topic)) return &r;
+  return nullptr;
+}
+
+Result<const Config*> config_from_environment() {
+  // Read once per value of HORUS_CONFIG (a program sets it before its first topic; a test may
+  // change it). Configurations stay alive: choices made earlier keep pointing at theirs.
+  static std::mutex mutex;
+  static std::optional<std::string> cached_path;
+  static std::optional<Result<const Config*>> cached;
+  static std::list<Config> loaded;
+  const char* env = std::getenv("HORUS_CONFIG");
+  const std::string path = env != nullptr ? env : "";
+  std::lock_guard lock(mutex);
+  if (cached_path == path && cached) return *cached;
+  cached_path = path;
+  if (path.empty()) {
+    net::set_file_defaults({});
+    return *(cached = Result<const Config*>(nullptr));
+  }
+  auto c = Config::load(path);
+  if (!c) {
+    net::set_file_defaults({});
+    return *(cached = Result<const Config*>(
+                 std::unexpected(Error(Errc::Config, "HORUS_CONFIG=" + path + ": " + c.error().message()))));
+  }
+  const Config& config = loaded.emplace_back(std::move(*c));
+  const auto& n = config.network();
+  net::set_file_defaults({n.domain_id, n.localhost_only, n.lcm_url, "configuration file '" + config.file() + "'"});
+  return *(cached = Result<const Config*>(&config));
+}
+
+Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code, const Config* config) {
+  TopicChoice c;
+  c.config = config;
+  c.rule = config != nullptr ? config->match(topic) : nullptr;
+  const TopicRule* r = c.rule;
+  // Scope and backend: code, HORUS_BACKEND, the rule (its backend, else network.backend).
+  if (code.backend) {
+    c.backend = *code.backend;
+    c.backend_from = Source::Code;
+  } else if (const char* env = std::getenv("HORUS_BACKEND"); env != nullptr && *env != '\0') {
+    auto b = backend_from_environment();
+    if (!b) return std::unexpected(b.error());
+    c.backend = *b;
+    c.backend_from = Source::Environment;
+  } else if (r != nullptr && r->scope) {
+    c.backend_from = Source::File;
+    switch (*r->scope) {
+      case Scope::Process: c.backend = Backend::InProcess; break;
+      case Scope::Host: c.backend = Backend::SharedMemory; break;
+      case Scope::Fleet: {
+        const std::string& name = r->backend ? *r->backend : *config->network().backend;  // checked by parse
+        const auto* t = net::find_transport(name);
+        if (t == nullptr)
+          return fail(Errc::Config, fmt::format("{}, line {}: topic '{}': this program has no {} backend", config->file(),
+                                                r->line, topic, name));
+        c.backend = Backend::network(t->name);
+        break;
+      }
+    }
+  }
+  if (code.capacity) {
+    c.capacity = code.capacity;
+    c.capacity_from = Source::Code;
+  } else if (r != nullptr && r->capacity) {
+    c.capacity = r->capacity;
+    c.capacity_from = Source::File;
+  }
+  if (code.reliability) {
+    c.reliability = code.reliability;
+    c.reliability_from = Source::Code;
+  } else if (r != nullptr && r->reliability) {
+    c.reliability = r->reliability;
+    c.reliability_from = Source::File;
+  }
+  if (code.durability) {
+    c.durability = code.durability;
+    c.durability_from = Source::Code;
+  } else if (r != nullptr && r->durability) {
+    c.durability = r->durability;
+    c.durability_from = Source::File;
+  }
+  return c;
+}
+
+Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code) {
+  auto config = config_from_environment();
+  if (!config) return std::unexpected(config.error());
+  return choose(topic, code, *config);
+}
+
+Result<TopicOptions> resolve_topic_options(std::string_view topic, const TopicOptions& code) {
+  auto c = choose(topic, code);
+  if (!c) return std::unexpected(c.error());
+  TopicOptions out = code;
+  out.backend = c->backend;
+  out.capacity = c->capacity;
+  out.reliability = c->reliability;
+  out.durability = c->durability;
+  return out;
+}
+
+}  // namespace horus
