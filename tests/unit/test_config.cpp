@@ -315,3 +315,22 @@ TEST_F(ConfigTest, TheCliChecksAFileAndExplainsWhatATopicGetsAndFromWhere) {
 }
 
 }  // namespace
+
+#ifdef HORUS_HAVE_LCM
+namespace {
+
+TEST_F(ConfigTest, ABadLcmUrlInTheFileFailsTheLcmTopicNamingTheFileAndKey) {
+  ::unsetenv("HORUS_LCM_URL");
+  ::unsetenv("LCM_DEFAULT_URL");
+  TempFile file("network:\n  lcm_url: \"udpm://239.255.76.67:99999?ttl=0\"\ntopics:\n  - match: \"fleet.**\"\n"
+                "    backend: lcm\n");
+  ::setenv("HORUS_CONFIG", file.path.c_str(), 1);
+  auto t = horus::Topic<horus::msg::CmdVel>::open("fleet.cmd");
+  ASSERT_FALSE(t.has_value());
+  const auto& m = t.error().message();
+  EXPECT_NE(m.find("configuration file '" + file.path + "', network.lcm_url"), std::string::npos) << m;
+  EXPECT_NE(m.find("99999"), std::string::npos) << m;
+}
+
+}  // namespace
+#endif
