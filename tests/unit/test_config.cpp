@@ -239,6 +239,7 @@ TEST_F(ConfigTest, ATopicOpenedUnderHorusConfigGetsItsRuleScopeAndCapacity) {
   auto dbg = horus::Topic<horus::msg::CmdVel>::open("debug.trace");
   ASSERT_TRUE(dbg.has_value()) << dbg.error().message();
   EXPECT_EQ(dbg->backend(), horus::Backend::InProcess);
+  EXPECT_EQ(dbg->scope(), Scope::Process);
   EXPECT_EQ(dbg->capacity(), 8u);
   horus::TopicOptions code;
   code.capacity = 16;  // code wins over the file's 8
@@ -246,6 +247,9 @@ TEST_F(ConfigTest, ATopicOpenedUnderHorusConfigGetsItsRuleScopeAndCapacity) {
   ASSERT_TRUE(coded.has_value()) << coded.error().message();
   EXPECT_EQ(coded->capacity(), 16u);
   EXPECT_EQ(coded->backend(), horus::Backend::InProcess);
+  auto other = horus::Topic<horus::msg::CmdVel>::open("status.battery");  // the "**" rule: host
+  ASSERT_TRUE(other.has_value()) << other.error().message();
+  EXPECT_EQ(other->scope(), Scope::Host);
 }
 
 TEST_F(ConfigTest, AMalformedHorusConfigFailsEveryOpenNamingTheVariableFileAndLine) {

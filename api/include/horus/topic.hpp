@@ -274,6 +274,8 @@ class Topic {
   std::size_t max_message_size() const noexcept { return codec_.max_message_size(core()); }
   /// Where this topic's messages travel (see Backend).
   Backend backend() const noexcept { return core().backend; }
+  /// How far its messages go: process, host or fleet (backend().scope()).
+  Scope scope() const noexcept { return core().backend.scope(); }
   /// The qualified message type name ("horus::msg::CmdVel").
   static constexpr std::string_view type_name() noexcept { return horus::type_name<T>(); }
 
