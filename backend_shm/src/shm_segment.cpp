@@ -439,8 +439,53 @@ std::uint32_t ShmSegment::reap_dead_locked() const {
   return reaped;
 }
 
+namespace {
+std::uint64_t bridge_word(pid_t pid, std::uint32_t slot) noexcept {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(pid)) << 32) | (slot + 1u);
+}
+
+// Whether the holder `word` names is a live process still attached as that participant (its
+// entry is freed when it detaches or is reaped, and may then go to another process).
+bool bridge_holder_alive(const SegmentHeader& h, std::uint64_t word) noexcept {
+  const auto pid = static_cast<pid_t>(word >> 32);
+  const auto slot = static_cast<std::uint32_t>(word & 0xffff'ffffu) - 1u;
+  if (slot >= kMaxParticipants) return false;
+  const Participant& e = h.participants[slot];
+  if (static_cast<pid_t>(e.pid.load(std::memory_order_acquire)) != pid) return false;
+  return process_alive(pid, e.start_time.load(std::memory_order_relaxed));
+}
+}  // namespace
+
+ShmSegment::BridgeClaim ShmSegment::claim_bridge() noexcept {
+  if (header_ == nullptr || slot_ >= kMaxParticipants) return BridgeClaim::Held;
+  const std::uint64_t mine = bridge_word(::getpid(), slot_);
+  std::uint64_t cur = header_->bridge_owner.load(std::memory_order_acquire);
+  for (;;) {
+    if (cur == mine) return BridgeClaim::Ours;
+    const bool takeover = cur != 0;
+    if (takeover && bridge_holder_alive(*header_, cur)) return BridgeClaim::Held;
+    if (header_->bridge_owner.compare_exchange_strong(cur, mine, std::memory_order_acq_rel)) {
+      header_->bridge_claims.fetch_add(1, std::memory_order_relaxed);
+      return takeover ? BridgeClaim::TookOver : BridgeClaim::Claimed;
+    }
+  }
+}
+
+void ShmSegment::release_bridge() noexcept {
+  if (header_ == nullptr || slot_ >= kMaxParticipants) return;
+  std::uint64_t mine = bridge_word(::getpid(), slot_);
+  header_->bridge_owner.compare_exchange_strong(mine, 0, std::memory_order_acq_rel);
+}
+
+pid_t ShmSegment::bridge_holder() const noexcept {
+  if (header_ == nullptr) return 0;
+  const std::uint64_t cur = header_->bridge_owner.load(std::memory_order_acquire);
+  return cur != 0 && bridge_holder_alive(*header_, cur) ? static_cast<pid_t>(cur >> 32) : 0;
+}
+
 void ShmSegment::detach() noexcept {
   if (fd_ < 0) return;
+  if (header_ != nullptr && owner_ == ::getpid()) release_bridge();
   // Membership work only for a segment we joined (never on a failed open's foreign header).
   if (header_ != nullptr && owner_ == ::getpid() && slot_ < kMaxParticipants && lock_with_deadline(fd_)) {
     if (pool_) pool_.release_participant(slot_);

@@ -334,3 +334,51 @@ TEST_F(ShmSegmentTest, ProcessLivenessSeesThroughPidReuse) {
 }
 
 }  // namespace
+
+namespace {
+
+TEST_F(ShmSegmentTest, OneProcessHoldsTheBridgeAndAnotherTakesItOverWhenItIsKilled) {
+  using Claim = ShmSegment::BridgeClaim;
+  const auto topic = topic_name("bridge");
+  auto seg = ShmSegment::open(test_ns(), topic, stamp_spec());
+  ASSERT_TRUE(seg) << seg.error().message;
+  EXPECT_EQ(seg->bridge_holder(), 0);
+  Pipe ready;
+  const pid_t child = spawn([&] {
+    auto s = ShmSegment::open(test_ns(), topic, stamp_spec());
+    if (!s) return 10;
+    if (s->claim_bridge() != Claim::Claimed) return 11;
+    ready.signal();
+    for (;;) ::pause();
+  });
+  ASSERT_TRUE(ready.wait());
+  EXPECT_EQ(seg->bridge_holder(), child);
+  EXPECT_EQ(seg->claim_bridge(), Claim::Held);
+  ::kill(child, SIGKILL);
+  EXPECT_EQ(wait_for(child), 128 + SIGKILL);
+  EXPECT_EQ(seg->bridge_holder(), 0);  // a dead holder holds nothing
+  EXPECT_EQ(seg->claim_bridge(), Claim::TookOver);
+  EXPECT_EQ(seg->claim_bridge(), Claim::Ours);
+  EXPECT_EQ(seg->bridge_holder(), ::getpid());
+  EXPECT_EQ(seg->header().bridge_claims.load(), 2u);
+
+  // A live holder keeps it; one that detaches gives it up (a claim, not a takeover).
+  const pid_t other = spawn([&] {
+    auto s = ShmSegment::open(test_ns(), topic, stamp_spec());
+    return !s ? 10 : s->claim_bridge() == Claim::Held ? 0 : 11;
+  });
+  EXPECT_EQ(wait_for(other), 0);
+  seg->release_bridge();
+  EXPECT_EQ(seg->bridge_holder(), 0);
+  const pid_t closer = spawn([&] {
+    auto s = ShmSegment::open(test_ns(), topic, stamp_spec());
+    if (!s || s->claim_bridge() != Claim::Claimed) return 10;
+    *s = ShmSegment();  // detaches: releases the bridge
+    return 0;
+  });
+  EXPECT_EQ(wait_for(closer), 0);
+  EXPECT_EQ(seg->claim_bridge(), Claim::Claimed);
+  EXPECT_EQ(seg->header().bridge_claims.load(), 4u);
+}
+
+}  // namespace

@@ -36,7 +36,7 @@
 namespace horus::shm {
 
 inline constexpr std::uint64_t kSegmentMagic = 0x3147'4553'5355'524FULL;  // "ORUSSEG1"
-inline constexpr std::uint32_t kSegmentVersion = 2;  // 2: the large-data pool
+inline constexpr std::uint32_t kSegmentVersion = 3;  // 2: the large-data pool; 3: the bridge claim
 inline constexpr std::size_t kMaxTypeName = 255;
 
 struct alignas(kCacheLine) Participant {
@@ -61,6 +61,10 @@ struct alignas(kCacheLine) SegmentHeader {
   std::uint64_t pool_slot_bytes;   // largest message's bytes in the pool
   std::uint32_t pool_slots_per_lane;
   std::uint32_t reserved;
+  // The per-host bridge of a fleet topic (ShmSegment::claim_bridge): (holder pid << 32) |
+  // (its participant index + 1); 0: nobody. Changed by compare-exchange only.
+  alignas(kCacheLine) std::atomic<std::uint64_t> bridge_owner;
+  std::atomic<std::uint64_t> bridge_claims;  // claims ever made, takeovers included
   Participant participants[kMaxParticipants];
 };
 static_assert(std::is_standard_layout_v<SegmentHeader>, "the segment header has a fixed layout");
@@ -129,6 +133,16 @@ class ShmSegment {
   /// Releases ring lanes and subscriber entries held by processes that are gone, and their
   /// participant entries (under the segment lock). Returns how many processes were reaped.
   std::uint32_t reap_dead() const;
+
+  /// The bridge of a fleet topic: at most one process of the host holds it, through the
+  /// segment; no daemon. Claimed when nobody holds it or its holder's process is gone (that
+  /// is a takeover); a holder that detaches releases it. Lock-free: a compare-exchange.
+  enum class BridgeClaim { Claimed, TookOver, Held, Ours };
+  BridgeClaim claim_bridge() noexcept;
+  /// Gives the bridge up if this attachment holds it.
+  void release_bridge() noexcept;
+  /// The live process that holds the bridge, or 0.
+  pid_t bridge_holder() const noexcept;
 
  private:
   std::uint32_t reap_dead_locked() const;  // the caller holds the lock
