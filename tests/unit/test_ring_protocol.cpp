@@ -480,3 +480,43 @@ TEST(RingProtocol, ConcurrentWritersAndReadersNeverTearASmallMessageAndAccountFo
 TEST(RingProtocol, ConcurrentWritersAndReadersNeverTearALargeMessageAndAccountForEveryOne) {
   stress_without_tearing<LargeUniform>(100'000);
 }
+
+TEST(RingProtocol, ReadExceptPassesOverOneLaneAndDeliversTheOthersInOrder) {
+  auto t = make_ring(8, sizeof(Msg));
+  RingReader<Msg> bridge(t.ring, 100);
+  ASSERT_TRUE(bridge.subscribe());
+  auto writers = writers_with_lanes<Msg>(t.ring, 2);
+  const std::uint32_t own = writers[0].lane();  // the bridge's import lane
+  for (std::uint64_t i = 0; i < 5; ++i) {
+    writers[0].write({i, 0});  // imported: never exported again
+    writers[1].write({i, 1});  // a local publisher's
+  }
+  Msg m{};
+  for (std::uint64_t i = 0; i < 5; ++i) {
+    ASSERT_TRUE(bridge.read_except(m, own)) << i;
+    EXPECT_EQ(m.writer, 1u);
+    EXPECT_EQ(m.seq, i);
+  }
+  EXPECT_FALSE(bridge.read_except(m, own));
+  EXPECT_FALSE(bridge.has_message());  // the passed-over lane is not left unread
+  EXPECT_EQ(bridge.delivered(), 5u);
+  EXPECT_EQ(bridge.lost(), 0u);
+  // More than a lane's capacity on the own lane costs nothing and counts no loss.
+  for (std::uint64_t i = 0; i < 20; ++i) writers[0].write({i, 0});
+  writers[1].write({99, 1});
+  ASSERT_TRUE(bridge.read_except(m, own));
+  EXPECT_EQ(m.seq, 99u);
+  EXPECT_EQ(bridge.lost(), 0u);
+  // A plain reader of the same ring still gets both lanes.
+  RingReader<Msg> other(t.ring, 101);
+  ASSERT_TRUE(other.subscribe());
+  writers[0].write({7, 0});
+  writers[1].write({8, 1});
+  int got = 0;
+  while (other.read(m)) ++got;
+  EXPECT_EQ(got, 2);
+  // An out-of-range lane passes over nothing: both lanes' newest messages arrive.
+  got = 0;
+  while (bridge.read_except(m, ~0u)) ++got;
+  EXPECT_EQ(got, 2);  // {7, 0} and {8, 1}
+}

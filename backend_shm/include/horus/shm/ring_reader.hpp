@@ -116,6 +116,23 @@ class RingReader {
     return false;
   }
 
+  /// read(), passing over the messages of lane `own` (they count as skipped, not delivered):
+  /// a topic's bridge exports what the host's publishers send, never what it imported through
+  /// its own lane. `own` out of range (a writer without a lane) passes over nothing.
+  bool read_except(T& out, std::uint32_t own) noexcept {
+    if (own < kMaxPublishers) pass_over(own);
+    const std::uint32_t lanes = lane_hwm_->load(std::memory_order_acquire);
+    std::uint32_t lane = next_lane_;
+    for (std::uint32_t k = 0; k < lanes; ++k, ++lane) {
+      if (lane >= lanes) lane = 0;
+      if (lane != own && read_lane(lane, out)) {
+        next_lane_ = lane + 1;
+        return true;
+      }
+    }
+    return false;
+  }
+
   /// True if read() would return a message.
   bool has_message() const noexcept {
     const std::uint32_t lanes = lane_hwm_->load(std::memory_order_acquire);
@@ -215,6 +232,14 @@ class RingReader {
   void advance(std::uint32_t lane, std::uint64_t to) noexcept {
     cursor_[lane] = to;
     shared_cursor_[lane].store(to, std::memory_order_relaxed);
+  }
+
+  // Moves lane `lane`'s cursor to its head, counting what it passes as skipped.
+  void pass_over(std::uint32_t lane) noexcept {
+    const std::uint64_t head = ring_.lane(lane).head.load(std::memory_order_acquire);
+    if (cursor_[lane] >= head) return;
+    skipped_ += head - cursor_[lane];
+    advance(lane, head);
   }
 
   // Marks everything before heads[] as read: messages still in the ring are skipped, those
