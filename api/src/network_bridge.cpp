@@ -1,192 +1,479 @@
-// The network bridge of a fleet topic (horus/detail/network_bridge.hpp): the transport found by
-// name in the registry, its endpoint, the listener that hands samples to the topic's receiver,
-// and what the transport reports (losses, errors, samples that do not decode).
+// The network bridge of a fleet topic (horus/detail/network_bridge.hpp): one per topic and
+// process; the one whose process holds the segment's bridge claim has the transport's endpoint
+// and moves messages between the host's ring and the network, the others watch the holder and
+// take over when it goes.
+//
+// Holder. Export: a thread sleeps on the ring's doorbell with its own subscriber entry and
+// sends every message the host's publishers wrote, at full rate, skipping its own import lane
+// (a message never goes back to the network it came from). Import: the transport's thread
+// decodes each sample into the bridge's lane. DDS does not deliver a participant's own samples
+// back; LCM does, so an echo ledger (hashes of what we sent, for 2 s) drops them.
+//
+// Takeover. Non-holders sleep on a pidfd of the holder (or 50 ms, for a holder that closes the
+// topic without exiting) and claim the bridge when it is gone. The successor adopts the
+// entry and the lane its predecessor recorded in the segment (the reaper leaves them), so it
+// exports exactly what the predecessor had not read; a message the predecessor died exporting
+// counts as dropped. Samples other hosts sent while no endpoint existed are not seen: they
+// cannot be counted (no per-sample sequence on these wires).
 #include "horus/detail/network_bridge.hpp"
 
 #include <fmt/format.h>
+#include <poll.h>
+#include <sys/eventfd.h>
+#include <sys/syscall.h>
+#include <unistd.h>
 
 #include <atomic>
+#include <chrono>
+#include <cstring>
+#include <deque>
 #include <mutex>
+#include <thread>
+#include <unordered_map>
 
 #include "horus/detail/topic_core.hpp"
+#include "horus/detail/waiting.hpp"
 #include "horus/log.hpp"
 
 namespace horus::detail {
 
+namespace {
+using Clock = std::chrono::steady_clock;
+constexpr auto kWatchPeriod = std::chrono::milliseconds(50);  // a non-holder looks at the claim
+constexpr auto kMatchWait = std::chrono::seconds(1);          // a successor waits for the readers
+
+std::atomic<int> g_network_pid{0};  // the process that created this process's transports
+
+// A 64-bit hash of a sample's bytes (the echo ledger), four independent lanes of 8 bytes.
+std::uint64_t body_hash(std::span<const std::byte> b) noexcept {
+  constexpr std::uint64_t kMul = 0x9E37'79B9'7F4A'7C15ULL;
+  std::uint64_t h[4] = {b.size(), 0x243F'6A88'85A3'08D3ULL, 0x1319'8A2E'0370'7344ULL, 0xA409'3822'299F'31D0ULL};
+  std::size_t i = 0;
+  const std::byte* p = b.data();
+  for (; i + 32 <= b.size(); i += 32) {
+    for (int k = 0; k < 4; ++k) {
+      std::uint64_t w;
+      std::memcpy(&w, p + i + 8 * k, 8);
+      h[k] = (h[k] ^ w) * kMul;
+      h[k] ^= h[k] >> 29;
+    }
+  }
+  std::uint64_t tail = 0;
+  for (int shift = 0; i < b.size(); ++i, shift = (shift + 8) & 63) {
+    tail ^= static_cast<std::uint64_t>(std::to_integer<std::uint8_t>(p[i])) << shift;
+    if (shift == 56) {
+      h[0] = (h[0] ^ tail) * kMul;
+      tail = 0;
+    }
+  }
+  std::uint64_t r = (h[0] ^ tail) * kMul;
+  for (int k = 1; k < 4; ++k) r = (r ^ h[k] ^ (h[k] >> 31)) * kMul;
+  return r ^ (r >> 32);
+}
+
+// What this bridge sent on a transport that delivers it back (LCM): a sample that arrives with
+// the hash of one we sent in the last 2 s is our own and is dropped once. Two identical samples
+// from us and another host are indistinguishable: one of them is dropped, the count stays right.
+class EchoLedger {
+ public:
+  void add(std::uint64_t h) {
+    std::lock_guard lock(mutex_);
+    expire(Clock::now());
+    order_.emplace_back(Clock::now(), h);
+    ++count_[h];
+  }
+  bool consume(std::uint64_t h) {
+    std::lock_guard lock(mutex_);
+    expire(Clock::now());
+    auto it = count_.find(h);
+    if (it == count_.end()) return false;
+    if (--it->second == 0) count_.erase(it);
+    return true;
+  }
+
+ private:
+  void expire(Clock::time_point now) {
+    while (!order_.empty() && now - order_.front().first > std::chrono::seconds(2)) {
+      if (auto it = count_.find(order_.front().second); it != count_.end() && --it->second == 0) count_.erase(it);
+      order_.pop_front();
+    }
+  }
+  std::mutex mutex_;
+  std::deque<std::pair<Clock::time_point, std::uint64_t>> order_;
+  std::unordered_map<std::uint64_t, std::uint32_t> count_;
+};
+
+int open_pidfd(pid_t pid) noexcept {
+#ifdef SYS_pidfd_open
+  return static_cast<int>(::syscall(SYS_pidfd_open, pid, 0));
+#else
+  (void)pid;
+  return -1;
+#endif
+}
+}  // namespace
+
 class NetworkBridge final : public net::Listener {
  public:
-  NetworkBridge(TopicCore& core, const WireOps& ops, const net::Qos& qos) : core_(core), ops_(ops), qos_(qos) {}
+  NetworkBridge(TopicCore& core, const WireOps& ops, const net::Qos& qos, const net::TransportInfo& info)
+      : core_(core), ops_(ops), qos_(qos), info_(info), format_(info.format), wake_fd_(::eventfd(0, EFD_CLOEXEC)) {}
+  ~NetworkBridge() {
+    if (wake_fd_ >= 0) ::close(wake_fd_);
+  }
 
   TopicCore& core_;
   const WireOps& ops_;
   net::Qos qos_;
-  net::WireFormat format_ = net::WireFormat::Xcdr1;
-  bool loopback_ = false;  // the transport delivers our own samples back (LCM): send skips the ring
-  std::shared_ptr<net::Transport> transport_;
-  std::unique_ptr<net::Endpoint> endpoint_;  // reset first: no callback after that
-  void* receiver_ = nullptr;                 // ops_.make_receiver; destroyed after the endpoint
-  std::mutex mutex_;                         // one sample at a time into the receiver
-  std::atomic<bool> receiver_publishing_{false};  // the receiver holds a ring lane
-  std::atomic<bool> receiving_{true};             // what the endpoint was last told (set_receiving)
+  const net::TransportInfo& info_;
+  net::WireFormat format_;
+  std::string wire_topic_;
+  std::shared_ptr<net::Transport> transport_;  // this process's (every process has one: takeover is quick)
+  std::unique_ptr<BridgePort> port_;           // the holder's lane and entry; outlives the endpoint
+  std::unique_ptr<net::Endpoint> endpoint_;    // the holder's only; reset first: no callback after that
+  bool holder_ = false;                        // the bridge thread's (and start()'s) view
+  std::atomic<bool> endpoint_ready_{false};    // endpoint_ is set (user threads may ask it for counts)
+  bool loopback_ = false;                      // the transport delivers our own samples back (LCM)
+  EchoLedger ledger_;
+  std::thread thread_;
+  std::atomic<bool> stop_{false};
+  int wake_fd_ = -1;
   std::atomic<std::uint64_t> decode_failures_{0};
   std::atomic<std::uint64_t> errors_{0};  // incompatible endpoints reported
-  std::atomic<std::uint64_t> lost_{0};    // messages the transport reported lost
+  std::uint64_t send_failures_ = 0;       // for the log's rate
+  std::uint64_t export_lost_seen_ = 0;
 
+  shm::ShmSegment& segment() const noexcept { return *core_.segment; }
+  shm::BridgeState& state() const noexcept { return core_.segment->bridge(); }
+
+  // --- the listener (the transport's threads) ---------------------------------
   void on_sample(const net::Sample& sample) override {
-    std::lock_guard lock(mutex_);
-    if (receiver_ != nullptr) ops_.deliver(receiver_, format_, sample);
+    if (loopback_ && ledger_.consume(body_hash(sample.body))) return;  // our own, back
+    if (port_->deliver(format_, sample)) state().imported.fetch_add(1, std::memory_order_relaxed);
   }
   void on_lost(std::uint64_t count) override {
-    const auto before = lost_.fetch_add(count, std::memory_order_relaxed);
+    const auto before = state().dropped.fetch_add(count, std::memory_order_relaxed);
     // Log the first loss, then at most once per 1024 more (the count is in dropped_count()).
     if (before == 0 || before / 1024 != (before + count) / 1024)
-      log().warn("topic '{}': the {} backend lost {} message(s) or datagram(s) ({} so far; they count in "
-                 "dropped_count()). On LCM the kernel dropped datagrams because the socket receive buffer was "
-                 "full: large messages need a larger buffer (HORUS_LCM_URL=...?recv_buf_size=N and sysctl "
-                 "net.core.rmem_max)",
-                 core_.name, transport_->name(), count, before + count);
+      log().warn("topic '{}': the {} backend lost {} message(s) or datagram(s) ({} so far on this host; they "
+                 "count in dropped_count()). On LCM the kernel dropped datagrams because the socket receive "
+                 "buffer was full: large messages need a larger buffer (HORUS_LCM_URL=...?recv_buf_size=N and "
+                 "sysctl net.core.rmem_max)",
+                 core_.name, info_.name, count, before + count);
   }
   void on_error(std::string_view message) override {
     const auto n = errors_.fetch_add(1, std::memory_order_relaxed) + 1;
-    if (n <= 16 || n % 1024 == 0) log().error("{} [{}]", message, transport_->name());
+    if (n <= 16 || n % 1024 == 0) log().error("{} [{}]", message, info_.name);
   }
+
+  // --- becoming the holder ------------------------------------------------------
+  Result<void> become_holder(bool takeover) {
+    if (!port_) port_ = ops_.make_port(core_);
+    const std::uint32_t readers_before = state().matched_subscribers.load(std::memory_order_relaxed);
+    bool inherited = false;
+    segment().inherit_bridge([&](shm::ShmSegment::Inheritance& in) {
+      if (in.export_entry && port_->take_entry(*in.export_entry, in.export_token)) {
+        in.export_entry.reset();
+        inherited = true;
+      }
+      if (in.import_lane && port_->take_lane(*in.import_lane, in.import_token)) in.import_lane.reset();
+      // It had read a message and died before the transport took it: maybe sent, never twice.
+      if (in.inflight != 0) state().dropped.fetch_add(1, std::memory_order_relaxed);
+    });
+    if (!port_->has_entry() && !port_->take_entry(0, 0))
+      return fail(Errc::LimitReached, fmt::format("topic '{}': its bridge found no free subscriber entry (all {} "
+                                                  "in use); nothing of this host reaches the fleet",
+                                                  core_.name, shm::kMaxSubscribers));
+    if (!port_->has_lane() && !port_->take_lane(0, 0))
+      return fail(Errc::LimitReached, fmt::format("topic '{}': its bridge found no free publisher lane (all {} "
+                                                  "in use); nothing of the fleet reaches this host",
+                                                  core_.name, shm::kMaxPublishers));
+    segment().record_bridge_export(port_->entry(), port_->entry_token());
+    segment().record_bridge_import(port_->lane(), port_->lane_token());
+    export_lost_seen_ = port_->export_lost();
+    net::EndpointSpec spec;
+    spec.topic = core_.name;
+    spec.wire_topic = wire_topic_;
+    spec.type_name = core_.type_name;
+    spec.type_hash = core_.type_hash;
+    spec.qos = qos_;
+    auto endpoint = transport_->open(spec, *this);
+    if (!endpoint) {
+      port_->leave();  // recorded: the next holder adopts them
+      return std::unexpected(std::move(endpoint.error()));
+    }
+    endpoint_ = std::move(*endpoint);
+    holder_ = true;
+    endpoint_ready_.store(true, std::memory_order_release);
+    if (takeover || inherited) {
+      // The readers that matched the predecessor's writer must match ours before the backlog
+      // goes out, or a volatile reader would miss it (bounded: a reader may have left).
+      const auto until = Clock::now() + kMatchWait;
+      while (!stop_.load() && readers_before != 0 && endpoint_->matched_subscribers() < readers_before &&
+             Clock::now() < until)
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    publish_matches();
+    return {};
+  }
+
+  void publish_matches() noexcept {
+    if (!endpoint_) return;
+    try {
+      state().matched_publishers.store(endpoint_->matched_publishers(), std::memory_order_relaxed);
+      state().matched_subscribers.store(endpoint_->matched_subscribers(), std::memory_order_relaxed);
+    } catch (...) {
+    }
+  }
+
+  // --- exporting --------------------------------------------------------------
+  bool send(const void* msg) {
+    auto report = [&](const Error& error) {
+      state().dropped.fetch_add(1, std::memory_order_relaxed);
+      if (++send_failures_ == 1 || send_failures_ % 1024 == 0)
+        log().error("topic '{}': the {} backend did not send a {} sample: {} ({} so far; counted in "
+                    "dropped_count())",
+                    core_.name, info_.name, core_.type_name, error.message(), send_failures_);
+      return true;  // go on with the next message
+    };
+    auto n = ops_.encoded_size(format_, msg);
+    if (!n) return report(n.error());
+    struct Context {
+      NetworkBridge* self;
+      const void* msg;
+    } ctx{this, msg};
+    const net::BodyWriter writer{[](void* c, std::span<std::byte> body) {
+                                   const auto& x = *static_cast<const Context*>(c);
+                                   x.self->ops_.encode(x.self->format_, x.msg, body);
+                                   if (x.self->loopback_) x.self->ledger_.add(body_hash(body));
+                                 },
+                                 &ctx};
+    state().inflight.store(1, std::memory_order_relaxed);
+    auto ok = endpoint_->write(*n, writer);
+    state().inflight.store(0, std::memory_order_relaxed);
+    if (!ok) [[unlikely]]
+      return report(ok.error());
+    state().exported.fetch_add(1, std::memory_order_relaxed);
+    return true;
+  }
+
+  void export_pending() {
+    const ExportSink sink{this, [](void* c, const void* msg) { return static_cast<NetworkBridge*>(c)->send(msg); }};
+    while (port_->export_pending(port_->lane(), sink) != 0) {
+    }
+    if (const std::uint64_t lost = port_->export_lost(); lost > export_lost_seen_) {
+      state().dropped.fetch_add(lost - export_lost_seen_, std::memory_order_relaxed);
+      export_lost_seen_ = lost;
+    }
+  }
+
+  // --- the bridge thread -----------------------------------------------------------
+  // Sleeps until the holder may have gone: its pidfd readable (it exited), a wake-up (stop),
+  // or kWatchPeriod (a holder that closed the topic and lives on).
+  void watch(pid_t& watched, int& pidfd, bool backing_off) {
+    const pid_t holder = segment().bridge_holder();
+    if (holder != watched) {
+      if (pidfd >= 0) ::close(pidfd);
+      pidfd = holder > 0 ? open_pidfd(holder) : -1;
+      watched = holder;
+    }
+    if (holder == 0 && !backing_off) return;  // nobody: claim at once
+    pollfd fds[2] = {{wake_fd_, POLLIN, 0}, {pidfd, POLLIN, 0}};
+    ::poll(fds, pidfd >= 0 ? 2 : 1, static_cast<int>(kWatchPeriod.count()));
+  }
+
+  void run() {
+    pid_t watched = 0;
+    int pidfd = -1;
+    auto next_match = Clock::now();
+    auto retry_at = Clock::time_point{};
+    while (!stop_.load(std::memory_order_acquire)) {
+      if (!holder_) {
+        const bool backing_off = Clock::now() < retry_at;
+        const auto claim = backing_off ? shm::ShmSegment::BridgeClaim::Held : segment().claim_bridge();
+        if (claim == shm::ShmSegment::BridgeClaim::Held) {
+          watch(watched, pidfd, backing_off);
+          continue;
+        }
+        const bool takeover = claim == shm::ShmSegment::BridgeClaim::TookOver;
+        if (auto ok = become_holder(takeover); !ok) {
+          log().error("topic '{}': this process could not take over the host's bridge to {}: {}; retrying in 1 s",
+                      core_.name, info_.name, ok.error().message());
+          segment().release_bridge();
+          retry_at = Clock::now() + std::chrono::seconds(1);
+          continue;
+        }
+        log().info("topic '{}': this process (pid {}) now bridges the host to {}{}", core_.name, ::getpid(),
+                   info_.name, takeover ? " (it took over from a process that is gone)" : "");
+      }
+      export_pending();
+      const auto now = Clock::now();
+      if (now >= next_match) {
+        publish_matches();
+        next_match = now + kWatchPeriod;
+      }
+      wait_for_unread(core_, port_->entry(), port_->entry_token(), now + kWatchPeriod);
+    }
+    if (holder_) export_pending();  // what the host's publishers sent before the topic closed
+    if (pidfd >= 0) ::close(pidfd);
+    done_.store(true, std::memory_order_release);
+  }
+
+  Result<void> start() {
+    auto transport = info_.open();  // the transport reads its own settings (HORUS_DOMAIN_ID, HORUS_LCM_URL)
+    if (!transport) return std::unexpected(std::move(transport.error()));
+    transport_ = std::move(*transport);
+    loopback_ = transport_->delivers_own_samples();
+    const auto claim = segment().claim_bridge();
+    if (claim == shm::ShmSegment::BridgeClaim::Claimed || claim == shm::ShmSegment::BridgeClaim::TookOver) {
+      if (auto ok = become_holder(claim == shm::ShmSegment::BridgeClaim::TookOver); !ok) {
+        segment().release_bridge();
+        return ok;
+      }
+    }
+    thread_ = std::thread([this] { run(); });
+    return {};
+  }
+
+  void stop() noexcept {
+    stop_.store(true, std::memory_order_release);
+    if (wake_fd_ >= 0) {
+      const std::uint64_t one = 1;
+      (void)!::write(wake_fd_, &one, sizeof(one));
+    }
+    if (thread_.joinable()) {
+      // The thread may sleep on the doorbell: ring it (a spurious wake-up for other waiters).
+      while (true) {
+        core_.ring.wake_waiters();
+        std::this_thread::sleep_for(std::chrono::microseconds(200));
+        if (done_.load(std::memory_order_acquire)) break;
+      }
+      thread_.join();
+    }
+    endpoint_ready_.store(false, std::memory_order_release);
+    endpoint_.reset();  // no callback after this
+    if (holder_) {
+      state().matched_publishers.store(0, std::memory_order_relaxed);
+      state().matched_subscribers.store(0, std::memory_order_relaxed);
+      port_->leave();  // recorded in the segment: the next holder adopts them
+      segment().release_bridge();
+    }
+    port_.reset();
+  }
+  std::atomic<bool> done_{false};
 };
 
 void NetworkBridgeDeleter::operator()(NetworkBridge* b) const noexcept {
   if (b == nullptr) return;
   if (b->core_.pid != current_pid()) {
-    // A forked child's copy: the participant's threads live in the parent only. Deleting the
-    // endpoint here would hang or tell peers that the parent's endpoints are gone: leave it.
+    // A forked child's copy: the bridge's thread and the participant's threads live in the
+    // parent only. Deleting the endpoint here would hang or tell peers the parent's are gone.
     return;
   }
-  b->endpoint_.reset();  // no callback after this
-  if (b->receiver_ != nullptr) b->ops_.destroy_receiver(b->receiver_);
+  b->stop();
   delete b;
 }
 
-namespace {
-std::atomic<int> g_network_pid{0};  // the process that created this process's transports
-
-// Creates the topic's bridge: receiver, then endpoint. The caller holds core.net_mutex.
-Result<void> attach(TopicCore& core, const WireOps& ops, const net::Qos& qos) {
+Result<void> connect_network(TopicCore& core, const WireOps& ops, const net::Qos& qos, const TopicOptions& options) {
+  const auto* info = net::find_transport(core.backend.transport());
+  if (info == nullptr)
+    return fail(Errc::Config,
+                fmt::format("topic '{}': this build of horus has no {} backend", core.name, to_string(core.backend)));
+  if (!ops.expressible(info->format))
+    return fail(Errc::Config, "topic '" + core.name + "': " + core.type_name +
+                                  " cannot travel over LCM: it has a variable-size array of variable-size arrays "
+                                  "or an array of size 0, which LCM types cannot express (horus/wire/"
+                                  "lcm_mapping.hpp); use another backend for it");
+  std::lock_guard lock(core.net_mutex);
+  if (core.net) {
+    // The topic's bridge exists: a handle asking for another QoS is an error, not ignored.
+    const net::Qos have = core.net->qos_;
+    if ((options.reliability && *options.reliability != have.reliability) ||
+        (options.durability && *options.durability != have.durability))
+      return fail(Errc::ConfigMismatch,
+                  "topic '" + core.name + "' is open in this process as " +
+                      std::string(net::to_string(have.reliability)) + ", " +
+                      std::string(net::to_string(have.durability)) +
+                      "; cannot open it with another reliability or durability (open it with the same, or "
+                      "without either to accept them)");
+    return {};
+  }
   if (const int owner = g_network_pid.load(); owner != 0 && owner != current_pid())
     return fail(Errc::Io, fmt::format("topic '{}': this process was forked from pid {} after that process used {}; "
                                       "network transports (DDS participants, LCM instances) do not survive fork() "
                                       "(their threads stay in the parent). Open network topics before forking only "
                                       "in the process that keeps them, or exec the child",
                                       core.name, owner, to_string(core.backend)));
-  const net::TransportInfo* info = net::find_transport(core.backend.transport());
-  if (info == nullptr)
-    return fail(Errc::Config,
-                fmt::format("topic '{}': this build of horus has no {} backend", core.name, to_string(core.backend)));
   auto wire = info->wire_name(core.name);
   if (!wire) return std::unexpected(std::move(wire.error()));
-  auto transport = info->open();  // the transport reads its own settings (HORUS_DOMAIN_ID, HORUS_LCM_URL)
-  if (!transport) return std::unexpected(std::move(transport.error()));
-  std::unique_ptr<NetworkBridge, NetworkBridgeDeleter> bridge(new NetworkBridge(core, ops, qos));
-  bridge->format_ = info->format;
-  bridge->transport_ = std::move(*transport);
-  bridge->loopback_ = bridge->transport_->delivers_own_samples();
-  bridge->receiver_ = ops.make_receiver(core);
-  net::EndpointSpec spec;
-  spec.topic = core.name;
-  spec.wire_topic = std::move(*wire);
-  spec.type_name = core.type_name;
-  spec.type_hash = core.type_hash;
-  spec.qos = qos;
-  // The bridge is the topic's before the endpoint exists: samples may arrive (on the transport's
-  // threads) as soon as it does, and the receiver reports through core.net. User threads see
-  // core.net only after this returns (they wait on net_mutex).
+  std::unique_ptr<NetworkBridge, NetworkBridgeDeleter> bridge(new NetworkBridge(core, ops, qos, *info));
+  bridge->wire_topic_ = std::move(*wire);
+  // The bridge is the topic's before its endpoint exists: samples may arrive (on the
+  // transport's threads) as soon as it does. User threads see core.net after this returns.
   auto& b = *bridge;
   core.net = std::move(bridge);
-  auto endpoint = b.transport_->open(spec, b);
-  if (!endpoint) {
+  if (auto ok = b.start(); !ok) {
     core.net.reset();
-    return std::unexpected(std::move(endpoint.error()));
+    return ok;
   }
-  b.endpoint_ = std::move(*endpoint);
   g_network_pid.store(current_pid());
   return {};
 }
+
+std::uint64_t network_dropped(const TopicCore& core) noexcept {
+  return core.segment && core.net ? core.segment->bridge().dropped.load(std::memory_order_relaxed) : 0;
+}
+
+namespace {
+// Remote writers (readers) the host's bridge matched: asked of the endpoint in the holding
+// process, read from the segment (published every 50 ms) in the others.
+std::uint32_t matched(const TopicCore& core, bool writers) noexcept {
+  const NetworkBridge& b = *core.net;
+  if (b.endpoint_ready_.load(std::memory_order_acquire)) {
+    try {
+      return writers ? b.endpoint_->matched_publishers() : b.endpoint_->matched_subscribers();
+    } catch (...) {
+    }
+  }
+  const auto& s = core.segment->bridge();
+  return (writers ? s.matched_publishers : s.matched_subscribers).load(std::memory_order_relaxed);
+}
 }  // namespace
 
-Result<void> connect_network(TopicCore& core, const WireOps& ops, const net::Qos& qos, const TopicOptions& options) {
-  const auto* info = net::find_transport(core.backend.transport());
-  if (info != nullptr && !ops.expressible(info->format))
-    return fail(Errc::Config, "topic '" + core.name + "': " + core.type_name +
-                                  " cannot travel over LCM: it has a variable-size array of variable-size arrays "
-                                  "or an array of size 0, which LCM types cannot express (horus/wire/"
-                                  "lcm_mapping.hpp); use another backend for it");
-  std::lock_guard lock(core.net_mutex);
-  if (!core.net) return attach(core, ops, qos);
-  // The topic's endpoint exists: a handle asking for another QoS is an error, not ignored.
-  const net::Qos have = core.net->qos_;
-  if ((options.reliability && *options.reliability != have.reliability) ||
-      (options.durability && *options.durability != have.durability))
-    return fail(Errc::ConfigMismatch,
-                "topic '" + core.name + "' is open in this process as " + std::string(net::to_string(have.reliability)) +
-                    ", " + std::string(net::to_string(have.durability)) +
-                    "; cannot open it with another reliability or durability (open it with the same, or "
-                    "without either to accept them)");
-  return {};
+std::uint32_t network_publishers(const TopicCore& core) noexcept {
+  const std::uint32_t lanes = core.ring.publisher_count();
+  if (!core.segment || !core.net) return lanes;
+  const auto& b = core.segment->bridge();
+  const std::uint32_t bridge_lane = b.import_token.load(std::memory_order_relaxed) != 0 && lanes != 0 ? 1 : 0;
+  return lanes - bridge_lane + matched(core, true);
 }
 
-bool network_send(TopicCore& core, const void* msg, std::uint64_t& failures) {
-  auto& b = *core.net;
-  auto report = [&](const Error& error) {
-    if (++failures == 1 || failures % 1024 == 0)
-      log().error("topic '{}': the {} backend did not send a {} sample: {} ({} so far)", core.name,
-                  to_string(core.backend), core.type_name, error.message(), failures);
-    return false;
-  };
-  auto n = b.ops_.encoded_size(b.format_, msg);
-  if (!n) return report(n.error());
-  struct Context {
-    const WireOps* ops;
-    net::WireFormat format;
-    const void* msg;
-  } ctx{&b.ops_, b.format_, msg};
-  const net::BodyWriter writer{[](void* c, std::span<std::byte> body) {
-                                 const auto& x = *static_cast<const Context*>(c);
-                                 x.ops->encode(x.format, x.msg, body);
-                               },
-                               &ctx};
-  if (auto ok = b.endpoint_->write(*n, writer); !ok) [[unlikely]]
-    return report(ok.error());
-  return true;
+std::uint32_t network_subscribers(const TopicCore& core) noexcept {
+  const std::uint32_t entries = core.ring.subscriber_count();
+  if (!core.segment || !core.net) return entries;
+  const auto& b = core.segment->bridge();
+  const std::uint32_t bridge_entry = b.export_token.load(std::memory_order_relaxed) != 0 && entries != 0 ? 1 : 0;
+  return entries - bridge_entry + matched(core, false);
 }
 
-bool network_loopback(const TopicCore& core) noexcept { return core.net && core.net->loopback_; }
-
-void network_receiving(TopicCore& core, bool on) noexcept {
-  if (!core.net || core.net->receiving_.load(std::memory_order_acquire) == on) return;
-  // A mutex of its own: the endpoint may wait for the transport's receive thread, which never
-  // takes this one (only user threads call here).
-  static std::mutex receiving_mutex;
-  std::lock_guard lock(receiving_mutex);
-  if (core.net->receiving_.load(std::memory_order_acquire) == on) return;
-  core.net->receiving_.store(on, std::memory_order_release);
-  core.net->endpoint_->set_receiving(on);
+std::uint32_t network_waiters(const TopicCore& core) noexcept {
+  const std::uint32_t all = core.ring.doorbell().waiters();
+  if (!core.segment || !core.net) return all;
+  const auto& b = core.segment->bridge();
+  const std::uint64_t token = b.export_token.load(std::memory_order_relaxed);
+  const std::uint32_t entry = b.export_entry.load(std::memory_order_relaxed);
+  if (token == 0 || entry >= shm::kMaxSubscribers) return all;
+  const auto& e = core.ring.subscriber(entry);
+  const std::uint32_t bridge = e.owner.load(std::memory_order_relaxed) == token
+                                   ? e.waiting.count.load(std::memory_order_relaxed)
+                                   : 0;
+  return all > bridge ? all - bridge : 0;
 }
 
-std::uint32_t network_pub_count(const TopicCore& core) noexcept {
-  // The receiver (which writes what arrives into the ring) holds a lane once a sample arrived.
-  const std::uint32_t receiver = core.net->receiver_publishing_.load(std::memory_order_acquire) ? 1 : 0;
-  return core.ring.publisher_count() - receiver + core.net->endpoint_->matched_publishers();
+std::uint64_t network_errors(const TopicCore& core) noexcept {
+  return core.net ? core.net->errors_.load(std::memory_order_relaxed) : 0;
 }
-
-std::uint32_t network_subscribers(const TopicCore& core) noexcept { return core.net->endpoint_->matched_subscribers(); }
-
-std::uint64_t network_lost(const TopicCore& core) noexcept {
-  return core.net ? core.net->lost_.load(std::memory_order_relaxed) : 0;
-}
-std::uint64_t network_errors(const TopicCore& core) noexcept { return core.net->errors_.load(std::memory_order_relaxed); }
 std::uint64_t network_decode_failures(const TopicCore& core) noexcept {
-  return core.net->decode_failures_.load(std::memory_order_relaxed);
-}
-
-void network_receiver_publishing(TopicCore& core) noexcept {
-  core.net->receiver_publishing_.store(true, std::memory_order_release);
+  return core.net ? core.net->decode_failures_.load(std::memory_order_relaxed) : 0;
 }
 
 void report_network_decode_failure(TopicCore& core, const std::string& what) {
@@ -195,12 +482,6 @@ void report_network_decode_failure(TopicCore& core, const std::string& what) {
     log().error("topic '{}': a {} sample from the network does not decode as {} ({}); dropped ({} so far)",
                 core.name, core.type_name, core.net->format_ == net::WireFormat::Lcm ? "an LCM message" : "XCDR1",
                 what, n);
-}
-
-Error network_send_error(const TopicCore& core) {
-  return Error(Errc::Io, fmt::format("topic '{}': the {} backend did not send the message (the log says why); "
-                                     "message not sent",
-                                     core.name, to_string(core.backend)));
 }
 
 }  // namespace horus::detail

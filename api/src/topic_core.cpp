@@ -109,26 +109,23 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
                                           "missing when horus was built)",
                                           name, to_string(backend)));
 
-  // Topics are told apart by name and namespace: the shared-memory namespace for shared-memory
-  // topics (so one process can use a name in two namespaces), "" for the others (in-process
-  // and network topics keep a ring in this process).
-  std::string ns;
-  if (backend == Backend::SharedMemory) {
-    auto n = shm::shm_namespace();
-    if (!n) return fail(Errc::Config, n.error().message);
-    ns = std::move(*n);
+  // Topics are told apart by name and namespace: the shared-memory namespace for host and
+  // fleet topics (so one process can use a name in two namespaces), "" for in-process ones.
+  const bool shared = backend.scope() != Scope::Process;
+  std::string shm_ns;
+  if (auto n = shm::shm_namespace()) {
+    shm_ns = std::move(*n);
+  } else if (shared) {
+    return fail(Errc::Config, n.error().message);
   }
+  const std::string ns = shared ? shm_ns : std::string();
   const std::string key = std::string(name) + '\0' + ns;
 
   auto& reg = open_topics();
   std::lock_guard lock(reg.mutex);
   {
-    // The same name on the other backend, in this process: one backend per topic.
-    std::string other_ns;
-    if (backend != Backend::SharedMemory) {
-      if (auto n = shm::shm_namespace()) other_ns = *n;
-    }
-    const std::string other = std::string(name) + '\0' + other_ns;
+    // The same name with the other kind of key, in this process: one backend per topic.
+    const std::string other = std::string(name) + '\0' + (shared ? std::string() : shm_ns);
     if (auto it = reg.topics.find(other); other != key && it != reg.topics.end()) {
       auto core = it->second.lock();
       if (core && core->pid == ::getpid() && core->backend != backend)
@@ -193,8 +190,10 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
   (void)current_pid();  // registers the fork handler before any lease exists
   if (pool_bytes != 0)
     core->claimer = {static_cast<std::uint32_t>(core->pid), shm::process_start_time(core->pid)};
-  if (backend == Backend::SharedMemory) {
+  if (shared) {
     shm::SegmentSpec spec;
+    spec.scope = backend.scope() == Scope::Fleet ? shm::SegmentScope::Fleet : shm::SegmentScope::Host;
+    if (transport != nullptr) spec.transport = transport->name;
     spec.type_name = type.name;
     spec.type_hash = type.hash;
     spec.payload_size = payload;

@@ -68,6 +68,21 @@ void Ring::remove_subscriber(std::uint32_t entry, std::uint64_t token) const noe
   e.state.store(SubscriberEntry::kFree, std::memory_order_release);
 }
 
+bool Ring::adopt_lane(std::uint32_t lane, std::uint64_t from, std::uint64_t to) const noexcept {
+  if (lane >= kMaxPublishers || from == 0 || to == 0) return false;
+  return lanes_[lane].owner.compare_exchange_strong(from, to, std::memory_order_acq_rel);
+}
+
+bool Ring::adopt_subscriber(std::uint32_t entry, std::uint64_t from, std::uint64_t to) const noexcept {
+  if (entry >= kMaxSubscribers || from == 0 || to == 0) return false;
+  auto& e = subs_[entry];
+  if (e.state.load(std::memory_order_acquire) != SubscriberEntry::kActive) return false;
+  if (!e.owner.compare_exchange_strong(from, to, std::memory_order_acq_rel)) return false;
+  if (const std::uint32_t w = e.waiting.count.exchange(0, std::memory_order_acq_rel); w != 0)
+    hdr_->doorbell.state.fetch_sub(w * Doorbell::kWaiter, std::memory_order_acq_rel);
+  return true;
+}
+
 bool Ring::wake_waiters() const noexcept { return ring_doorbell(hdr_->doorbell); }
 
 std::uint32_t Ring::reap_dead_waiters() const noexcept {

@@ -8,6 +8,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -107,6 +108,12 @@ std::string describe_type(std::string_view name, std::uint64_t hash, std::uint32
   else if (serialized) how = "serialized, slots of " + std::to_string(max_serialized_size(payload)) + " bytes";
   else how = std::to_string(payload) + " bytes";
   return std::string(name) + " (layout hash " + buf + ", " + how + ")";
+}
+
+std::string describe_scope(std::uint32_t scope, std::string_view transport) {
+  if (scope == static_cast<std::uint32_t>(SegmentScope::Fleet)) return "fleet (" + std::string(transport) + ")";
+  if (scope == static_cast<std::uint32_t>(SegmentScope::Host)) return "host (shared memory)";
+  return "unknown (" + std::to_string(scope) + ")";
 }
 
 }  // namespace
@@ -225,6 +232,10 @@ std::expected<ShmSegment, SegmentError> ShmSegment::open(std::string_view ns, st
                                             std::to_string(kMaxTypeName) + " characters"});
   const RingConfig cfg{spec.capacity, spec.payload_size, spec.type_hash};
   if (auto err = Ring::check_config(cfg)) return std::unexpected(SegmentError{SegmentError::Kind::ConfigMismatch, *err});
+  if (spec.transport.size() > kMaxTransportName)
+    return std::unexpected(SegmentError{SegmentError::Kind::InvalidName,
+                                        "transport name '" + std::string(spec.transport) + "' is longer than " +
+                                            std::to_string(kMaxTransportName) + " characters"});
   const std::string name = segment_name(ns, topic);
   const bool pooled = spec.pool_slot_bytes != 0;
   const PoolConfig pool_cfg{spec.pool_slot_bytes, spec.pool_slots_per_lane};
@@ -314,6 +325,14 @@ std::expected<ShmSegment, SegmentError> ShmSegment::open(std::string_view ns, st
                       "; cannot open it as " +
                       describe_type(spec.type_name, spec.type_hash, spec.payload_size, spec.serialized,
                                     spec.pool_slot_bytes)});
+            const std::string_view have_transport(h.transport, strnlen(h.transport, kMaxTransportName));
+            if (h.scope != static_cast<std::uint32_t>(spec.scope) || have_transport != spec.transport)
+              return std::unexpected(SegmentError{
+                  SegmentError::Kind::ConfigMismatch,
+                  "topic '" + std::string(topic) + "' is open on this host with scope " +
+                      describe_scope(h.scope, have_transport) + "; cannot open it with scope " +
+                      describe_scope(static_cast<std::uint32_t>(spec.scope), spec.transport) +
+                      " (a topic has one scope on a host: open it with the same scope and backend)"});
             if (pooled && spec.pool_required && h.pool_slot_bytes != spec.pool_slot_bytes)
               return std::unexpected(SegmentError{
                   SegmentError::Kind::ConfigMismatch,
@@ -364,6 +383,8 @@ std::expected<ShmSegment, SegmentError> ShmSegment::open(std::string_view ns, st
       h->ring_offset = ring_offset;
       h->total_size = total;
       h->created_unix_ns = now_unix_ns();
+      h->scope = static_cast<std::uint32_t>(spec.scope);
+      std::memcpy(h->transport, spec.transport.data(), std::min(spec.transport.size(), kMaxTransportName));
       seg.ring_ = Ring::format(static_cast<std::byte*>(p) + ring_offset, cfg);
       if (pooled) {
         h->pool_offset = pool_offset;
@@ -424,16 +445,19 @@ std::uint32_t ShmSegment::reap_dead_locked() const {
     }
   }
   if (!ring_) return reaped;
-  // Lanes and subscriber entries whose owner process is no longer attached.
+  // Lanes and subscriber entries whose owner process is no longer attached; but not the
+  // bridge's entry and lane: its successor adopts them (inherit_bridge).
+  const std::uint64_t bridge_lane = header_->bridge.import_token.load(std::memory_order_acquire);
+  const std::uint64_t bridge_entry = header_->bridge.export_token.load(std::memory_order_acquire);
   for (std::uint32_t l = 0; l < kMaxPublishers; ++l) {
     const std::uint64_t owner = ring_.lane(l).owner.load(std::memory_order_acquire);
-    if (owner != 0 && !live.contains(token_pid(owner))) ring_.release_lane(l, owner);
+    if (owner != 0 && owner != bridge_lane && !live.contains(token_pid(owner))) ring_.release_lane(l, owner);
   }
   for (std::uint32_t i = 0; i < kMaxSubscribers; ++i) {
     auto& s = ring_.subscriber(i);
     const std::uint64_t owner = s.owner.load(std::memory_order_acquire);
     if (s.state.load(std::memory_order_acquire) == SubscriberEntry::kActive && owner != 0 &&
-        !live.contains(token_pid(owner)))
+        owner != bridge_entry && !live.contains(token_pid(owner)))
       ring_.remove_subscriber(i, owner);
   }
   return reaped;
@@ -459,13 +483,15 @@ bool bridge_holder_alive(const SegmentHeader& h, std::uint64_t word) noexcept {
 ShmSegment::BridgeClaim ShmSegment::claim_bridge() noexcept {
   if (header_ == nullptr || slot_ >= kMaxParticipants) return BridgeClaim::Held;
   const std::uint64_t mine = bridge_word(::getpid(), slot_);
-  std::uint64_t cur = header_->bridge_owner.load(std::memory_order_acquire);
+  BridgeState& b = header_->bridge;
+  std::uint64_t cur = b.owner.load(std::memory_order_acquire);
   for (;;) {
     if (cur == mine) return BridgeClaim::Ours;
     const bool takeover = cur != 0;
     if (takeover && bridge_holder_alive(*header_, cur)) return BridgeClaim::Held;
-    if (header_->bridge_owner.compare_exchange_strong(cur, mine, std::memory_order_acq_rel)) {
-      header_->bridge_claims.fetch_add(1, std::memory_order_relaxed);
+    if (b.owner.compare_exchange_strong(cur, mine, std::memory_order_acq_rel)) {
+      b.claims.fetch_add(1, std::memory_order_relaxed);
+      b.claimed_unix_ns.store(now_unix_ns(), std::memory_order_relaxed);
       return takeover ? BridgeClaim::TookOver : BridgeClaim::Claimed;
     }
   }
@@ -474,12 +500,55 @@ ShmSegment::BridgeClaim ShmSegment::claim_bridge() noexcept {
 void ShmSegment::release_bridge() noexcept {
   if (header_ == nullptr || slot_ >= kMaxParticipants) return;
   std::uint64_t mine = bridge_word(::getpid(), slot_);
-  header_->bridge_owner.compare_exchange_strong(mine, 0, std::memory_order_acq_rel);
+  header_->bridge.owner.compare_exchange_strong(mine, 0, std::memory_order_acq_rel);
+}
+
+void ShmSegment::record_bridge_export(std::uint32_t entry, std::uint64_t token) noexcept {
+  if (header_ == nullptr) return;
+  header_->bridge.export_entry.store(entry, std::memory_order_relaxed);
+  header_->bridge.export_token.store(token, std::memory_order_release);
+}
+
+void ShmSegment::record_bridge_import(std::uint32_t lane, std::uint64_t token) noexcept {
+  if (header_ == nullptr) return;
+  header_->bridge.import_lane.store(lane, std::memory_order_relaxed);
+  header_->bridge.import_token.store(token, std::memory_order_release);
+}
+
+bool ShmSegment::lock_inheritance(Inheritance& in) noexcept {
+  if (header_ == nullptr || fd_ < 0 || !lock_with_deadline(fd_)) return false;
+  BridgeState& b = header_->bridge;
+  in.export_token = b.export_token.load(std::memory_order_acquire);
+  in.import_token = b.import_token.load(std::memory_order_acquire);
+  in.inflight = b.inflight.exchange(0, std::memory_order_acq_rel);
+  const std::uint32_t entry = b.export_entry.load(std::memory_order_relaxed);
+  const std::uint32_t lane = b.import_lane.load(std::memory_order_relaxed);
+  // Only what still carries the recorded token (a graceful predecessor may have freed them).
+  if (in.export_token != 0 && entry < kMaxSubscribers &&
+      ring_.subscriber(entry).owner.load(std::memory_order_acquire) == in.export_token &&
+      ring_.subscriber(entry).state.load(std::memory_order_acquire) == SubscriberEntry::kActive)
+    in.export_entry = entry;
+  if (in.import_token != 0 && lane < kMaxPublishers &&
+      ring_.lane(lane).owner.load(std::memory_order_acquire) == in.import_token)
+    in.import_lane = lane;
+  return true;
+}
+
+void ShmSegment::unlock_inheritance(const Inheritance& in) noexcept {
+  BridgeState& b = header_->bridge;
+  // Whatever the new holder did not adopt is freed now (it would never be reaped otherwise).
+  if (in.export_entry) ring_.remove_subscriber(*in.export_entry, in.export_token);
+  if (in.import_lane) ring_.release_lane(*in.import_lane, in.import_token);
+  std::uint64_t t = in.export_token;
+  b.export_token.compare_exchange_strong(t, 0, std::memory_order_acq_rel);
+  t = in.import_token;
+  b.import_token.compare_exchange_strong(t, 0, std::memory_order_acq_rel);
+  ::flock(fd_, LOCK_UN);
 }
 
 pid_t ShmSegment::bridge_holder() const noexcept {
   if (header_ == nullptr) return 0;
-  const std::uint64_t cur = header_->bridge_owner.load(std::memory_order_acquire);
+  const std::uint64_t cur = header_->bridge.owner.load(std::memory_order_acquire);
   return cur != 0 && bridge_holder_alive(*header_, cur) ? static_cast<pid_t>(cur >> 32) : 0;
 }
 

@@ -360,7 +360,7 @@ TEST_F(ShmSegmentTest, OneProcessHoldsTheBridgeAndAnotherTakesItOverWhenItIsKill
   EXPECT_EQ(seg->claim_bridge(), Claim::TookOver);
   EXPECT_EQ(seg->claim_bridge(), Claim::Ours);
   EXPECT_EQ(seg->bridge_holder(), ::getpid());
-  EXPECT_EQ(seg->header().bridge_claims.load(), 2u);
+  EXPECT_EQ(seg->header().bridge.claims.load(), 2u);
 
   // A live holder keeps it; one that detaches gives it up (a claim, not a takeover).
   const pid_t other = spawn([&] {
@@ -378,7 +378,7 @@ TEST_F(ShmSegmentTest, OneProcessHoldsTheBridgeAndAnotherTakesItOverWhenItIsKill
   });
   EXPECT_EQ(wait_for(closer), 0);
   EXPECT_EQ(seg->claim_bridge(), Claim::Claimed);
-  EXPECT_EQ(seg->header().bridge_claims.load(), 4u);
+  EXPECT_EQ(seg->header().bridge.claims.load(), 4u);
 }
 
 }  // namespace

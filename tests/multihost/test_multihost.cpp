@@ -1,8 +1,12 @@
-// The fleet on three hosts (network namespaces on a bridge): robots on two hosts publish
-// Heartbeat, Pose2D and TransformStamped over DDS or LCM (udpm, ttl=1); the monitor on the third
-// receives all of them. Skips when not root or without `ip netns`.
+// The fleet on three hosts (namespace hosts on a bridge, each with its own /dev/shm and
+// hostname: netns.hpp): robots on two hosts publish Heartbeat, Pose2D and TransformStamped over
+// DDS or LCM (udpm, ttl=1) and the monitor on the third receives all of them; three hosts with
+// two processes each get every message of a reliable fleet topic exactly once and in order;
+// host- and process-scoped topics never leave their scope. Skips when not root or without
+// `ip netns`.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <string>
 
 #include "horus/topic.hpp"
@@ -50,6 +54,77 @@ TEST_P(MultiHost, ATypeMismatchAcrossHostsIsReported) {
   const int rc = checker.wait(40s);
   EXPECT_EQ(rc, 0) << "host 2 (CmdVel) said:\n" << checker.output() << "\nhost 1 (Pose2D) said:\n"
                    << publisher.output();
+}
+
+std::string unix_ms_from_now(std::chrono::milliseconds d) {
+  return std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(
+                            (std::chrono::system_clock::now() + d).time_since_epoch())
+                            .count());
+}
+
+// Three hosts, two processes each, every process publishing 200 numbered messages and reading
+// the topic: each process gets all 1200 exactly once, in each publisher's order. On each host
+// one process bridges (one writer and one reader on the network per host, not per process).
+TEST_P(MultiHost, ThreeHostsOfTwoProcessesGetEveryMessageExactlyOnceInOrder) {
+  if (!horus::backend_available(GetParam()))
+    GTEST_SKIP() << "this build has no " << horus::to_string(GetParam()) << " backend";
+  horus_test::NetnsLan lan(3);
+  if (!lan.ok()) GTEST_SKIP() << "no namespace hosts: " << lan.why();
+  const std::vector<std::string> env = fleet_env(GetParam());
+  const std::string topic = "fleet.once_" + std::to_string(::getpid());
+  const std::string start = unix_ms_from_now(std::chrono::milliseconds(4000));  // after discovery
+  std::vector<horus_test::HostProcess> members;
+  for (int i = 0; i < 6; ++i)
+    members.push_back(lan.spawn(i / 2, {FLEET_MEMBER, topic, "fleet", std::to_string(i + 1), "200", start, "6", "40"},
+                                env));
+  for (int i = 0; i < 6; ++i) {
+    const int rc = members[static_cast<std::size_t>(i)].wait(60s);
+    const std::string out = members[static_cast<std::size_t>(i)].output();
+    EXPECT_EQ(rc, 0) << "process " << i + 1 << " on " << lan.host(i / 2) << " said:\n" << out;
+    EXPECT_NE(out.find("received 1200 from 6 publishers; duplicates 0; out of order 0; missing 0"), std::string::npos)
+        << out;
+  }
+}
+
+// A host-scoped and a process-scoped topic: their messages reach their scope (another process
+// of the host; the same process) and nothing else: a fleet subscriber of the same name on
+// another host, and another process of the same host for the process scope, get nothing.
+TEST_P(MultiHost, HostAndProcessScopedTopicsNeverLeaveTheirScope) {
+  if (!horus::backend_available(GetParam()))
+    GTEST_SKIP() << "this build has no " << horus::to_string(GetParam()) << " backend";
+  horus_test::NetnsLan lan(2);
+  if (!lan.ok()) GTEST_SKIP() << "no namespace hosts: " << lan.why();
+  const std::vector<std::string> env = fleet_env(GetParam());
+  const std::string host_topic = "fleet.hostonly_" + std::to_string(::getpid());
+  const std::string proc_topic = "fleet.proconly_" + std::to_string(::getpid());
+  const std::string start = unix_ms_from_now(std::chrono::milliseconds(3000));
+  // Host 1: a publisher and a second reader of the host topic; a process-topic publisher and
+  // a process-topic reader in another process.
+  auto host_pub = lan.spawn(0, {FLEET_MEMBER, host_topic, "host", "1", "100", start, "1", "30"}, env);
+  auto host_reader = lan.spawn(0, {FLEET_MEMBER, host_topic, "host", "0", "100", start, "1", "30"}, env);
+  auto proc_pub = lan.spawn(0, {FLEET_MEMBER, proc_topic, "process", "1", "100", start, "1", "30"}, env);
+  auto proc_other = lan.spawn(0, {FLEET_MEMBER, proc_topic, "process", "0", "100", start, "0", "30"}, env);
+  // Host 2: fleet subscribers of both names (a DDS reader / LCM subscription of those names).
+  auto far_host = lan.spawn(1, {FLEET_MEMBER, host_topic, "fleet", "0", "100", start, "0", "30"}, env);
+  auto far_proc = lan.spawn(1, {FLEET_MEMBER, proc_topic, "fleet", "0", "100", start, "0", "30"}, env);
+  struct Expect {
+    horus_test::HostProcess* p;
+    const char* what;
+    const char* line;
+  } expects[] = {
+      {&host_pub, "the host-topic publisher (its own messages)", "received 100 from 1 publishers"},
+      {&host_reader, "another process of the host (host topic)", "received 100 from 1 publishers"},
+      {&proc_pub, "the process-topic publisher (its own messages)", "received 100 from 1 publishers"},
+      {&proc_other, "another process of the host (process topic)", "received 0 from 0 publishers"},
+      {&far_host, "a fleet subscriber on another host (host topic)", "received 0 from 0 publishers"},
+      {&far_proc, "a fleet subscriber on another host (process topic)", "received 0 from 0 publishers"},
+  };
+  for (auto& e : expects) {
+    const int rc = e.p->wait(60s);
+    const std::string out = e.p->output();
+    EXPECT_EQ(rc, 0) << e.what << " said:\n" << out;
+    EXPECT_NE(out.find(e.line), std::string::npos) << e.what << " said:\n" << out;
+  }
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, MultiHost, ::testing::Values(horus::Backend::CycloneDds, horus::Backend::FastDds,

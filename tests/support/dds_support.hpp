@@ -38,7 +38,8 @@ inline horus::TopicOptions on(Backend b) {
 }
 
 /// A peer process: stdin is a pipe (closing it stops the peer), its stdout says "ready".
-/// `program` runs with `args` and the environment, HORUS_BACKEND replaced by `backend`'s name.
+/// `program` runs with `args` and the environment, HORUS_BACKEND replaced by `backend`'s name
+/// and HORUS_NAMESPACE by one of its own (it stands for another host).
 class Peer {
  public:
 #ifdef HORUS_DDS_PEER
@@ -54,9 +55,15 @@ class Peer {
     posix_spawn_file_actions_adddup2(&fa, out[1], 1);
     posix_spawn_file_actions_addclose(&fa, in[1]);
     posix_spawn_file_actions_addclose(&fa, out[0]);
-    std::vector<std::string> env_strings{"HORUS_BACKEND=" + std::string(horus::to_string(backend))};
-    for (char** e = environ; *e != nullptr; ++e)
-      if (std::string_view(*e).rfind("HORUS_BACKEND=", 0) != 0) env_strings.emplace_back(*e);
+    // Another host as far as horus can tell: its own shared-memory namespace, so it meets this
+    // process through the network backend and not in /dev/shm (a fleet topic would otherwise
+    // take the shared-memory path between them).
+    std::vector<std::string> env_strings{"HORUS_BACKEND=" + std::string(horus::to_string(backend)),
+                                         "HORUS_NAMESPACE=peer" + std::to_string(::getpid())};
+    for (char** e = environ; *e != nullptr; ++e) {
+      const std::string_view v(*e);
+      if (v.rfind("HORUS_BACKEND=", 0) != 0 && v.rfind("HORUS_NAMESPACE=", 0) != 0) env_strings.emplace_back(*e);
+    }
     std::vector<char*> env;
     for (auto& s : env_strings) env.push_back(s.data());
     env.push_back(nullptr);

@@ -7,9 +7,11 @@
 // Each host is a namespace with its loopback up and one veth (eth0) plugged into a bridge that
 // lives in a namespace of its own, so the machine's own interfaces are never touched. eth0 has
 // an address on a private /24 and a multicast route (DDS and LCM discovery use multicast).
-// Everything is deleted by the destructor, and namespaces left by a test process that died
-// (their name holds its pid) are deleted by the next one. The hosts still share /dev/shm:
-// the backends must not use shared memory between them (horus's DDS backends never do).
+// A host is a whole host: besides its network namespace it has its own mount namespace with a
+// private tmpfs on /dev/shm (so two hosts never meet in shared memory) and its own hostname
+// (UTS namespace). A holder process (`sleep infinity`) keeps them; every process of the host
+// enters all three (nsenter). Everything is deleted by the destructor, and namespaces left by
+// a test process that died (their name holds its pid) are deleted by the next one.
 #pragma once
 
 #include <fcntl.h>
@@ -153,9 +155,21 @@ class NetnsLan {
         return;
       }
     }
+    for (const auto& ns : hosts_) {
+      const pid_t holder = start_holder(ns);
+      if (holder <= 0) {
+        why_ = "could not give host " + ns + " its own /dev/shm and hostname (unshare --mount --uts)";
+        return;
+      }
+      holders_.push_back(holder);
+    }
     ok_ = true;
   }
   ~NetnsLan() {
+    for (const pid_t h : holders_) {
+      ::kill(h, SIGKILL);
+      ::waitpid(h, nullptr, 0);
+    }
     for (const auto& ns : hosts_) run_command({"ip", "netns", "del", ns});
     if (!bridge_ns_.empty()) run_command({"ip", "netns", "del", bridge_ns_});
   }
@@ -168,9 +182,13 @@ class NetnsLan {
   const std::string& host(int i) const { return hosts_.at(static_cast<std::size_t>(i)); }
   std::string address(int i) const { return subnet_ + "." + std::to_string(i + 1); }
 
-  /// Starts argv on host i with extra environment entries ("NAME=value").
+  /// The pid of the process that holds host i's namespaces.
+  pid_t holder(int i) const { return holders_.at(static_cast<std::size_t>(i)); }
+
+  /// Starts argv on host i (its network, mount and UTS namespaces) with extra environment
+  /// entries ("NAME=value").
   HostProcess spawn(int i, const std::vector<std::string>& args, const std::vector<std::string>& env_extra) const {
-    std::vector<std::string> full = {"ip", "netns", "exec", host(i), "env"};
+    std::vector<std::string> full = {"nsenter", "-t", std::to_string(holder(i)), "-n", "-m", "-u", "--", "env"};
     full.insert(full.end(), env_extra.begin(), env_extra.end());
     full.insert(full.end(), args.begin(), args.end());
     std::vector<char*> argv;
@@ -185,7 +203,7 @@ class NetnsLan {
     posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
     posix_spawn_file_actions_adddup2(&fa, 1, 2);
     pid_t pid = -1;
-    if (::posix_spawnp(&pid, "ip", &fa, nullptr, argv.data(), environ) != 0) pid = -1;
+    if (::posix_spawnp(&pid, "nsenter", &fa, nullptr, argv.data(), environ) != 0) pid = -1;
     posix_spawn_file_actions_destroy(&fa);
     ::close(in[0]);
     return HostProcess(pid, out, in[1]);
@@ -193,6 +211,42 @@ class NetnsLan {
 
  private:
   static bool sh(const std::vector<std::string>& args) { return run_command(args) == 0; }
+
+  // The holder of host `ns`: in its network namespace, a new mount namespace with a private
+  // tmpfs on /dev/shm and a new UTS namespace named after the host; then it sleeps. Returns its
+  // pid once it is ready (it execs all the way down, so the pid is the sleeper's), or -1.
+  static pid_t start_holder(const std::string& ns) {
+    const std::string script = "mount -t tmpfs -o mode=1777,size=4g tmpfs /dev/shm && hostname " + ns +
+                               " && exec sleep infinity";
+    std::vector<std::string> args = {"ip", "netns", "exec", ns, "unshare", "--mount", "--uts",
+                                     "--propagation", "private", "sh", "-c", script};
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t fa;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
+    pid_t pid = -1;
+    const int rc = ::posix_spawnp(&pid, "ip", &fa, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&fa);
+    if (rc != 0) return -1;
+    // Ready when the pid runs `sleep` (after the mount and the hostname).
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    while (std::chrono::steady_clock::now() < deadline) {
+      if (::waitpid(pid, nullptr, WNOHANG) == pid) return -1;  // it failed
+      if (FILE* f = std::fopen(("/proc/" + std::to_string(pid) + "/comm").c_str(), "r")) {
+        char comm[64] = {};
+        const bool sleeping = std::fgets(comm, sizeof(comm), f) != nullptr && std::string(comm) == "sleep\n";
+        std::fclose(f);
+        if (sleeping) return pid;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    ::kill(pid, SIGKILL);
+    ::waitpid(pid, nullptr, 0);
+    return -1;
+  }
 
   // Namespaces of test processes that died without cleaning up: "hx<pid>..." with <pid> gone.
   static void remove_stale() {
@@ -217,6 +271,7 @@ class NetnsLan {
   std::string subnet_;
   std::string bridge_ns_;
   std::vector<std::string> hosts_;
+  std::vector<pid_t> holders_;
   mutable int counter_ = 0;
 };
 

@@ -34,6 +34,7 @@
 #include <type_traits>
 
 #include "horus/backend.hpp"
+#include "horus/detail/bridge_port.hpp"
 #include "horus/detail/network_bridge.hpp"
 #include "horus/detail/slots.hpp"
 #include "horus/detail/waiting.hpp"
@@ -102,13 +103,7 @@ class Topic {
   /// Publishes. Never blocks: a full ring overwrites its oldest message. A message is refused
   /// only when all kMaxPublishers lanes are taken, or (serialized T) when it encodes to more
   /// than max_message_size() bytes; it is then counted in metrics().send_failures() and logged.
-  [[gnu::always_inline]] void send(const T& msg) {
-    if (port_.networked) [[unlikely]] {
-      send_networked(msg);
-      return;
-    }
-    send_local(msg);
-  }
+  [[gnu::always_inline]] void send(const T& msg) { send_local(msg); }
 
   /// Large data: lends a slot of the topic's pool for a message described by `desc` (e.g.
   /// Image::describe(1080, 1920, ImageEncoding::Rgb8)). Fill it in place (loan->data_mut(),
@@ -134,12 +129,7 @@ class Topic {
       case Codec::LoanSend::Refused: ++port_.counters.send_failures; return;
       case Codec::LoanSend::Publish: break;
     }
-    if (port_.networked && detail::network_loopback(port_.core())) [[unlikely]] {
-      network_send(*l);  // comes back through the network; the slot is given back
-      return;
-    }
     codec_.publish_loan(port_, l);
-    if (port_.networked) [[unlikely]] network_send(*l);
   }
 
   /// Publishes only if no subscriber would lose an unread message; else gives the message back
@@ -231,42 +221,37 @@ class Topic {
   /// Messages lost to overwrites: this handle's own losses when it subscribes; for a pure
   /// publisher, the losses of all subscribers of the topic. Large data: a message whose pool
   /// slot was reused before this handle read it (subscribers kept the spare slots pinned)
-  /// counts as dropped too. Fleet topics: plus what the transport reported lost.
+  /// counts as dropped too. Fleet topics: plus what was lost on the way to or from the network
+  /// since this handle opened (host-wide: the bridge's takeovers, a transport's losses).
   std::uint64_t dropped_count() const noexcept {
-    const std::uint64_t net = port_.networked ? detail::network_lost(core()) - net_lost_base_ : 0;
+    const std::uint64_t net = core().net ? detail::network_dropped(core()) - net_dropped_base_ : 0;
     if (port_.reader().subscribed()) return port_.reader().lost() + codec_.lost() + net;
     const auto& ring = core().ring;
     std::uint64_t n = ring.header().dropped_total.load(std::memory_order_relaxed) + ring.undetected_losses();
     if constexpr (kPooled) n += core().pool.header().reused.load(std::memory_order_relaxed);
     return n + net;
   }
-  /// Publishers currently holding a lane of this topic; on a network backend, this process's
-  /// publishing handles plus the remote writers matched with it.
-  std::uint32_t pub_count() const noexcept {
-    return core().net ? detail::network_pub_count(core()) : core().ring.publisher_count();
-  }
-  /// Handles currently subscribed to this topic; on a network backend, plus the remote readers
-  /// matched with this process.
-  std::uint32_t sub_count() const noexcept {
-    return core().ring.subscriber_count() + (core().net ? detail::network_subscribers(core()) : 0);
-  }
+  /// Publishers currently holding a lane of this topic; for a fleet topic, the host's
+  /// publishing handles plus the remote writers matched by the host's bridge (the bridge's own
+  /// lane is not counted).
+  std::uint32_t pub_count() const noexcept { return detail::network_publishers(core()); }
+  /// Handles currently subscribed to this topic; for a fleet topic, the host's subscribing
+  /// handles plus the remote readers matched by the host's bridge.
+  std::uint32_t sub_count() const noexcept { return detail::network_subscribers(core()); }
   TopicMetrics metrics() const noexcept {
     const auto& c = port_.counters;
     return TopicMetrics(port_.writer().sent(), port_.reader().delivered() - c.undelivered, c.send_failures,
                         c.recv_failures, dropped_count(), core().ring.total_sent(),
-                        c.decode_failures + port_.reader().corrupt() +
-                            (core().net ? detail::network_decode_failures(core()) : 0));
+                        c.decode_failures + port_.reader().corrupt() + detail::network_decode_failures(core()));
   }
   /// Network backends: problems the backend reported for this topic in this process (a remote
   /// endpoint with another message type under the same DDS topic, an incompatible QoS); each
   /// is also logged. Samples that do not decode (not XCDR1, another LCM fingerprint) count in
   /// metrics().decode_failures(); messages the backend lost (LCM: datagrams the kernel
   /// dropped) count in dropped_count().
-  std::uint64_t network_errors() const noexcept { return core().net ? detail::network_errors(core()) : 0; }
+  std::uint64_t network_errors() const noexcept { return detail::network_errors(core()); }
   /// Threads (of every process on the host) blocked in recv_for/wait_for/WaitSet on this topic.
-  std::uint32_t waiter_count() const noexcept {
-    return core().ring.doorbell().waiters();
-  }
+  std::uint32_t waiter_count() const noexcept { return detail::network_waiters(core()); }
   /// Slots per publisher lane.
   std::uint32_t capacity() const noexcept { return core().ring.capacity(); }
   /// Largest message the topic carries: sizeof(T), for a serialized T the largest encoded
@@ -313,43 +298,16 @@ class Topic {
     return true;
   }
 
-  // A fleet topic: into the ring (this process's handles, and read_latest of handles opened
-  // later), then to the network. A transport that brings our own samples back (LCM) gets the
-  // message only. A handle inherited through fork() sends nothing: transports do not survive it.
-  [[gnu::noinline]] void send_networked(const T& msg);
+  // Writes a prepared msg if there is space (a fleet topic's bridge is one of the subscribers).
+  bool try_commit(const T& msg) { return codec_.try_write(port_, msg); }
 
-  // Writes a prepared msg if there is space, then sends it to the network (fleet topics).
-  bool try_commit(const T& msg) {
-    if (port_.networked && detail::network_loopback(core())) [[unlikely]] return network_send(msg);
-    if (!codec_.try_write(port_, msg)) return false;
-    if (port_.networked) [[unlikely]] network_send(msg);
-    return true;
-  }
-
-  bool network_send(const T& msg) {
-    if (detail::network_send(core(), &msg, net_send_failures_)) return true;
-    ++port_.counters.send_failures;
-    return false;
-  }
-
-  // The network bridge's receiver: a handle of the topic that only publishes what arrives.
-  struct Receiver {
-    Port port;
-    Codec codec;
-  };
-  static void deliver(void* receiver, net::WireFormat format, const net::Sample& sample);
-  static constexpr detail::WireOps kWireOps{
-      &detail::wire_expressible<T>, &detail::wire_encoded_size<T>, &detail::wire_encode<T>,
-      // Non-owning: the core owns the bridge, and destroys it (receiver last) before its ring.
-      [](detail::TopicCore& core) -> void* {
-        return new Receiver{Port(std::shared_ptr<detail::TopicCore>(std::shared_ptr<void>(), &core)), Codec{}};
-      },
-      [](void* r) noexcept { delete static_cast<Receiver*>(r); }, &Topic::deliver};
+  // What a fleet topic's bridge knows of T (horus/detail/network_bridge.hpp).
+  static constexpr detail::WireOps kWireOps{&detail::wire_expressible<T>, &detail::wire_encoded_size<T>,
+                                            &detail::wire_encode<T>, &detail::make_bridge_port<T>};
 
   Port port_;    // the topic, and this handle's lane and subscriber entry
   Codec codec_;  // the slot codec's state (scratch buffers, pool counters)
-  std::uint64_t net_send_failures_ = 0;  // samples the transport refused (for the log's rate)
-  std::uint64_t net_lost_base_ = 0;      // the transport's lost count when this handle opened
+  std::uint64_t net_dropped_base_ = 0;  // the bridge's dropped count when this handle opened
 };
 
 }  // namespace horus

@@ -11,7 +11,6 @@
 #include <memory>
 #include <utility>
 
-#include "horus/detail/network_bridge.hpp"
 #include "horus/detail/topic_core.hpp"
 #include "horus/shm/ring.hpp"
 
@@ -41,7 +40,6 @@ class LocalPort {
     reader_ = std::move(o.reader_);
     core_ = std::move(o.core_);
     counters = o.counters;
-    networked = o.networked;
     received = o.received;
     no_lane_reported_ = o.no_lane_reported_;
     no_sub_reported_ = o.no_sub_reported_;
@@ -65,18 +63,12 @@ class LocalPort {
   bool receives() const noexcept { return received || counters.recv_failures != 0 || reader_.delivered() != 0; }
 
   HandleCounters counters;
-  bool networked = false;  // a user handle of a fleet topic (not the bridge's own handle)
   bool received = false;   // has_message/pending_count/read_latest were called
 
  private:
   [[gnu::noinline]] bool become_publisher() {
     if (writer_.ensure_lane()) {
-      if (!receives()) {
-        reader_.unsubscribe();  // a pure publisher: stop counting as a subscriber
-        // Nobody here reads the topic: a transport that brings our own traffic back can stop.
-        if (networked && network_loopback(*core_) && core_->ring.subscriber_count() == 0)
-          network_receiving(*core_, false);
-      }
+      if (!receives()) reader_.unsubscribe();  // a pure publisher: stop counting as a subscriber
       return true;
     }
     if (!no_lane_reported_) report_no_lane(*core_);
@@ -85,10 +77,7 @@ class LocalPort {
   }
 
   [[gnu::noinline]] bool resubscribe() {
-    if (reader_.subscribe()) {
-      if (networked && network_loopback(*core_)) network_receiving(*core_, true);
-      return true;
-    }
+    if (reader_.subscribe()) return true;
     if (!no_sub_reported_) report_no_subscriber_slot(*core_);
     no_sub_reported_ = true;
     return false;

@@ -1,8 +1,14 @@
-// The network path of a fleet topic, not a template: api/src/network_bridge.cpp. The bridge of a
-// topic in this process owns the transport's endpoint and listener and the handle that writes
-// received samples into the topic's local ring. All it knows of the message type is a WireOps
-// table made from the reflection (horus/detail/wire_ops.hpp), so T never reaches a transport.
-// Internal to horus: users include <horus/topic.hpp>.
+// The network side of a fleet topic, not a template: api/src/network_bridge.cpp.
+//
+// A fleet topic lives in shared memory like a host topic; in addition, exactly one process of
+// the host (the holder of the segment's bridge claim, shm_segment.hpp) bridges it to the
+// network: it exports every message the host's publishers write (a subscriber entry of the
+// ring, read by a thread that sleeps on the ring's doorbell) and imports what other hosts send
+// (a lane of the ring, written from the transport's thread). Every process that has the topic
+// open runs the same bridge object; those that do not hold the claim only watch the holder and
+// take over when it exits or dies. The bridge knows the message type only through a WireOps
+// table and the BridgePort it makes (horus/detail/bridge_port.hpp), so T never reaches a
+// transport. Internal to horus: users include <horus/topic.hpp>.
 #pragma once
 
 #include <cstddef>
@@ -20,6 +26,41 @@ namespace horus::detail {
 
 struct TopicCore;
 
+/// What the bridge sends a message with (the export side's sink).
+struct ExportSink {
+  void* ctx;
+  bool (*send)(void* ctx, const void* msg);  // msg: a T
+};
+
+/// The bridge's own handle of the topic: a lane it imports into and a subscriber entry it
+/// exports from. Made per type (bridge_port.hpp); used by one bridge, the import side on the
+/// transport's thread and the export side on the bridge's thread (they share no state).
+class BridgePort {
+ public:
+  virtual ~BridgePort() = default;
+  // -- import: a lane ------------------------------------------------------
+  /// Claims a lane, or adopts the predecessor's (`from` != 0); false when none is available.
+  virtual bool take_lane(std::uint32_t lane, std::uint64_t from) = 0;
+  virtual bool has_lane() const = 0;
+  virtual std::uint32_t lane() const = 0;
+  virtual std::uint64_t lane_token() const = 0;
+  /// Decodes a sample and writes it into the ring; false when it did not decode or was refused.
+  virtual bool deliver(net::WireFormat format, const net::Sample& sample) = 0;
+  // -- export: a subscriber entry ------------------------------------------
+  /// Subscribes, or adopts the predecessor's entry (`from` != 0); false when none is available.
+  virtual bool take_entry(std::uint32_t entry, std::uint64_t from) = 0;
+  virtual bool has_entry() const = 0;
+  virtual std::uint32_t entry() const = 0;
+  virtual std::uint64_t entry_token() const = 0;
+  /// Reads every unread message but those of lane `own` and hands each to `sink`; returns how
+  /// many it read. Stops early (false from sink: the transport refused it) after that message.
+  virtual std::size_t export_pending(std::uint32_t own, const ExportSink& sink) = 0;
+  /// Messages the export side lost to overwrites (it lagged a full ring behind).
+  virtual std::uint64_t export_lost() const = 0;
+  /// Lets go of the lane and the entry without freeing them: a successor adopts them.
+  virtual void leave() = 0;
+};
+
 /// What the bridge knows of a message type: one table per type.
 struct WireOps {
   /// False when the type cannot travel in `format` (LCM: a vector of vectors, an empty array).
@@ -28,39 +69,28 @@ struct WireOps {
   Result<std::size_t> (*encoded_size)(net::WireFormat format, const void* msg);
   /// Encodes *msg into exactly encoded_size bytes (the transport's buffer).
   void (*encode)(net::WireFormat format, const void* msg, std::span<std::byte> body) noexcept;
-  /// The receiving side: a publishing handle of the topic (made once per topic and process)
-  /// that decodes each sample and writes it into the local ring.
-  void* (*make_receiver)(TopicCore& core);
-  void (*destroy_receiver)(void* receiver) noexcept;
-  void (*deliver)(void* receiver, net::WireFormat format, const net::Sample& sample);
+  /// The bridge's handle of the topic (non-owning: the core owns the bridge).
+  std::unique_ptr<BridgePort> (*make_port)(TopicCore& core);
 };
 
 /// A fleet topic's handle connects: the first one of the topic in this process creates the
-/// bridge (its receiver first, then the endpoint, so no sample arrives before the receiver).
-/// `qos` holds the type's defaults with the options' overrides; a later handle asking for another
-/// reliability or durability than the endpoint has is Errc::ConfigMismatch.
+/// bridge, which claims the host's bridge at once when nobody holds it (so a lone process
+/// exports from its first message) and otherwise watches the holder. `qos` holds the type's
+/// defaults with the options' overrides; a later handle asking for another reliability or
+/// durability than the bridge has is Errc::ConfigMismatch.
 Result<void> connect_network(TopicCore& core, const WireOps& ops, const net::Qos& qos, const TopicOptions& options);
-/// Encodes and sends one message; false on failure (logged, first and every 1024th of `failures`).
-bool network_send(TopicCore& core, const void* msg, std::uint64_t& failures);
-/// The transport brings this process's own samples back (LCM): a send goes to the network only.
-bool network_loopback(const TopicCore& core) noexcept;
-/// Tells the endpoint whether a handle of this process reads the topic (Endpoint::set_receiving),
-/// when that changed. Never called from the transport's threads.
-void network_receiving(TopicCore& core, bool on) noexcept;
-/// pub_count(): the process's publishing handles (the receiver's lane not counted) plus the
-/// remote writers matched; sub_count()'s remote part: the remote readers matched.
-std::uint32_t network_pub_count(const TopicCore& core) noexcept;
-std::uint32_t network_subscribers(const TopicCore& core) noexcept;
-/// What the transport reported for the topic: messages lost (dropped_count), incompatible
-/// endpoints (network_errors), samples that did not decode (metrics().decode_failures()).
-std::uint64_t network_lost(const TopicCore& core) noexcept;
+/// What a handle of a fleet topic reports (zero on other topics): messages lost on the way
+/// (host-wide: the bridge's dropped count), remote writers and readers matched by the host's
+/// bridge, the bridge's own lane and entry (not user handles), problems this process's
+/// bridge reported (incompatible endpoints) and samples it could not decode.
+std::uint64_t network_dropped(const TopicCore& core) noexcept;
+std::uint32_t network_publishers(const TopicCore& core) noexcept;   // remote writers + local lanes
+std::uint32_t network_subscribers(const TopicCore& core) noexcept;  // remote readers + local entries
 std::uint64_t network_errors(const TopicCore& core) noexcept;
+/// Threads blocked on the topic's doorbell on this host, the bridge's own thread not counted.
+std::uint32_t network_waiters(const TopicCore& core) noexcept;
 std::uint64_t network_decode_failures(const TopicCore& core) noexcept;
-/// The receiver took a lane (it counts no more in pub_count()).
-void network_receiver_publishing(TopicCore& core) noexcept;
 /// Logs (first and every 1024th) a received sample that did not decode, and counts it.
 void report_network_decode_failure(TopicCore& core, const std::string& what);
-/// The error of a send_blocking whose sample the transport refused.
-Error network_send_error(const TopicCore& core);
 
 }  // namespace horus::detail

@@ -5,12 +5,13 @@
 //   PooledSlots      large data: the bytes go to a pool slot of the publisher's lane (or are
 //                    lent in place, Loan<T>), the ring slot carries T::Descriptor, and a
 //                    received message borrows the pool slot (pinned while it lives)
-// Each codec has the same operations, used by Topic<T> and by the network bridge's receiver:
+// Each codec has the same operations, used by Topic<T> and by the network bridge's port:
 //   prepare(port, m)    checks (and encodes) m before it is written; false: refused, logged
 //   refusal(port, m)    the error send_blocking returns after prepare() said false
 //   write(port, m)      writes a prepared m (overwriting the oldest slot of a full lane)
 //   try_write(port, m)  writes a prepared m only if no other subscriber would lose a message
 //   read / read_latest  the next message / the newest one
+//   read_except(p, l)   read(), passing over lane l (the bridge's export: not what it imported)
 //   deliver(port, f, s) a sample from the network, decoded and written into the ring
 // Internal to horus: users include <horus/topic.hpp>.
 #pragma once
@@ -54,6 +55,11 @@ class FixedSlots {
   [[gnu::always_inline]] std::optional<T> read(Port& port) noexcept {
     Slot s;
     if (port.reader().read(s.value)) return s.value;
+    return std::nullopt;
+  }
+  std::optional<T> read_except(Port& port, std::uint32_t own) noexcept {
+    Slot s;
+    if (port.reader().read_except(s.value, own)) return s.value;
     return std::nullopt;
   }
   std::optional<T> read_latest(Port& port) noexcept {
@@ -116,6 +122,14 @@ class SerializedSlots {
   std::optional<T> read(Port& port) {
     prepare_inbox(port);
     while (port.reader().read(inbox_)) {
+      if (auto m = decode_inbox(port)) return m;
+      ++port.counters.undelivered;
+    }
+    return std::nullopt;
+  }
+  std::optional<T> read_except(Port& port, std::uint32_t own) {
+    prepare_inbox(port);
+    while (port.reader().read_except(inbox_, own)) {
       if (auto m = decode_inbox(port)) return m;
       ++port.counters.undelivered;
     }
@@ -209,6 +223,14 @@ class PooledSlots {
   std::optional<T> read(Port& port) {
     Descriptor d;
     while (port.reader().read(d)) {
+      if (auto m = adopt(port, d)) return m;
+      ++port.counters.undelivered;
+    }
+    return std::nullopt;
+  }
+  std::optional<T> read_except(Port& port, std::uint32_t own) {
+    Descriptor d;
+    while (port.reader().read_except(d, own)) {
       if (auto m = adopt(port, d)) return m;
       ++port.counters.undelivered;
     }

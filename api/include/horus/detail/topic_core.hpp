@@ -46,17 +46,18 @@ struct TopicCore {
   bool serialized = false;
   Backend backend = Backend::InProcess;
   int pid = 0;                             // the process that opened it (a forked child opens its own)
-  shm::HeapRegion region;                  // Scope::Process and Scope::Fleet
-  std::optional<shm::ShmSegment> segment;  // Scope::Host
+  shm::HeapRegion region;                  // Scope::Process
+  std::optional<shm::ShmSegment> segment;  // Scope::Host and Scope::Fleet
   shm::Ring ring;
   shm::Pool pool;                // large data only
   std::uint32_t participant = 0;  // our index in the segment's participant table (what pins pool slots)
   shm::Pool::Claimer claimer;     // this process, as the pool records who writes a slot
   std::atomic<std::int64_t> last_reap_ns{0};  // reap_dead_participants' rate limit
 
-  // Fleet topics: the network bridge (transport endpoint, listener, and the handle that writes
-  // received samples into the ring). Declared last: it goes first, so no callback runs once the
-  // ring is gone. net_mutex serializes its creation.
+  // Fleet topics: this process's network bridge (horus/detail/network_bridge.hpp: the host's
+  // bridge when this process holds it, else a watcher that takes over). Declared last: it goes
+  // first, so its thread and callbacks stop before the ring is gone. net_mutex serializes its
+  // creation.
   std::mutex net_mutex;
   std::unique_ptr<NetworkBridge, NetworkBridgeDeleter> net;
 };

@@ -110,6 +110,11 @@ class Ring {
   /// Claims a subscriber entry whose cursors start at the lanes' current heads.
   std::optional<std::uint32_t> add_subscriber(std::uint64_t token) const noexcept;
   void remove_subscriber(std::uint32_t entry, std::uint64_t token) const noexcept;
+  /// Hands lane `lane` / active subscriber entry `entry` from owner `from` to `to` (a fleet
+  /// topic's bridge taken over: ShmSegment::inherit_bridge). False when `from` no longer owns it.
+  /// The entry keeps its cursors; waiters `from` left registered leave the doorbell's count.
+  bool adopt_lane(std::uint32_t lane, std::uint64_t from, std::uint64_t to) const noexcept;
+  bool adopt_subscriber(std::uint32_t entry, std::uint64_t from, std::uint64_t to) const noexcept;
 
   std::uint32_t publisher_count() const noexcept;
   std::uint32_t subscriber_count() const noexcept;

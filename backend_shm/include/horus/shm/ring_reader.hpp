@@ -70,16 +70,25 @@ class RingReader {
     if (subscribed()) return true;
     auto e = ring_.add_subscriber(token_);
     if (!e) return false;
-    entry_ = *e;
-    shared_cursor_ = ring_.subscriber(entry_).cursor;
-    // Relaxed: add_subscriber() stored them on this thread.
-    for (std::uint32_t l = 0; l < kMaxPublishers; ++l)
-      start_[l] = cursor_[l] = shared_cursor_[l].load(std::memory_order_relaxed);
-    lost_before_ += lost_;
-    corrupt_before_ += corrupt_;
-    skipped_ = lost_ = corrupt_ = 0;
+    take_entry(*e);
     return true;
   }
+  /// Takes over subscriber entry `entry`, held by `from` (a bridge that died or left): reading
+  /// goes on where its previous owner stopped. False when the entry has another owner by then.
+  bool adopt(std::uint32_t entry, std::uint64_t from) noexcept {
+    unsubscribe();
+    if (!ring_.adopt_subscriber(entry, from, token_)) return false;
+    take_entry(entry);
+    return true;
+  }
+  /// Lets go of the subscriber entry without freeing it: a successor adopts it.
+  void leave() noexcept {
+    if (subscribed()) delivered_before_ = delivered();
+    entry_ = kNone;
+    shared_cursor_ = nullptr;
+  }
+  /// Messages lost to overwrites that read() noticed (not those still unnoticed).
+  std::uint64_t noticed_lost() const noexcept { return lost_before_ + lost_; }
   void unsubscribe() noexcept {
     if (subscribed()) {
       delivered_before_ = delivered();
@@ -225,6 +234,17 @@ class RingReader {
           break;
       }
     }
+  }
+
+  void take_entry(std::uint32_t entry) noexcept {
+    entry_ = entry;
+    shared_cursor_ = ring_.subscriber(entry_).cursor;
+    // Acquire: an adopted entry's cursors were stored by another process.
+    for (std::uint32_t l = 0; l < kMaxPublishers; ++l)
+      start_[l] = cursor_[l] = shared_cursor_[l].load(std::memory_order_acquire);
+    lost_before_ += lost_;
+    corrupt_before_ += corrupt_;
+    skipped_ = lost_ = corrupt_ = 0;
   }
 
   // Moves past messages not read (skipped or lost): nothing was copied, so the relaxed

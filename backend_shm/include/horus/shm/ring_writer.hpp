@@ -51,6 +51,8 @@ class RingWriter {
   ~RingWriter() { release(); }
 
   bool has_lane() const noexcept { return slots_ != nullptr; }
+  /// The token this writer claims its lane with.
+  std::uint64_t token() const noexcept { return token_; }
   /// The lane this writer owns (when has_lane()).
   std::uint32_t lane() const noexcept { return lane_; }
   /// The lane's next sequence number (messages ever written to it).
@@ -60,16 +62,25 @@ class RingWriter {
     if (has_lane()) return true;
     auto lane = ring_.claim_lane(token_);
     if (!lane) return false;
-    lane_ = *lane;
-    lane_head_ = &ring_.lane(lane_).head;
-    // The claim synchronised with the previous owner's release: this is its last head.
-    head_ = lane_head_->load(std::memory_order_acquire);
-    claim_head_ = head_;
-    mask_ = ring_.capacity() - 1;
-    state_ = &ring_.header().doorbell.state;
-    space_limit_ = 0;
-    slots_ = ring_.lane_slots(lane_);
+    bind(*lane);
     return true;
+  }
+
+  /// Takes over lane `lane`, held by `from` (a bridge that died or left): the lane keeps its
+  /// index and sequence, so one origin's messages stay in one lane. False when it has another
+  /// owner by then.
+  bool adopt(std::uint32_t lane, std::uint64_t from) noexcept {
+    release();
+    if (!ring_.adopt_lane(lane, from, token_)) return false;
+    bind(lane);
+    return true;
+  }
+
+  /// Lets go of the lane without freeing it: a successor adopts it.
+  void leave() noexcept {
+    if (has_lane()) sent_before_ += head_ - claim_head_;
+    lane_ = kNoLane;
+    slots_ = nullptr;
   }
 
   /// Publishes; overwrites the oldest slot of the lane when it is full. Requires ensure_lane().
@@ -124,6 +135,18 @@ class RingWriter {
 
  private:
   static constexpr std::uint32_t kNoLane = ~0u;
+
+  void bind(std::uint32_t lane) noexcept {
+    lane_ = lane;
+    lane_head_ = &ring_.lane(lane_).head;
+    // The claim synchronised with the previous owner's release: this is its last head.
+    head_ = lane_head_->load(std::memory_order_acquire);
+    claim_head_ = head_;
+    mask_ = ring_.capacity() - 1;
+    state_ = &ring_.header().doorbell.state;
+    space_limit_ = 0;
+    slots_ = ring_.lane_slots(lane_);
+  }
 
   std::size_t stride() const noexcept {
     if constexpr (kBytes) return stride_;

@@ -26,6 +26,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <expected>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -36,12 +37,41 @@
 namespace horus::shm {
 
 inline constexpr std::uint64_t kSegmentMagic = 0x3147'4553'5355'524FULL;  // "ORUSSEG1"
-inline constexpr std::uint32_t kSegmentVersion = 3;  // 2: the large-data pool; 3: the bridge claim
+inline constexpr std::uint32_t kSegmentVersion = 4;  // 2: the large-data pool; 3: the bridge claim;
+                                                     // 4: the topic's scope and the bridge's state
 inline constexpr std::size_t kMaxTypeName = 255;
+inline constexpr std::size_t kMaxTransportName = 15;
+
+/// How far a shared-memory topic's messages go: this host only, or this host and the fleet
+/// (through the host's bridge to a network transport). A host has one scope per topic.
+enum class SegmentScope : std::uint32_t { Host = 1, Fleet = 2 };
 
 struct alignas(kCacheLine) Participant {
   std::atomic<std::uint32_t> pid;         // 0: free
   std::atomic<std::uint64_t> start_time;  // the process's start time (clock ticks after boot)
+};
+
+/// The per-host bridge of a fleet topic (api/src/network_bridge.cpp): which process holds it,
+/// the subscriber entry it exports from and the ring lane it imports into, and what it counted.
+/// Everything but `owner` is written by the holder only. The entry and the lane are recorded
+/// so that a successor adopts them at a takeover (it exports exactly what its predecessor had
+/// not, and imports keep their lane): the reaper never frees them; the next holder does.
+struct alignas(kCacheLine) BridgeState {
+  // (holder pid << 32) | (its participant index + 1); 0: nobody. Compare-exchange only.
+  std::atomic<std::uint64_t> owner;
+  std::atomic<std::uint64_t> claims;        // claims ever made, takeovers included
+  std::atomic<std::uint64_t> export_token;  // token of the entry it exports from (0: none)
+  std::atomic<std::uint64_t> import_token;  // token of the lane it imports into (0: none)
+  std::atomic<std::uint32_t> export_entry;
+  std::atomic<std::uint32_t> import_lane;
+  std::atomic<std::uint64_t> exported;  // messages of this host sent to the network
+  std::atomic<std::uint64_t> imported;  // messages of other hosts written into the ring
+  std::atomic<std::uint64_t> dropped;   // lost on the way: not exported (a takeover, a bridge that
+                                        // lagged a full ring behind) or reported lost by the transport
+  std::atomic<std::uint64_t> inflight;  // 1 while the holder exports a message it has read
+  std::atomic<std::uint32_t> matched_publishers;   // remote writers its endpoint matched
+  std::atomic<std::uint32_t> matched_subscribers;  // remote readers its endpoint matched
+  std::atomic<std::uint64_t> claimed_unix_ns;      // when the holder claimed it
 };
 
 struct alignas(kCacheLine) SegmentHeader {
@@ -60,11 +90,9 @@ struct alignas(kCacheLine) SegmentHeader {
   std::uint64_t pool_offset;       // 0: no pool; else the large-data pool (pool.hpp)
   std::uint64_t pool_slot_bytes;   // largest message's bytes in the pool
   std::uint32_t pool_slots_per_lane;
-  std::uint32_t reserved;
-  // The per-host bridge of a fleet topic (ShmSegment::claim_bridge): (holder pid << 32) |
-  // (its participant index + 1); 0: nobody. Changed by compare-exchange only.
-  alignas(kCacheLine) std::atomic<std::uint64_t> bridge_owner;
-  std::atomic<std::uint64_t> bridge_claims;  // claims ever made, takeovers included
+  std::uint32_t scope;                           // SegmentScope
+  char transport[kMaxTransportName + 1];         // a fleet topic's network transport ("cyclonedds")
+  BridgeState bridge;
   Participant participants[kMaxParticipants];
 };
 static_assert(std::is_standard_layout_v<SegmentHeader>, "the segment header has a fixed layout");
@@ -82,6 +110,8 @@ struct SegmentSpec {
   std::uint64_t pool_slot_bytes = 0;   // large data: bytes per pool slot (0: no pool)
   std::uint32_t pool_slots_per_lane = 0;
   bool pool_required = true;           // false: accept an existing pool's slot size
+  SegmentScope scope = SegmentScope::Host;
+  std::string_view transport;          // fleet: the network transport's name (at most 15 characters)
 };
 
 struct SegmentError {
@@ -143,9 +173,35 @@ class ShmSegment {
   void release_bridge() noexcept;
   /// The live process that holds the bridge, or 0.
   pid_t bridge_holder() const noexcept;
+  /// The holder records the subscriber entry it exports from and the lane it imports into
+  /// (token 0: none); the reaper leaves them for a successor.
+  void record_bridge_export(std::uint32_t entry, std::uint64_t token) noexcept;
+  void record_bridge_import(std::uint32_t lane, std::uint64_t token) noexcept;
+  /// A new holder (after TookOver, or Claimed after a holder that left) takes the entry and
+  /// the lane its predecessor recorded: `adopt(entry, old_token)` / `adopt(lane, old_token)`
+  /// return whether they were adopted; what was not adopted is freed. Under the segment lock,
+  /// so the reaper cannot free them meanwhile. Returns false when the lock was not obtained.
+  struct Inheritance {
+    std::optional<std::uint32_t> export_entry;  // recorded entry, with its token
+    std::uint64_t export_token = 0;
+    std::optional<std::uint32_t> import_lane;
+    std::uint64_t import_token = 0;
+    std::uint64_t inflight = 0;  // the predecessor died exporting a message
+  };
+  template <class Adopt>
+  bool inherit_bridge(Adopt&& adopt) {
+    Inheritance in;
+    if (!lock_inheritance(in)) return false;
+    adopt(in);
+    unlock_inheritance(in);
+    return true;
+  }
+  BridgeState& bridge() const noexcept { return header_->bridge; }
 
  private:
   std::uint32_t reap_dead_locked() const;  // the caller holds the lock
+  bool lock_inheritance(Inheritance& in) noexcept;
+  void unlock_inheritance(const Inheritance& in) noexcept;
   void detach() noexcept;
   int fd_ = -1;
   void* base_ = nullptr;

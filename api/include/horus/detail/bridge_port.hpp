@@ -1,0 +1,70 @@
+// BridgePort<T>: the handle a fleet topic's bridge uses (horus/detail/network_bridge.hpp), made
+// from the same local port and slot codec as a user's handle. Two ports, so the transport's
+// thread (import: decode and write into the bridge's lane) and the bridge's thread (export:
+// read every lane but that one) never share a codec's scratch state.
+// Internal to horus: users include <horus/topic.hpp>.
+#pragma once
+
+#include <memory>
+
+#include "horus/detail/network_bridge.hpp"
+#include "horus/detail/slots.hpp"
+
+namespace horus::detail {
+
+template <class T>
+class TypedBridgePort final : public BridgePort {
+  using Codec = SlotCodec<T>;
+  using Port = LocalPort<typename Codec::Payload>;
+
+ public:
+  // Non-owning: the core owns the bridge, which destroys its port before the ring goes.
+  explicit TypedBridgePort(TopicCore& core)
+      : import_(std::shared_ptr<TopicCore>(std::shared_ptr<void>(), &core)),
+        export_(std::shared_ptr<TopicCore>(std::shared_ptr<void>(), &core)) {}
+
+  bool take_lane(std::uint32_t lane, std::uint64_t from) override {
+    return from != 0 ? import_.writer().adopt(lane, from) : import_.ensure_lane();
+  }
+  bool has_lane() const override { return import_.writer().has_lane(); }
+  std::uint32_t lane() const override { return import_.writer().lane(); }
+  std::uint64_t lane_token() const override { return import_.writer().token(); }
+  bool deliver(net::WireFormat format, const net::Sample& sample) override {
+    const std::uint64_t before = import_.writer().sent();
+    import_codec_.deliver(import_, format, sample);
+    return import_.writer().sent() != before;
+  }
+
+  bool take_entry(std::uint32_t entry, std::uint64_t from) override {
+    return from != 0 ? export_.reader().adopt(entry, from) : export_.reader().subscribe();
+  }
+  bool has_entry() const override { return export_.reader().subscribed(); }
+  std::uint32_t entry() const override { return export_.reader().entry(); }
+  std::uint64_t entry_token() const override { return export_.reader().token(); }
+  std::size_t export_pending(std::uint32_t own, const ExportSink& sink) override {
+    std::size_t n = 0;
+    while (auto m = export_codec_.read_except(export_, own)) {
+      ++n;
+      if (!sink.send(sink.ctx, &*m)) break;
+    }
+    return n;
+  }
+  std::uint64_t export_lost() const override { return export_.reader().noticed_lost() + export_codec_.lost(); }
+  void leave() override {
+    import_.writer().leave();
+    export_.reader().leave();
+  }
+
+ private:
+  Port import_;
+  Codec import_codec_;
+  Port export_;
+  Codec export_codec_;
+};
+
+template <class T>
+std::unique_ptr<BridgePort> make_bridge_port(TopicCore& core) {
+  return std::make_unique<TypedBridgePort<T>>(core);
+}
+
+}  // namespace horus::detail

@@ -1,0 +1,125 @@
+// horus_fleet_member: one process of a fleet test on a namespace host. The backend comes from
+// HORUS_BACKEND (or the scope argument), the settings from HORUS_DOMAIN_ID / HORUS_LCM_URL.
+//
+//   horus_fleet_member <topic> <scope> <id> <count> <start_unix_ms> <publishers> <seconds>
+//
+// Opens <topic> (scope: fleet, host or process) with a subscribing handle and a publishing
+// one. At <start_unix_ms> it publishes <count> Pose2D messages (x = id, y = sequence number
+// 0..count-1) 2 ms apart with send_blocking, unless id is 0 (a listener). It receives until it
+// has <count> messages from each of <publishers> publishers or <seconds> passed, then prints
+//   received <n> from <k> publishers; duplicates <d>; out of order <o>; missing <m>; dropped <x>
+// and exits 0 when every message of every publisher arrived exactly once and in order, 1 when
+// not, 2 on a usage error, 3 when the topic does not open. A listener with <publishers> = 0
+// exits 0 when it received nothing.
+#include <poll.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <string>
+#include <thread>
+
+#include "horus/msg/all.hpp"
+#include "horus/topic.hpp"
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using namespace std::chrono_literals;
+
+std::int64_t unix_ms() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+struct Tally {
+  std::map<int, std::int64_t> next;  // per publisher id: the sequence number expected next
+  std::uint64_t received = 0;
+  std::uint64_t duplicates = 0;
+  std::uint64_t out_of_order = 0;
+  void add(const horus::msg::Pose2D& m) {
+    ++received;
+    const int id = static_cast<int>(m.x);
+    const auto seq = static_cast<std::int64_t>(m.y);
+    auto [it, fresh] = next.try_emplace(id, 0);
+    if (seq < it->second) {
+      ++duplicates;  // seen (or passed) already
+    } else {
+      if (seq > it->second) ++out_of_order;  // a gap: something before it did not arrive (yet)
+      it->second = seq + 1;
+    }
+  }
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 8) {
+    std::fprintf(stderr, "usage: %s <topic> <fleet|host|process> <id> <count> <start_unix_ms> <publishers> <seconds>\n",
+                 argv[0]);
+    return 2;
+  }
+  const std::string topic = argv[1];
+  const std::string scope = argv[2];
+  const int id = std::atoi(argv[3]);
+  const int count = std::atoi(argv[4]);
+  const std::int64_t start = std::atoll(argv[5]);
+  const int publishers = std::atoi(argv[6]);
+  const auto deadline = Clock::now() + std::chrono::seconds(std::atoi(argv[7]));
+
+  horus::TopicOptions options;
+  options.reliability = horus::net::Reliability::Reliable;
+  if (scope == "host") options.backend = horus::Backend::SharedMemory;
+  else if (scope == "process") options.backend = horus::Backend::InProcess;
+  else if (scope != "fleet") return 2;
+  auto sub = horus::Topic<horus::msg::Pose2D>::open(topic, options);
+  auto pub = horus::Topic<horus::msg::Pose2D>::open(topic, options);
+  if (!sub || !pub) {
+    std::fprintf(stderr, "horus_fleet_member: %s\n", (!sub ? sub.error() : pub.error()).message().c_str());
+    return 3;
+  }
+  std::printf("open: pid %d, scope %s, backend %s\n", static_cast<int>(::getpid()),
+              std::string(horus::to_string(sub->scope())).c_str(), std::string(horus::to_string(sub->backend())).c_str());
+  std::fflush(stdout);
+
+  Tally tally;
+  auto drain = [&] {
+    while (auto m = sub->recv()) tally.add(*m);
+  };
+  while (unix_ms() < start && Clock::now() < deadline) {
+    drain();
+    std::this_thread::sleep_for(1ms);
+  }
+  if (id != 0) {
+    for (int seq = 0; seq < count && Clock::now() < deadline; ++seq) {
+      const horus::msg::Pose2D m{static_cast<double>(id), static_cast<double>(seq), 0.0,
+                                 static_cast<std::uint64_t>(seq)};
+      if (auto ok = pub->send_blocking(m, 2s); !ok) {
+        std::fprintf(stderr, "horus_fleet_member: send %d: %s\n", seq, ok.error().message().c_str());
+        --seq;
+      }
+      drain();
+      std::this_thread::sleep_for(2ms);
+    }
+  }
+  const std::uint64_t want = static_cast<std::uint64_t>(publishers) * static_cast<std::uint64_t>(count);
+  const auto quiet_until = Clock::now() + (publishers == 0 ? 3s : 0s);  // a listener listens a while
+  while (Clock::now() < deadline && (tally.received < want || Clock::now() < quiet_until)) {
+    if (auto m = sub->recv_for(50ms)) tally.add(*m);
+  }
+  drain();
+  std::uint64_t missing = 0;
+  for (const auto& [pid, next] : tally.next) missing += static_cast<std::uint64_t>(count - std::min<std::int64_t>(next, count));
+  missing += static_cast<std::uint64_t>(publishers - static_cast<int>(std::min<std::size_t>(tally.next.size(), publishers))) *
+             static_cast<std::uint64_t>(count);
+  std::printf("received %llu from %zu publishers; duplicates %llu; out of order %llu; missing %llu; dropped %llu\n",
+              static_cast<unsigned long long>(tally.received), tally.next.size(),
+              static_cast<unsigned long long>(tally.duplicates), static_cast<unsigned long long>(tally.out_of_order),
+              static_cast<unsigned long long>(missing), static_cast<unsigned long long>(sub->dropped_count()));
+  std::fflush(stdout);
+  const bool exact = tally.received == want && tally.next.size() == static_cast<std::size_t>(publishers) &&
+                     tally.duplicates == 0 && tally.out_of_order == 0 && missing == 0;
+  return exact ? 0 : 1;
+}
