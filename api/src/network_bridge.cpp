@@ -25,6 +25,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <deque>
 #include <mutex>
@@ -102,6 +103,17 @@ class EchoLedger {
   std::deque<std::pair<Clock::time_point, std::uint64_t>> order_;
   std::unordered_map<std::uint64_t, std::uint32_t> count_;
 };
+
+// HORUS_BRIDGE: "0" keeps this process from ever bridging a fleet topic (it still uses them
+// through shared memory; another process of the host bridges); "1" or unset: it may.
+Result<bool> may_bridge_from_environment() {
+  const char* v = std::getenv("HORUS_BRIDGE");
+  if (v == nullptr || *v == '\0' || std::string_view(v) == "1") return true;
+  if (std::string_view(v) == "0") return false;
+  return fail(Errc::Config, fmt::format("HORUS_BRIDGE='{}' is not valid; expected 0 (this process never bridges "
+                                        "fleet topics to the network) or 1 (it may; the default)",
+                                        v));
+}
 
 int open_pidfd(pid_t pid) noexcept {
 #ifdef SYS_pidfd_open
@@ -319,6 +331,9 @@ class NetworkBridge final : public net::Listener {
   }
 
   Result<void> start() {
+    auto may = may_bridge_from_environment();
+    if (!may) return std::unexpected(std::move(may.error()));
+    if (!*may) return {};  // HORUS_BRIDGE=0: no transport, no thread; shared memory only
     auto transport = info_.open();  // the transport reads its own settings (HORUS_DOMAIN_ID, HORUS_LCM_URL)
     if (!transport) return std::unexpected(std::move(transport.error()));
     transport_ = std::move(*transport);

@@ -3,14 +3,15 @@
 //
 //   horus_fleet_member <topic> <scope> <id> <count> <start_unix_ms> <publishers> <seconds>
 //
-// Opens <topic> (scope: fleet, host or process) with a subscribing handle and a publishing
-// one. At <start_unix_ms> it publishes <count> Pose2D messages (x = id, y = sequence number
+// Opens <topic> (scope: fleet, host or process) with a subscribing handle and, unless id is 0,
+// a publishing one. At <start_unix_ms> it publishes <count> Pose2D messages (x = id, y = sequence number
 // 0..count-1) 2 ms apart with send_blocking, unless id is 0 (a listener). It receives until it
 // has <count> messages from each of <publishers> publishers or <seconds> passed, then prints
 //   received <n> from <k> publishers; duplicates <d>; out of order <o>; missing <m>; dropped <x>
 // and exits 0 when every message of every publisher arrived exactly once and in order, 1 when
 // not, 2 on a usage error, 3 when the topic does not open. A listener with <publishers> = 0
-// exits 0 when it received nothing.
+// listens 3 s after <start_unix_ms> and exits 0 when it received nothing; with -1 it stays
+// until <seconds> passed (a process that only keeps the topic open: a bridge candidate).
 #include <poll.h>
 #include <unistd.h>
 
@@ -75,9 +76,8 @@ int main(int argc, char** argv) {
   else if (scope == "process") options.backend = horus::Backend::InProcess;
   else if (scope != "fleet") return 2;
   auto sub = horus::Topic<horus::msg::Pose2D>::open(topic, options);
-  auto pub = horus::Topic<horus::msg::Pose2D>::open(topic, options);
-  if (!sub || !pub) {
-    std::fprintf(stderr, "horus_fleet_member: %s\n", (!sub ? sub.error() : pub.error()).message().c_str());
+  if (!sub) {
+    std::fprintf(stderr, "horus_fleet_member: %s\n", sub.error().message().c_str());
     return 3;
   }
   std::printf("open: pid %d, scope %s, backend %s\n", static_cast<int>(::getpid()),
@@ -93,6 +93,12 @@ int main(int argc, char** argv) {
     std::this_thread::sleep_for(1ms);
   }
   if (id != 0) {
+    // A handle that subscribes until its first send (a listener would never read it).
+    auto pub = horus::Topic<horus::msg::Pose2D>::open(topic, options);
+    if (!pub) {
+      std::fprintf(stderr, "horus_fleet_member: %s\n", pub.error().message().c_str());
+      return 3;
+    }
     for (int seq = 0; seq < count && Clock::now() < deadline; ++seq) {
       const horus::msg::Pose2D m{static_cast<double>(id), static_cast<double>(seq), 0.0,
                                  static_cast<std::uint64_t>(seq)};
@@ -103,6 +109,11 @@ int main(int argc, char** argv) {
       drain();
       std::this_thread::sleep_for(2ms);
     }
+  }
+  const bool stay = publishers < 0;
+  if (stay) {  // a bridge candidate: keeps the topic open (and reads it) until the deadline
+    while (Clock::now() < deadline) (void)sub->recv_for(50ms);
+    return 0;
   }
   const std::uint64_t want = static_cast<std::uint64_t>(publishers) * static_cast<std::uint64_t>(count);
   const auto quiet_until = Clock::now() + (publishers == 0 ? 3s : 0s);  // a listener listens a while

@@ -95,6 +95,8 @@ class HostProcess {
     pid_ = -1;
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   }
+  /// Its pid (nsenter and env exec the program: the program's own pid); -1 once it ended.
+  pid_t pid() const noexcept { return pid_; }
   /// What it printed on stdout and stderr so far.
   std::string output() const {
     std::string text;

@@ -6,7 +6,8 @@
 // ring, read by a thread that sleeps on the ring's doorbell) and imports what other hosts send
 // (a lane of the ring, written from the transport's thread). Every process that has the topic
 // open runs the same bridge object; those that do not hold the claim only watch the holder and
-// take over when it exits or dies. The bridge knows the message type only through a WireOps
+// take over when it exits or dies (HORUS_BRIDGE=0 keeps a process out: it never bridges). The
+// bridge knows the message type only through a WireOps
 // table and the BridgePort it makes (horus/detail/bridge_port.hpp), so T never reaches a
 // transport. Internal to horus: users include <horus/topic.hpp>.
 #pragma once
