@@ -22,6 +22,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <optional>
 #include <string>
 #include <thread>
@@ -63,9 +64,19 @@ nlohmann::json entry_json(const horus::discovery::TopicEntry& e) {
   j["dropped"] = e.dropped;
   if (e.rate_hz >= 0) j["rate_hz"] = e.rate_hz;
   j["stale"] = e.stale;
+  j["scope"] = e.scope;
+  if (e.scope == "fleet")
+    j["bridge"] = {{"transport", e.transport},        {"pid", e.bridge_pid},
+                   {"claims", e.bridge_claims},       {"exported", e.exported},
+                   {"imported", e.imported},          {"dropped", e.bridge_dropped},
+                   {"remote_publishers", e.remote_publishers}, {"remote_subscribers", e.remote_subscribers}};
   auto procs = nlohmann::json::array();
   for (const auto& p : e.processes)
-    procs.push_back({{"pid", p.pid}, {"alive", p.alive}, {"publishers", p.publishers}, {"subscribers", p.subscribers}});
+    procs.push_back({{"pid", p.pid},
+                     {"alive", p.alive},
+                     {"publishers", p.publishers},
+                     {"subscribers", p.subscribers},
+                     {"bridge", p.bridge}});
   j["processes"] = procs;
   return j;
 }
@@ -74,9 +85,21 @@ std::string processes_text(const horus::discovery::TopicEntry& e) {
   std::string out;
   for (const auto& p : e.processes) {
     if (!out.empty()) out += ", ";
-    out += fmt::format("{}{} ({} pub, {} sub)", p.pid, p.alive ? "" : " dead", p.publishers, p.subscribers);
+    out += fmt::format("{}{} ({} pub, {} sub{})", p.pid, p.alive ? "" : " dead", p.publishers, p.subscribers,
+                       p.bridge ? ", bridge" : "");
   }
   return out.empty() ? "none" : out;
+}
+
+std::string scope_text(const horus::discovery::TopicEntry& e) {
+  return e.scope == "fleet" ? fmt::format("fleet ({})", e.transport) : e.scope;
+}
+
+std::string bridge_text(const horus::discovery::TopicEntry& e) {
+  return fmt::format("{}; {} claim(s); exported {}, imported {}, dropped {}; remote: {} writer(s), {} reader(s)",
+                     e.bridge_pid != 0 ? fmt::format("pid {}", e.bridge_pid) : std::string("none now"),
+                     e.bridge_claims, e.exported, e.imported, e.bridge_dropped, e.remote_publishers,
+                     e.remote_subscribers);
 }
 
 int cmd_list(const std::string& ns, bool json, bool verbose) {
@@ -91,13 +114,16 @@ int cmd_list(const std::string& ns, bool json, bool verbose) {
     fmt::print("no topics in namespace '{}'\n", ns);
     return 0;
   }
-  fmt::print("{:<36} {:<34} {:>9} {:>4} {:>4} {:>10} {:>7} {:>9}\n", "topic", "type", "size", "pubs", "subs", "sent",
-             "drops", "rate Hz");
+  fmt::print("{:<36} {:<34} {:<17} {:>9} {:>4} {:>4} {:>10} {:>7} {:>9}\n", "topic", "type", "scope", "size", "pubs",
+             "subs", "sent", "drops", "rate Hz");
   for (const auto& e : topics) {
-    fmt::print("{:<36} {:<34} {:>9} {:>4} {:>4} {:>10} {:>7} {:>9.1f}{}\n", e.topic, e.type_name,
-               e.serialized ? fmt::format("<={}", e.message_size) : std::to_string(e.message_size), e.publishers,
-               e.subscribers, e.messages_sent, e.dropped, e.rate_hz, e.stale ? "  (stale)" : "");
-    if (verbose) fmt::print("    processes: {}\n", processes_text(e));
+    fmt::print("{:<36} {:<34} {:<17} {:>9} {:>4} {:>4} {:>10} {:>7} {:>9.1f}{}\n", e.topic, e.type_name,
+               scope_text(e), e.serialized ? fmt::format("<={}", e.message_size) : std::to_string(e.message_size),
+               e.publishers, e.subscribers, e.messages_sent, e.dropped, e.rate_hz, e.stale ? "  (stale)" : "");
+    if (verbose) {
+      fmt::print("    processes: {}\n", processes_text(e));
+      if (e.scope == "fleet") fmt::print("    bridge:    {}\n", bridge_text(e));
+    }
   }
   return 0;
 }
@@ -116,6 +142,8 @@ int cmd_info(const std::string& ns, const std::string& name) {
   else
     fmt::print("message:      {}\n", e->serialized ? fmt::format("serialized, at most {} bytes", e->message_size)
                                                     : fmt::format("{} bytes, fixed size", e->message_size));
+  fmt::print("scope:        {}\n", scope_text(*e));
+  if (e->scope == "fleet") fmt::print("bridge:       {}\n", bridge_text(*e));
   fmt::print("capacity:     {} slots per publisher\n", e->capacity);
   if (e->pooled)
     fmt::print("pool:         {} slots per publisher, {} pinned now; {} unread messages lost to slot reuse, {} "
@@ -138,7 +166,14 @@ int with_topic(const std::string& ns, const std::string& name, const char* cmd, 
     return 1;
   }
   std::string error;
-  auto reader = horus::tools::open_reader(e->type_name, name, error);
+  // A fleet topic is opened as one (a host topic of the same name would be a scope conflict);
+  // this short-lived observer never bridges it (HORUS_BRIDGE=0).
+  horus::Backend backend = horus::Backend::SharedMemory;
+  if (e->scope == "fleet") {
+    backend = horus::Backend::network(e->transport);
+    ::setenv("HORUS_BRIDGE", "0", 1);
+  }
+  auto reader = horus::tools::open_reader(e->type_name, name, backend, error);
   if (!reader && !error.empty()) {
     fmt::print(stderr, "horus topic {}: {}\n", cmd, error);
     return 1;

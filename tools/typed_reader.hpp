@@ -9,6 +9,8 @@
 #include <string>
 #include <string_view>
 
+#include "horus/backend.hpp"
+
 namespace horus::tools {
 
 class TypedReader {
@@ -22,15 +24,17 @@ class TypedReader {
   virtual bool wait(std::chrono::nanoseconds timeout) = 0;
 };
 
-/// Opens topic `name` (shared memory) as the standard message called `type_name`. Nothing, with
+/// Opens topic `name` (with `backend`: shared memory, or the fleet transport the segment names)
+/// as the standard message called `type_name`. Nothing, with
 /// `error` empty, when it is not a standard type; nothing with `error` set when opening failed.
-std::unique_ptr<TypedReader> open_reader(std::string_view type_name, const std::string& name, std::string& error);
+std::unique_ptr<TypedReader> open_reader(std::string_view type_name, const std::string& name, const Backend& backend,
+                                         std::string& error);
 
 namespace detail {
 std::unique_ptr<TypedReader> open_reader_first_half(std::string_view type_name, const std::string& name,
-                                                    std::string& error, bool& known);
+                                                    const Backend& backend, std::string& error, bool& known);
 std::unique_ptr<TypedReader> open_reader_second_half(std::string_view type_name, const std::string& name,
-                                                     std::string& error, bool& known);
+                                                     const Backend& backend, std::string& error, bool& known);
 }  // namespace detail
 
 }  // namespace horus::tools

@@ -27,12 +27,12 @@ class ReaderOf final : public TypedReader {
 
 template <class... T>
 std::unique_ptr<TypedReader> open_as(msg::TypeList<T...>, std::string_view type_name, const std::string& name,
-                                     std::string& error, bool& known) {
+                                     const Backend& backend, std::string& error, bool& known) {
   std::unique_ptr<TypedReader> out;
   auto try_one = [&]<class M>() {
     if (known || horus::type_name<M>() != type_name) return;
     known = true;
-    auto topic = Topic<M>::open(name, TopicOptions{Backend::SharedMemory, {}, {}});
+    auto topic = Topic<M>::open(name, TopicOptions{backend, {}, {}});
     if (!topic) error = topic.error().message();
     else out = std::make_unique<ReaderOf<M>>(std::move(*topic));
   };

@@ -41,6 +41,26 @@ std::optional<TopicEntry> read_entry(const shm::SegmentInfo& info) {
   e.dropped = ring.header().dropped_total.load(std::memory_order_relaxed) + ring.undetected_losses();
   e.publishers = ring.publisher_count();
   e.subscribers = ring.subscriber_count();
+  const auto& b = h.bridge;
+  const std::uint64_t import_token = b.import_token.load(std::memory_order_acquire);
+  const std::uint64_t export_token = b.export_token.load(std::memory_order_acquire);
+  if (h.scope == static_cast<std::uint32_t>(shm::SegmentScope::Fleet)) {
+    e.scope = "fleet";
+    e.transport = std::string(h.transport, strnlen(h.transport, shm::kMaxTransportName));
+    e.bridge_claims = b.claims.load(std::memory_order_relaxed);
+    e.exported = b.exported.load(std::memory_order_relaxed);
+    e.imported = b.imported.load(std::memory_order_relaxed);
+    e.bridge_dropped = b.dropped.load(std::memory_order_relaxed);
+    e.remote_publishers = b.matched_publishers.load(std::memory_order_relaxed);
+    e.remote_subscribers = b.matched_subscribers.load(std::memory_order_relaxed);
+    const std::uint64_t owner = b.owner.load(std::memory_order_acquire);
+    const auto holder = static_cast<pid_t>(owner >> 32);
+    const auto slot = static_cast<std::uint32_t>(owner & 0xffff'ffffu) - 1u;
+    if (owner != 0 && slot < shm::kMaxParticipants &&
+        static_cast<pid_t>(h.participants[slot].pid.load(std::memory_order_acquire)) == holder &&
+        shm::process_alive(holder, h.participants[slot].start_time.load(std::memory_order_relaxed)))
+      e.bridge_pid = holder;
+  }
 
   std::map<pid_t, Process> procs;
   for (const auto& p : h.participants) {
@@ -49,17 +69,27 @@ std::optional<TopicEntry> read_entry(const shm::SegmentInfo& info) {
     auto& proc = procs[pid];
     proc.pid = pid;
     proc.alive = shm::process_alive(pid, p.start_time.load(std::memory_order_relaxed));
+    proc.bridge = pid == e.bridge_pid;
   }
   for (std::uint32_t l = 0; l < shm::kMaxPublishers; ++l) {
     const std::uint64_t owner = ring.lane(l).owner.load(std::memory_order_acquire);
     if (owner == 0) continue;
+    if (owner == import_token) {  // the bridge's import lane: not a user's handle
+      --e.publishers;
+      continue;
+    }
     auto it = procs.find(shm::token_pid(owner));
     if (it != procs.end()) ++it->second.publishers;
   }
   for (std::uint32_t i = 0; i < shm::kMaxSubscribers; ++i) {
     const auto& s = ring.subscriber(i);
     if (s.state.load(std::memory_order_acquire) != shm::SubscriberEntry::kActive) continue;
-    auto it = procs.find(shm::token_pid(s.owner.load(std::memory_order_acquire)));
+    const std::uint64_t owner = s.owner.load(std::memory_order_acquire);
+    if (owner == export_token) {  // the bridge's export entry
+      --e.subscribers;
+      continue;
+    }
+    auto it = procs.find(shm::token_pid(owner));
     if (it != procs.end()) ++it->second.subscribers;
   }
   e.stale = true;

@@ -8,6 +8,8 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdlib>
+#include <optional>
 #include <atomic>
 #include <cstdio>
 #include <sstream>
@@ -164,6 +166,69 @@ TEST(HorusCli, ListAndInfoShowTheTopicAndUnknownNamesAreErrors) {
   // A type the tool cannot decode is named.
   EXPECT_EQ(run(std::string(HORUS_CLI) + " topic echo " + name + " -n 1 --timeout 1", out), 1);
   EXPECT_NE(out.find("not a standard horus message"), std::string::npos) << out;
+}
+
+// A fleet topic (LCM in this process: memq://, nothing on any network): the registry and the
+// CLI show its scope, which process bridges it and what it exported; `horus topic echo` opens
+// it as a fleet topic without ever bridging it; another process may not open it as a host topic.
+TEST(HorusCli, AFleetTopicShowsItsScopeAndBridgeAndAnotherScopeIsRefused) {
+  if (!horus::backend_available(horus::Backend::Lcm)) GTEST_SKIP() << "this build has no lcm backend";
+  ::setenv("HORUS_LCM_URL", "memq://", 1);
+  const auto name = horus_test::unique_name("cli_fleet");
+  horus::TopicOptions fleet;
+  fleet.backend = horus::Backend::Lcm;
+  auto pub = horus::Topic<horus::msg::Pose2D>::open(name, fleet);
+  auto sub = horus::Topic<horus::msg::Pose2D>::open(name, fleet);
+  ASSERT_TRUE(pub && sub) << (pub ? sub.error() : pub.error()).message();
+  for (int i = 0; i < 5; ++i) pub->send(horus::msg::Pose2D::make(i, 0, 0));
+  for (int i = 0; i < 5; ++i) EXPECT_TRUE(sub->recv_for(std::chrono::seconds(2))) << i;
+  std::optional<horus::discovery::TopicEntry> e;
+  for (int tries = 0; tries < 200; ++tries) {  // the bridge's thread exports them
+    auto found = horus::discovery::find_topic(ns(), name);
+    ASSERT_TRUE(found) << found.error();
+    e = *found;
+    if (e->exported == 5) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_EQ(e->scope, "fleet");
+  EXPECT_EQ(e->transport, "lcm");
+  EXPECT_EQ(e->bridge_pid, ::getpid());
+  EXPECT_EQ(e->exported, 5u);
+  EXPECT_EQ(e->imported, 0u) << "memq brings our own samples back: the echo ledger drops them";
+  EXPECT_EQ(e->publishers, 1u) << "the bridge's lane is not a user's";
+  EXPECT_EQ(e->subscribers, 1u) << "the bridge's entry is not a user's";
+  EXPECT_FALSE(sub->recv()) << "nothing comes back twice";
+  std::string out;
+  ASSERT_EQ(run(std::string(HORUS_CLI) + " topic info " + name, out), 0) << out;
+  EXPECT_NE(out.find("scope:        fleet (lcm)"), std::string::npos) << out;
+  EXPECT_NE(out.find("bridge:       pid " + std::to_string(::getpid())), std::string::npos) << out;
+  EXPECT_NE(out.find("exported 5"), std::string::npos) << out;
+  ASSERT_EQ(run(std::string(HORUS_CLI) + " topic list -v", out), 0) << out;
+  EXPECT_NE(out.find("fleet (lcm)"), std::string::npos) << out;
+  {
+    Publishing p(std::chrono::milliseconds(2), [&](int i) { pub->send(horus::msg::Pose2D::make(i, 2.0, 0.5)); });
+    ASSERT_EQ(run(std::string(HORUS_CLI) + " topic echo " + name + " --json -n 2 --timeout 20", out), 0) << out;
+  }
+  auto after = horus::discovery::find_topic(ns(), name);
+  ASSERT_TRUE(after);
+  EXPECT_EQ(after->bridge_pid, ::getpid()) << "the CLI never took the bridge";
+  // Another process opening it as a host topic gets an error naming both scopes.
+  int fds[2];
+  ASSERT_EQ(::pipe(fds), 0);
+  const pid_t child = horus_test::spawn([&] {
+    auto t = horus::Topic<horus::msg::Pose2D>::open(name, horus::TopicOptions{horus::Backend::SharedMemory, {}, {}});
+    const std::string msg = t ? std::string("opened") : t.error().message();
+    (void)!::write(fds[1], msg.data(), msg.size());
+    return t ? 1 : 0;
+  });
+  ::close(fds[1]);
+  char buf[1024] = {};
+  const auto n = ::read(fds[0], buf, sizeof(buf) - 1);
+  ::close(fds[0]);
+  EXPECT_EQ(horus_test::wait_for(child), 0);
+  const std::string msg(buf, n > 0 ? static_cast<std::size_t>(n) : 0);
+  EXPECT_NE(msg.find("is open on this host with scope fleet (lcm); cannot open it with scope host"), std::string::npos)
+      << msg;
 }
 
 TEST(Registry, ALargeDataTopicShowsItsPoolAndPinnedSlots) {

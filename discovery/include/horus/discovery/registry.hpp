@@ -22,6 +22,7 @@ struct Process {
   bool alive = false;
   std::uint32_t publishers = 0;   // publishing handles (ring lanes) it holds
   std::uint32_t subscribers = 0;  // subscribing handles it holds
+  bool bridge = false;            // it bridges the topic to the network (fleet topics)
 };
 
 struct TopicEntry {
@@ -48,6 +49,17 @@ struct TopicEntry {
   double rate_hz = -1.0;            // messages per second over the sampling window (-1: not sampled)
   std::vector<Process> processes;
   bool stale = false;  // no live process: `horus clean` removes it
+  // Scope: "host" (shared memory) or "fleet" (shared memory and, through one bridge per host,
+  // `transport`). The bridge's own lane and entry are not in publishers/subscribers.
+  std::string scope = "host";
+  std::string transport;            // fleet: "cyclonedds", "fastdds", "lcm"
+  pid_t bridge_pid = 0;             // fleet: the live process that bridges it (0: none now)
+  std::uint64_t bridge_claims = 0;  // claims ever made (1 + takeovers)
+  std::uint64_t exported = 0;       // messages of this host sent to the network
+  std::uint64_t imported = 0;       // messages of other hosts written into the ring
+  std::uint64_t bridge_dropped = 0; // lost on the way (takeovers, transport losses)
+  std::uint32_t remote_publishers = 0;   // remote writers the bridge matched
+  std::uint32_t remote_subscribers = 0;  // remote readers the bridge matched
 };
 
 /// Every topic of shared-memory namespace `ns`. With a window > 0, sent counts are sampled
