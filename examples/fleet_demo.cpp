@@ -7,6 +7,12 @@
 //   fleet_demo --role monitor --robots 3           only the monitor (start it before or after)
 //   fleet_demo --role robot --id 2                 only robot 2 (e.g. after killing it)
 //   fleet_demo --restart 2                         launch, and halfway kill robot 2 and start it again
+//   fleet_demo --role robot --id 1 --camera 10     robot 1 also publishes a 640x480 image at 10 Hz
+//   fleet_demo --role planner --id 1               reads robot 1's pose and camera on its host
+//
+// Which topics stay on the host and which go to the fleet is not in this code: scripts/
+// fleet-demo.sh runs it on three namespace hosts with HORUS_CONFIG=examples/fleet.yaml (pose,
+// heartbeat and transform on fleet scope, the camera on host scope).
 //
 // Topics, per robot i: fleet.robot_<i>.heartbeat (Heartbeat, 2 Hz), fleet.robot_<i>.pose
 // (Pose2D, --pose-rate Hz), fleet.robot_<i>.tf (TransformStamped, half the pose rate).
@@ -23,8 +29,10 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <thread>
+#include <algorithm>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -51,11 +59,16 @@ extern "C" void on_signal(int) {
   if (g_executor != nullptr) g_executor->stop();  // async-signal-safe
 }
 
-// One robot: drives a circle and publishes at fixed rates (an Executor timer) for `duration`.
-void run_robot(int id, double pose_rate_hz, std::chrono::nanoseconds duration) {
+std::string camera_of(int robot) { return fmt::format("robot_{}.camera", robot); }
+
+// One robot: drives a circle and publishes at fixed rates (an Executor timer) for `duration`;
+// with camera_hz > 0 also a 640x480 RGB image (written in place in a loaned pool slot).
+void run_robot(int id, double pose_rate_hz, double camera_hz, std::chrono::nanoseconds duration) {
   horus::Topic<msg::Heartbeat> heartbeat(topic_of(id, "heartbeat"));
   horus::Topic<msg::Pose2D> pose(topic_of(id, "pose"));
   horus::Topic<msg::TransformStamped> tf(topic_of(id, "tf"));
+  std::optional<horus::Topic<msg::Image>> camera;
+  if (camera_hz > 0) camera.emplace(camera_of(id));
 
   msg::Heartbeat hb{};
   (void)hb.set_node_name(fmt::format("robot_{}", id));
@@ -86,9 +99,50 @@ void run_robot(int id, double pose_rate_hz, std::chrono::nanoseconds duration) {
     }
     ++tick;
   });
+  std::uint8_t shade = 0;
+  if (camera)
+    ex.every(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(1.0 / camera_hz)), [&] {
+      auto loan = camera->loan(*msg::Image::describe(480, 640, msg::ImageEncoding::Rgb8));
+      if (!loan) return;
+      std::fill((*loan)->data_mut().begin(), (*loan)->data_mut().end(), ++shade);
+      (*loan)->set_timestamp_ns(now_ns());
+      camera->send(std::move(*loan));
+    });
   g_executor = &ex;
   ex.spin_for(duration);
   g_executor = nullptr;
+}
+
+// A planner beside robot `id` on its host: reads its pose and its camera, prints their rates
+// and where each topic goes (its scope) every second; exits 0 when both arrived.
+int run_planner(int id, std::chrono::nanoseconds duration) {
+  horus::Executor ex;
+  std::uint64_t poses = 0, images = 0, poses_prev = 0, images_prev = 0;
+  std::uint32_t width = 0, height = 0;
+  const auto where = [](std::string_view topic) {  // what HORUS_CONFIG (or the default) chose
+    auto o = horus::resolve_topic_options(topic, {});
+    return o && o->backend ? std::string(horus::to_string(*o->backend)) : std::string("shm");
+  };
+  const std::string pose_where = where(topic_of(id, "pose"));
+  const std::string camera_where = where(camera_of(id));
+  ex.subscribe<msg::Pose2D>(topic_of(id, "pose"), [&](const msg::Pose2D&) { ++poses; });
+  ex.subscribe<msg::Image>(camera_of(id), [&](const msg::Image& img) {
+    ++images;
+    width = img.width();
+    height = img.height();
+  });
+  ex.every(std::chrono::seconds(1), [&] {
+    fmt::print("planner robot_{}: pose {} Hz ({}), camera {} Hz {}x{} ({})\n", id, poses - poses_prev,
+               pose_where, images - images_prev, width, height, camera_where);
+    std::fflush(stdout);
+    poses_prev = poses;
+    images_prev = images;
+  });
+  g_executor = &ex;
+  ex.spin_for(duration);
+  g_executor = nullptr;
+  fmt::print("planner robot_{}: {} poses, {} images\n", id, poses, images);
+  return poses > 0 && images > 0 ? 0 : 1;
 }
 
 // What the monitor knows of one robot (its callbacks on the monitor's Executor fill it in).
@@ -161,8 +215,9 @@ int run_monitor(int robots, double duration_s, double print_interval_s, const st
   horus::Executor ex;
   std::vector<std::unique_ptr<RobotView>> fleet;
   for (int i = 1; i <= robots; ++i) fleet.push_back(std::make_unique<RobotView>(i, ex));
-  fmt::print("horus fleet demo: {} robots, {} backend, {:.0f} s\n", robots,
-             horus::to_string(horus::backend_from_environment().value_or(horus::Backend::SharedMemory)), duration_s);
+  const auto chosen = horus::resolve_topic_options(topic_of(1, "pose"), {});
+  fmt::print("horus fleet demo: {} robots, poses on {}, {:.0f} s\n", robots,
+             chosen && chosen->backend ? horus::to_string(*chosen->backend) : std::string_view("shm"), duration_s);
   if (tick) tick(-1.0);  // start the robots now
   const auto start = clock_type::now();
   const auto seconds = [](double s) {
@@ -196,10 +251,12 @@ int main(int argc, char** argv) {
   double duration_s = 5.0;
   double pose_rate_hz = 20.0;
   double print_interval_s = 1.0;
+  double camera_hz = 0.0;
   std::string role = "launch";
   CLI::App app{"horus fleet demo: robot processes publish heartbeat, pose and transform; a monitor prints the fleet"};
-  app.add_option("--role", role, "launch (robots + monitor), monitor, or robot")
-      ->check(CLI::IsMember({"launch", "monitor", "robot"}));
+  app.add_option("--role", role, "launch (robots + monitor), monitor, robot, or planner")
+      ->check(CLI::IsMember({"launch", "monitor", "robot", "planner"}));
+  app.add_option("--camera", camera_hz, "robot: also publish a 640x480 image at this rate")->check(CLI::Range(0.0, 100.0));
   app.add_option("--robots", robots, "number of robots")->check(CLI::Range(1, 30));
   app.add_option("--id", id, "robot id (--role robot)")->check(CLI::Range(1, 30));
   app.add_option("--duration", duration_s, "seconds to run")->check(CLI::Range(0.5, 86400.0));
@@ -212,11 +269,12 @@ int main(int argc, char** argv) {
   ::signal(SIGINT, on_signal);
 
   try {
+    const auto duration = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(duration_s));
     if (role == "robot") {
-      run_robot(id, pose_rate_hz,
-                std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(duration_s)));
+      run_robot(id, pose_rate_hz, camera_hz, duration);
       return 0;
     }
+    if (role == "planner") return run_planner(id, duration);
     if (role == "monitor") return run_monitor(robots, duration_s, print_interval_s, {});
 
     // launch: the monitor here, each robot a process of its own.

@@ -251,7 +251,7 @@ bool match_from(const std::vector<std::string_view>& pat, std::size_t pi, const 
 
 Result<void> check_topic_pattern(std::string_view pattern) {
   const auto rule = "expected dot-separated segments of letters, digits, '_' and '-', or '*' (one segment) or '**' "
-                    "(any number of segments), e.g. \"fleet.**\" or \"robot_*.camera.*\"";
+                    "(any number of segments), e.g. \"fleet.**\" or \"*.camera\"";
   if (pattern.empty()) return fail(Errc::Config, fmt::format("empty pattern; {}", rule));
   for (std::string_view seg : segments(pattern)) {
     if (seg.empty()) return fail(Errc::Config, fmt::format("pattern '{}' has an empty segment; {}", pattern, rule));

@@ -1,0 +1,102 @@
+#!/usr/bin/env bash
+# The fleet demo across three hosts made of namespaces (needs root): robot hosts 1 and 2 each
+# run a driver (pose, heartbeat and transform on fleet scope, a 640x480 camera on host scope)
+# and a planner that reads them locally; host 3 runs the monitor. Each host has its own network
+# namespace on a private bridge (nothing leaves this machine), its own /dev/shm and hostname.
+# The scopes come from examples/fleet.yaml (HORUS_CONFIG), not from code.
+#
+#   sudo scripts/fleet-demo.sh [--backend cyclonedds|fastdds|lcm] [--duration 10] [--no-build]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+backend=cyclonedds
+duration=10
+build=1
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --backend) backend="$2"; shift 2 ;;
+    --duration) duration="$2"; shift 2 ;;
+    --no-build) build=0; shift ;;
+    *) echo "fleet-demo.sh: unknown argument '$1' (expected --backend NAME, --duration SECONDS, --no-build)" >&2; exit 2 ;;
+  esac
+done
+case "$backend" in cyclonedds|fastdds|lcm) ;; *) echo "fleet-demo.sh: --backend $backend: expected cyclonedds, fastdds or lcm" >&2; exit 2 ;; esac
+if [ "$(id -u)" != 0 ]; then
+  echo "fleet-demo.sh: needs root (it makes hosts out of network, mount and UTS namespaces); scripts/demo.sh runs on one host without it" >&2
+  exit 1
+fi
+if [ "$build" = 1 ]; then
+  scripts/install-deps.sh
+  cmake --preset default >/dev/null
+  cmake --build --preset default --target fleet_demo horus_cli
+fi
+demo="$PWD/build/default/examples/fleet_demo"
+cli="$PWD/build/default/tools/horus"
+
+p="hfd$$"
+subnet="10.214.$(( $$ % 250 + 1 ))"
+work="$(mktemp -d /tmp/horus-fleet-demo.XXXXXX)"
+holders=()
+cleanup() {
+  for h in "${holders[@]}"; do kill -9 "$h" 2>/dev/null || true; done
+  for h in "${holders[@]}"; do wait "$h" 2>/dev/null || true; done
+  for i in 1 2 3; do ip netns del "${p}h$i" 2>/dev/null || true; done
+  ip netns del "${p}b" 2>/dev/null || true
+  rm -rf "$work"
+}
+trap cleanup EXIT
+
+ip netns add "${p}b"
+ip -n "${p}b" link add br0 type bridge mcast_snooping 0
+ip -n "${p}b" link set br0 up
+for i in 1 2 3; do
+  ns="${p}h$i"
+  ip netns add "$ns"
+  ip link add "${p}v$i" type veth peer name "${p}p$i"
+  ip link set "${p}v$i" netns "$ns"
+  ip link set "${p}p$i" netns "${p}b"
+  ip -n "$ns" link set "${p}v$i" name eth0
+  ip -n "$ns" addr add "$subnet.$i/24" dev eth0
+  ip -n "$ns" link set eth0 up
+  ip -n "$ns" link set lo up
+  ip -n "$ns" route add 224.0.0.0/4 dev eth0
+  ip -n "${p}b" link set "${p}p$i" master br0
+  ip -n "${p}b" link set "${p}p$i" up
+  name=$([ "$i" = 3 ] && echo monitor || echo "robot$i")
+  ip netns exec "$ns" unshare --mount --uts --propagation private \
+    sh -c "mount -t tmpfs -o mode=1777 tmpfs /dev/shm && hostname $name && exec sleep infinity" &
+  holders+=("$!")
+done
+for h in "${holders[@]}"; do
+  for _ in $(seq 200); do [ "$(cat /proc/$h/comm 2>/dev/null)" = sleep ] && break; sleep 0.05; done
+done
+
+config="$work/fleet.yaml"
+sed "s/^  backend: cyclonedds .*/  backend: $backend/" examples/fleet.yaml >"$config"
+on() {  # on HOST command...: runs it in that host's namespaces with the demo's configuration
+  local h="${holders[$(( $1 - 1 ))]}"
+  shift
+  nsenter -t "$h" -n -m -u -- env HORUS_CONFIG="$config" "$@"
+}
+
+echo "horus fleet demo: 3 namespace hosts ($subnet.1-3), fleet topics on $backend, scopes from examples/fleet.yaml"
+nodes=()
+for i in 1 2; do
+  on "$i" "$demo" --role robot --id "$i" --camera 10 --duration $(( duration + 4 )) >"$work/robot$i.log" 2>&1 &
+  nodes+=("$!")
+  on "$i" "$demo" --role planner --id "$i" --duration $(( duration + 2 )) >"$work/planner$i.log" 2>&1 &
+  nodes+=("$!")
+done
+sleep 1
+rc=0
+on 3 "$demo" --role monitor --robots 2 --duration "$duration" --interval 2 || rc=$?
+echo
+echo "host robot1, its planner (camera on host scope, pose on fleet scope):"
+tail -n 2 "$work/planner1.log" | sed 's/^/  /'
+echo "host robot2, its planner:"
+tail -n 2 "$work/planner2.log" | sed 's/^/  /'
+echo "host robot1, horus topic list -v (one bridge per fleet topic; the camera never leaves the host):"
+on 1 "$cli" topic list -v | sed 's/^/  /'
+echo "host monitor, horus topic list (no camera here):"
+on 3 "$cli" topic list | sed 's/^/  /'
+wait "${nodes[@]}" || true
+exit "$rc"
