@@ -6,6 +6,10 @@
 #
 #   bench/dds/run_dds_bench.sh [--quick] [--local-only] [--poll] [--rounds N] [--build-dir DIR]
 #
+# Each side has its own HORUS_NAMESPACE (its own shared memory, as on two hosts), so horus's
+# fleet topic goes publisher -> shared memory -> this host's bridge -> the network -> the other
+# host's bridge -> shared memory -> subscriber: the full fleet path against the raw library.
+#
 # Prints one table per setting: one-way latency (RTT/2) p50 / p99 / p99.9 in microseconds, the
 # median over rounds (raw and horus alternate), and horus p50 / raw p50; then throughput
 # (messages and MB per second a sink receives from a source sending back to back, reliable).
@@ -77,10 +81,10 @@ one() {  # setting impl type
   local in1="" in2="" envs="BENCH_LOCALHOST=1"
   if [ "$setting" = netns ]; then in1="ip netns exec $ns1"; in2="ip netns exec $ns2"; envs="BENCH_LOCALHOST=0"; fi
   # pong: stdin held open by a sleep (it stops at EOF, at the stop sample, or after 300 s)
-  ( sleep 320 | $in2 env $envs $p pong $domain "$type" 300 >/dev/null 2>&1 & )
+  ( sleep 320 | $in2 env HORUS_NAMESPACE=bench_b$$ $envs $p pong $domain "$type" 300 >/dev/null 2>&1 & )
   sleep 0.5
   local out
-  out=$($in1 env $envs timeout 300 $p ping $domain "$type" $n $warm 2>&1 | grep RESULT || echo "FAILED impl=$impl type=$type")
+  out=$($in1 env HORUS_NAMESPACE=bench_a$$ $envs timeout 300 $p ping $domain "$type" $n $warm 2>&1 | grep RESULT || echo "FAILED impl=$impl type=$type")
   pkill -f "pingpong pong $domain $type" 2>/dev/null || true
   sleep 0.3
   echo "$out"
@@ -93,9 +97,9 @@ tput() {  # setting impl type
   local in1="" in2="" envs="BENCH_LOCALHOST=1"
   if [ "$setting" = netns ]; then in1="ip netns exec $ns1"; in2="ip netns exec $ns2"; envs="BENCH_LOCALHOST=0"; fi
   out="$(mktemp)"
-  ( sleep $((tput_s + 40)) | $in2 env $envs timeout $((tput_s + 40)) $p sink $domain "$type" $((tput_s + 30)) >"$out" 2>&1 & )
+  ( sleep $((tput_s + 40)) | $in2 env HORUS_NAMESPACE=bench_b$$ $envs timeout $((tput_s + 40)) $p sink $domain "$type" $((tput_s + 30)) >"$out" 2>&1 & )
   sleep 0.5
-  $in1 env $envs timeout $((tput_s + 40)) $p source $domain "$type" "$tput_s" >/dev/null 2>&1 || true
+  $in1 env HORUS_NAMESPACE=bench_a$$ $envs timeout $((tput_s + 40)) $p source $domain "$type" "$tput_s" >/dev/null 2>&1 || true
   local deadline=$((SECONDS + 10))
   while ! grep -q RESULT "$out" && [ $SECONDS -lt $deadline ]; do sleep 0.2; done
   grep RESULT "$out" || echo "FAILED impl=$impl type=$type mode=tput"

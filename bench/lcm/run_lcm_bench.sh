@@ -6,6 +6,10 @@
 #
 #   bench/lcm/run_lcm_bench.sh [--quick] [--local-only] [--rounds N] [--build-dir DIR] [--tuned-malloc]
 #
+# Each side has its own HORUS_NAMESPACE (its own shared memory, as on two hosts), so horus's
+# fleet topic goes publisher -> shared memory -> this host's bridge -> the network -> the other
+# host's bridge -> shared memory -> subscriber: the full fleet path against the raw library.
+#
 # Prints one table per setting: one-way latency (RTT/2) p50 / p99 / p99.9 in microseconds (the
 # median over rounds; raw and horus alternate), round trips lost (LCM is best effort: no answer
 # within 1 s, 2 s for an image), horus p50 / raw p50; then throughput (messages and MB per
@@ -152,13 +156,13 @@ one() {  # setting impl type
   if [ "$type" = image ]; then n=$n_image; warm=$warm_image; else n=$n_small; warm=$warm_small; fi
   out="$tmp/pong.out"
   # pong: stops at EOF on its stdin, at the stop marker, or after 300 s
-  start_bg "$out" $in2 env HORUS_LCM_URL="$url" $p pong 0 "$type" 300
+  start_bg "$out" $in2 env HORUS_NAMESPACE=bench_b$$ HORUS_LCM_URL="$url" $p pong 0 "$type" 300
   if ! wait_for "$out" ready 10; then
     stop_bg 1
     echo "FAILED impl=$impl type=$type pong: $(why "$out.err") round=$r" >>"$results"
     return
   fi
-  res=$($in1 env HORUS_LCM_URL="$url" timeout $((60 + n * 3)) $p ping 0 "$type" "$n" "$warm" 2>"$tmp/ping.err" |
+  res=$($in1 env HORUS_NAMESPACE=bench_a$$ HORUS_LCM_URL="$url" timeout $((60 + n * 3)) $p ping 0 "$type" "$n" "$warm" 2>"$tmp/ping.err" |
         grep RESULT || true)
   stop_bg 5
   if [ -n "$res" ]; then echo "$res round=$r"; else echo "FAILED impl=$impl type=$type ping: $(why "$tmp/ping.err") round=$r"; fi >>"$results"
@@ -171,13 +175,13 @@ tput() {  # setting impl type
   setting_env "$setting"
   p="$(prog "$impl")"
   out="$tmp/sink.out"
-  start_bg "$out" $in2 env HORUS_LCM_URL="$url" $p sink 0 "$type" $((tput_s + 5))
+  start_bg "$out" $in2 env HORUS_NAMESPACE=bench_b$$ HORUS_LCM_URL="$url" $p sink 0 "$type" $((tput_s + 5))
   if ! wait_for "$out" ready 10; then
     stop_bg 1
     echo "FAILED impl=$impl type=$type mode=tput sink: $(why "$out.err")" >>"$results"
     return
   fi
-  sent=$($in1 env HORUS_LCM_URL="$url" timeout $((tput_s + 40)) $p source 0 "$type" "$tput_s" 2>/dev/null |
+  sent=$($in1 env HORUS_NAMESPACE=bench_a$$ HORUS_LCM_URL="$url" timeout $((tput_s + 40)) $p source 0 "$type" "$tput_s" 2>/dev/null |
          grep '^SENT' || true)
   # The sink ends at the stop marker; if every marker was lost, at EOF (raw) or after its seconds.
   wait_for "$out" RESULT 2 || { [ -n "$bg_hold" ] && exec {bg_hold}>&- && bg_hold=""; wait_for "$out" RESULT 6; } || true

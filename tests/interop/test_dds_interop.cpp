@@ -54,6 +54,20 @@ TEST_P(Interop, AThirdPartyProgramEchoesEveryConstructFieldByField) {
   EXPECT_EQ(peer.stop(), 0);
 }
 
+// fastddsgen / idlc programs beside two horus processes of the same host: each message once
+// in both directions (the host has one bridge, one writer and one reader for the topic).
+TEST_P(Interop, OnAHostWithTwoHorusProcessesEachMessageGoesOnceEachWay) {
+  const auto [backend, peer_name] = GetParam();
+  if (!horus::backend_available(backend)) GTEST_SKIP() << "this build has no " << horus::to_string(backend) << " backend";
+  const std::string program = std::string(INTEROP_WORK_DIR) + "/" + peer_name;
+  if (::access(program.c_str(), X_OK) != 0) GTEST_SKIP() << peer_name << " was not built";
+  const std::string prefix = horus_test::unique_name("interop.host");
+  horus_test::Peer peer(program, backend, {domain_, horus::wire_name(backend, prefix).value(), "60"});
+  ASSERT_TRUE(peer.ready()) << peer_name << " did not start";
+  for (const auto& f : horus_test::same_host_exactly_once(backend, prefix)) ADD_FAILURE() << f;
+  EXPECT_EQ(peer.stop(), 0);
+}
+
 INSTANTIATE_TEST_SUITE_P(Peers, Interop,
                          ::testing::Values(Case{Backend::CycloneDds, "cyclone_echo"},
                                            Case{Backend::CycloneDds, "fastdds_echo"},

@@ -113,6 +113,18 @@ TEST_F(LcmInterop, AnLcmGenProgramEchoesEveryMessageTypeFieldByField) {
   EXPECT_EQ(peer.stop(), 0) << "lcm_echo could not decode or re-encode a message (its stderr says which)";
 }
 
+// An lcm-gen program beside two horus processes of the same host: each message once in both
+// directions (LCM loops the host's own multicast back; the bridge drops its own echo only).
+TEST_F(LcmInterop, OnAHostWithTwoHorusProcessesEachMessageGoesOnceEachWay) {
+  const std::string program = std::string(INTEROP_WORK_DIR) + "/lcm_echo";
+  if (::access(program.c_str(), X_OK) != 0) GTEST_SKIP() << "lcm_echo was not built";
+  const std::string prefix = horus_test::unique_name("lcmh");
+  horus_test::Peer peer(program, Backend::Lcm, {prefix, "60"});
+  ASSERT_TRUE(peer.ready()) << "lcm_echo did not start";
+  for (const auto& f : horus_test::same_host_exactly_once(Backend::Lcm, prefix)) ADD_FAILURE() << f;
+  EXPECT_EQ(peer.stop(), 0);
+}
+
 TEST_F(LcmInterop, LcmLoggerRecordsHorusTrafficAndLogplayerReplaysItIntoHorus) {
   const std::string logger = tool("lcm-logger"), player = tool("lcm-logplayer");
   if (logger.empty() || player.empty()) GTEST_SKIP() << "lcm-logger / lcm-logplayer are not installed (Debian: liblcm-bin)";

@@ -126,4 +126,27 @@ class Peer {
   int status_ = -1;
 };
 
+#ifdef HORUS_FLEET_MEMBER
+/// Two horus processes of one host (one shared-memory namespace, so one bridge) beside a
+/// third-party program that echoes <prefix>.Pose2D on <prefix>.Pose2D.echo (already running):
+/// one process publishes 200 numbered Pose2D, the other reads them (each once, from shared
+/// memory) and a third reads the echoes (each once: the third-party program got each message
+/// once, and what it sent reached the host once). Returns what went wrong.
+inline std::vector<std::string> same_host_exactly_once(Backend backend, const std::string& prefix) {
+  const std::string topic = prefix + ".Pose2D";
+  const std::string start = std::to_string(std::chrono::duration_cast<std::chrono::milliseconds>(
+                                               (std::chrono::system_clock::now() + 3s).time_since_epoch())
+                                               .count());
+  Peer publisher(HORUS_FLEET_MEMBER, backend, {topic, "fleet", "1", "200", start, "1", "30"});
+  Peer reader(HORUS_FLEET_MEMBER, backend, {topic, "fleet", "0", "200", start, "1", "30"});
+  Peer echoes(HORUS_FLEET_MEMBER, backend, {topic + ".echo", "fleet", "0", "200", start, "1", "30"});
+  std::this_thread::sleep_for(4s);  // they publish, read and exit on their own
+  std::vector<std::string> failures;
+  if (const int rc = publisher.stop(); rc != 0) failures.push_back("the publisher (and reader of its own) exited " + std::to_string(rc));
+  if (const int rc = reader.stop(); rc != 0) failures.push_back("the other process did not get each message once (exit " + std::to_string(rc) + ")");
+  if (const int rc = echoes.stop(); rc != 0) failures.push_back("the echoes did not arrive each once (exit " + std::to_string(rc) + ")");
+  return failures;
+}
+#endif
+
 }  // namespace horus_test

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cstdlib>
 #include <chrono>
 #include <thread>
 #include <vector>
@@ -218,4 +219,45 @@ TEST(TopicConcurrency, ReadLatestWithTwoPublishersNeverGoesBackInTimePerPublishe
   EXPECT_GT(seen, 0u);
   EXPECT_EQ(torn, 0u);
   EXPECT_EQ(backwards, 0u);
+}
+
+// A fleet topic (LCM over memq://: in this process, no network) with its bridge running: the
+// bridge's thread exports every message of two publishing threads while a subscribing thread
+// reads them from the ring, and memq hands every exported message back to the bridge, which
+// recognizes it as its own (the echo ledger): each message arrives exactly once, in order per
+// publisher, and the bridge exported all of them. Under TSan this checks the export thread,
+// the transport's thread and the user threads against each other.
+TEST(TopicConcurrency, AFleetTopicsBridgeExportsEveryMessageOnceWhileThreadsPublishAndRead) {
+  if (!horus::backend_available(horus::Backend::Lcm)) GTEST_SKIP() << "this build has no lcm backend";
+  ::setenv("HORUS_LCM_URL", "memq://", 1);
+  horus::TopicOptions fleet;
+  fleet.backend = horus::Backend::Lcm;
+  fleet.capacity = 1024;
+  const auto name = unique_name("conc.fleet");
+  auto sub = Topic<Stamp>::open(name, fleet).value();
+  constexpr std::uint64_t kPerPublisher = 2000 / kScale;
+  std::vector<std::thread> pubs;
+  for (std::uint32_t p = 0; p < 2; ++p)
+    pubs.emplace_back([&, p] {
+      auto pub = Topic<Stamp>::open(name, fleet).value();
+      for (std::uint64_t i = 0; i < kPerPublisher; ++i) {
+        ASSERT_TRUE(pub.send_blocking(Stamp::make(p, i), 5s)) << i;  // the bridge is a subscriber too
+      }
+    });
+  std::uint64_t next[2] = {0, 0}, received = 0, wrong = 0;
+  const Deadline d(kTestBudget);
+  while (received < 2 * kPerPublisher && !d.expired()) {
+    if (auto m = sub.recv_for(100ms)) {
+      ++received;
+      const auto p = m->publisher % 2;
+      if (m->seq != next[p]) ++wrong;
+      next[p] = m->seq + 1;
+    }
+  }
+  for (auto& t : pubs) t.join();
+  EXPECT_EQ(received, 2 * kPerPublisher);
+  EXPECT_EQ(wrong, 0u) << "a message out of order or twice";
+  std::this_thread::sleep_for(100ms);
+  EXPECT_FALSE(sub.recv()) << "a message came back through the transport";
+  EXPECT_EQ(sub.dropped_count(), 0u);
 }
