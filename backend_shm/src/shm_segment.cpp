@@ -384,7 +384,8 @@ std::expected<ShmSegment, SegmentError> ShmSegment::open(std::string_view ns, st
       h->total_size = total;
       h->created_unix_ns = now_unix_ns();
       h->scope = static_cast<std::uint32_t>(spec.scope);
-      std::memcpy(h->transport, spec.transport.data(), std::min(spec.transport.size(), kMaxTransportName));
+      // An empty string_view may carry a null data(): copy only what there is.
+      std::ranges::copy(spec.transport.substr(0, kMaxTransportName), h->transport);
       seg.ring_ = Ring::format(static_cast<std::byte*>(p) + ring_offset, cfg);
       if (pooled) {
         h->pool_offset = pool_offset;
