@@ -237,8 +237,10 @@ TEST_P(MultiHost, KillingTheBridgeHandsItOverWithNoDuplicateAndEveryLossCounted)
   std::printf("subscriber: %s publisher: %s", sub_out.substr(sub_out.rfind("received")).c_str(),
               pub_out.substr(pub_out.rfind("received")).c_str());
   EXPECT_EQ(duplicates, 0) << sub_out;
-  EXPECT_EQ(received + missing, count) << sub_out;
-  EXPECT_LE(missing, dropped) << "messages lost without being counted; subscriber:\n"
+  // Lost: never received, at the end (missing) or in a gap a takeover left ("out of order").
+  const long long lost = count - received;
+  EXPECT_GE(lost, missing) << sub_out;
+  EXPECT_LE(lost, dropped) << "messages lost without being counted; subscriber:\n"
                               << sub_out << "\npublisher:\n"
                               << pub_out;
 }
