@@ -40,6 +40,11 @@ struct MessageType {
   std::string_view name;  // the unqualified type name ("Pose2D")
   std::unique_ptr<Trip> (*trip)();
   std::unique_ptr<Echo> (*echo)();
+  /// Encodes a sample in XCDR1 and, when LCM can carry the type, in LCM;
+  /// decodes each through the type's signature alone (horus/wire/dynamic.hpp) and compares
+  /// with to_json; then checks that every truncation fails in both decoders alike. The
+  /// failures, or empty.
+  std::string (*dynamic_check)();
 };
 
 /// The 81 standard messages, in catalogue order.

@@ -3,7 +3,14 @@
 
 #include <optional>
 
+#include <algorithm>
+#include <span>
+#include <vector>
+
 #include "horus/topic.hpp"
+#include "horus/wire/dynamic.hpp"
+#include "horus/wire/lcm.hpp"
+#include "horus/wire/xcdr1.hpp"
 #include "message_samples.hpp"
 #include "message_trips.hpp"
 
@@ -62,11 +69,57 @@ class EchoOf final : public Echo {
   std::optional<horus::Topic<T>> in_, out_;
 };
 
+// One encoding of a sample against the dynamic decoder: the same JSON as to_json, and every
+// shorter prefix refused by both decoders alike.
+template <class T, class TypedDecode>
+std::string dynamic_compare(const horus::wire::DynType& type, horus::wire::DynFormat format,
+                            const std::vector<std::byte>& bytes, bool little_endian, const TypedDecode& typed,
+                            std::string_view what) {
+  const auto want = horus::to_json(*typed(std::span<const std::byte>(bytes)));
+  auto got = horus::wire::decode_json(type, format, bytes, little_endian);
+  if (!got) return std::string(what) + ": " + got.error();
+  if (*got != want) return std::string(what) + ": dynamic " + got->dump() + "\n vs to_json " + want.dump();
+  // Every prefix: refused by both, or (XCDR1's final padding) accepted by both alike.
+  const std::size_t step = std::max<std::size_t>(1, bytes.size() / 64);
+  for (std::size_t n = 0; n < bytes.size(); n += step) {
+    const std::span<const std::byte> cut(bytes.data(), n);
+    const bool typed_ok = typed(cut).has_value();
+    const bool dyn_ok = horus::wire::decode_json(type, format, cut, little_endian).has_value();
+    if (typed_ok != dyn_ok)
+      return std::string(what) + ": a prefix of " + std::to_string(n) + " bytes " + (dyn_ok ? "decodes" : "fails") +
+             " dynamically but " + (typed_ok ? "decodes" : "fails") + " typed";
+  }
+  return {};
+}
+
+template <class T>
+std::string dynamic_check() {
+  const std::string sig = horus::reflect::type_signature<T>();
+  auto type = horus::wire::parse_signature(sig, horus::type_hash<T>);
+  if (!type) return type.error();
+  const T m = topic_sample<T>();
+  std::string out;
+  auto note = [&](std::string s) {
+    if (!s.empty()) out += (out.empty() ? "" : "; ") + s;
+  };
+  const auto cdr_le = horus::cdr::encode(m);
+  note(dynamic_compare<T>(*type, horus::wire::DynFormat::Xcdr1, cdr_le, true,
+                          [](std::span<const std::byte> b) { return horus::cdr::decode<T>(b, true); }, "XCDR1"));
+  if constexpr (horus::lcm::expressible<T>) {
+    const auto lcm = horus::lcm::encode(m);
+    note(dynamic_compare<T>(*type, horus::wire::DynFormat::Lcm, lcm, true,
+                            [](std::span<const std::byte> b) { return horus::lcm::decode<T>(b); }, "LCM"));
+  } else if (horus::wire::check_expressible(*type, horus::wire::DynFormat::Lcm)) {
+    note("LCM: the signature says expressible, the type says not");
+  }
+  return out;
+}
+
 template <class T>
 MessageType entry() {
   static const std::string name = short_name(horus::type_name<T>());
   return {name, [] { return std::unique_ptr<Trip>(new TripOf<T>()); },
-          [] { return std::unique_ptr<Echo>(new EchoOf<T>()); }};
+          [] { return std::unique_ptr<Echo>(new EchoOf<T>()); }, &dynamic_check<T>};
 }
 
 template <class... T>
