@@ -196,6 +196,8 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
     if (transport != nullptr) spec.transport = transport->name;
     spec.type_name = type.name;
     spec.type_hash = type.hash;
+    const std::string signature = type.signature != nullptr ? type.signature() : std::string();
+    spec.signature = signature;
     spec.payload_size = payload;
     spec.serialized = type.serialized;
     spec.capacity = cfg.capacity;

@@ -64,8 +64,14 @@ bool name_is_this_file(int fd, const std::string& name) {
 }
 
 // A header's ring must be where this version puts it, inside the file, and agree with it.
+// Where the ring starts: after the header and the type's signature, on a page.
+std::uint64_t ring_offset_for(std::uint64_t signature_size) noexcept {
+  return align_up(sizeof(SegmentHeader) + signature_size, kPage);
+}
+
 bool ring_consistent(const SegmentHeader& h, const void* base, std::size_t size) {
-  const std::uint64_t expected_offset = align_up(sizeof(SegmentHeader), kPage);
+  if (h.signature_offset != sizeof(SegmentHeader) || h.signature_size > kMaxSignature) return false;
+  const std::uint64_t expected_offset = ring_offset_for(h.signature_size);
   if (h.ring_offset != expected_offset || h.ring_offset >= size || h.total_size > size) return false;
   const auto* ring_base = static_cast<const std::byte*>(base) + h.ring_offset;
   if (Ring::validate(ring_base, size - h.ring_offset)) return false;
@@ -243,7 +249,12 @@ std::expected<ShmSegment, SegmentError> ShmSegment::open(std::string_view ns, st
     if (auto err = Pool::check_config(pool_cfg))
       return std::unexpected(SegmentError{SegmentError::Kind::ConfigMismatch, *err});
   }
-  const std::uint64_t ring_offset = align_up(sizeof(SegmentHeader), kPage);
+  if (spec.signature.size() > kMaxSignature)
+    return std::unexpected(SegmentError{SegmentError::Kind::InvalidName,
+                                        "the signature of type '" + std::string(spec.type_name) + "' has " +
+                                            std::to_string(spec.signature.size()) + " bytes; at most " +
+                                            std::to_string(kMaxSignature) + " fit a segment"});
+  const std::uint64_t ring_offset = ring_offset_for(spec.signature.size());
   const std::uint64_t pool_offset = pooled ? align_up(ring_offset + Ring::required_size(cfg), kPage) : 0;
   const std::uint64_t total = pooled ? pool_offset + Pool::required_size(pool_cfg) : ring_offset + Ring::required_size(cfg);
   const pid_t self = ::getpid();
@@ -386,6 +397,9 @@ std::expected<ShmSegment, SegmentError> ShmSegment::open(std::string_view ns, st
       h->scope = static_cast<std::uint32_t>(spec.scope);
       // An empty string_view may carry a null data(): copy only what there is.
       std::ranges::copy(spec.transport.substr(0, kMaxTransportName), h->transport);
+      h->signature_offset = sizeof(SegmentHeader);
+      h->signature_size = spec.signature.size();
+      std::ranges::copy(spec.signature, static_cast<char*>(p) + sizeof(SegmentHeader));
       seg.ring_ = Ring::format(static_cast<std::byte*>(p) + ring_offset, cfg);
       if (pooled) {
         h->pool_offset = pool_offset;
@@ -575,6 +589,20 @@ void ShmSegment::detach() noexcept {
   ring_ = Ring();
   slot_ = kMaxParticipants;
 }
+
+namespace {
+// The signature text of a mapped segment of `mapped` bytes; empty when the header's numbers
+// do not describe a text inside the mapping (a corrupt header never makes us read past it).
+std::string_view signature_in(const SegmentHeader* h, std::size_t mapped) noexcept {
+  if (h == nullptr || h->signature_offset != sizeof(SegmentHeader) || h->signature_size > kMaxSignature ||
+      h->signature_offset + h->signature_size > mapped)
+    return {};
+  return {reinterpret_cast<const char*>(h) + h->signature_offset, static_cast<std::size_t>(h->signature_size)};
+}
+}  // namespace
+
+std::string_view ShmSegment::signature() const noexcept { return signature_in(header_, size_); }
+std::string_view SegmentView::signature() const noexcept { return signature_in(header_, size_); }
 
 // ---------------------------------------------------------------------------
 

@@ -27,6 +27,7 @@ std::optional<TopicEntry> read_entry(const shm::SegmentInfo& info) {
   e.message_size = e.serialized ? shm::max_serialized_size(h.payload_size) : h.payload_size;
   e.capacity = h.capacity;
   e.created_unix_ns = h.created_unix_ns;
+  e.signature = std::string(view->signature());
   if (const shm::Pool pool = view->pool()) {
     e.pooled = true;
     e.pool_slot_bytes = pool.slot_bytes();
@@ -51,6 +52,7 @@ std::optional<TopicEntry> read_entry(const shm::SegmentInfo& info) {
     e.exported = b.exported.load(std::memory_order_relaxed);
     e.imported = b.imported.load(std::memory_order_relaxed);
     e.bridge_dropped = b.dropped.load(std::memory_order_relaxed);
+    e.malformed = b.malformed.load(std::memory_order_relaxed);
     e.remote_publishers = b.matched_publishers.load(std::memory_order_relaxed);
     e.remote_subscribers = b.matched_subscribers.load(std::memory_order_relaxed);
     const std::uint64_t owner = b.owner.load(std::memory_order_acquire);

@@ -30,6 +30,7 @@ struct TypeInfo {
                              // the default largest encoded message
   bool serialized = false;   // variable-size: slots hold [length][encoded bytes]
   std::uint64_t pool_bytes = 0;  // large data: default bytes per pool slot (0: no pool)
+  std::string (*signature)() = nullptr;  // reflect::type_signature<T>: written into a new segment
 };
 
 class NetworkBridge;  // network_bridge.hpp
@@ -59,6 +60,9 @@ struct TopicCore {
   // first, so its thread and callbacks stop before the ring is gone. net_mutex serializes its
   // creation.
   std::mutex net_mutex;
+  // Fleet topics: keeps this host announced while the topic is open (fleet_presence.hpp);
+  // released after the bridge is gone.
+  std::shared_ptr<void> fleet_presence;
   std::unique_ptr<NetworkBridge, NetworkBridgeDeleter> net;
 };
 

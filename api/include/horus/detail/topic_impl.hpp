@@ -19,7 +19,7 @@ Result<Topic<T>> Topic<T>::make(std::string_view name, const TopicOptions& reque
   if (!resolved) return std::unexpected(std::move(resolved.error()));
   const TopicOptions& options = *resolved;
   const detail::TypeInfo type{horus::type_name<T>(), horus::type_hash<T>, Codec::kPayloadBytes, kSerialized,
-                              Codec::kPoolBytes};
+                              Codec::kPoolBytes, &reflect::type_signature<T>};
   auto core = detail::open_core(name, type, options);
   if (!core) return std::unexpected(std::move(core.error()));
   Topic topic(std::move(*core));

@@ -6,6 +6,8 @@
 //   offset 0       SegmentHeader   magic, layout version, the message type (name, hash, size,
 //                                  serialized or not), capacity, and the participant table
 //                                  (pid + process start time of every process attached)
+//   signature_offset  the type's signature text (reflect::type_signature<T>(): what its hash
+//                  is computed from), so a tool or another host can decode a type it lacks
 //   ring_offset    the ring (ring.hpp), exactly as in process-local memory
 //   pool_offset    large-data topics only: the pool holding the messages' bytes (pool.hpp)
 //
@@ -37,10 +39,12 @@
 namespace horus::shm {
 
 inline constexpr std::uint64_t kSegmentMagic = 0x3147'4553'5355'524FULL;  // "ORUSSEG1"
-inline constexpr std::uint32_t kSegmentVersion = 4;  // 2: the large-data pool; 3: the bridge claim;
-                                                     // 4: the topic's scope and the bridge's state
+inline constexpr std::uint32_t kSegmentVersion = 5;  // 2: the large-data pool; 3: the bridge claim;
+                                                     // 4: the topic's scope and the bridge's state;
+                                                     // 5: the type's signature, the bridge's malformed count
 inline constexpr std::size_t kMaxTypeName = 255;
 inline constexpr std::size_t kMaxTransportName = 15;
+inline constexpr std::size_t kMaxSignature = 256 * 1024;  // a type's signature text, at most
 
 /// How far a shared-memory topic's messages go: this host only, or this host and the fleet
 /// (through the host's bridge to a network transport). A host has one scope per topic.
@@ -72,6 +76,7 @@ struct alignas(kCacheLine) BridgeState {
   std::atomic<std::uint32_t> matched_publishers;   // remote writers its endpoint matched
   std::atomic<std::uint32_t> matched_subscribers;  // remote readers its endpoint matched
   std::atomic<std::uint64_t> claimed_unix_ns;      // when the holder claimed it
+  std::atomic<std::uint64_t> malformed;  // samples from the network that did not decode (ignored)
 };
 
 struct alignas(kCacheLine) SegmentHeader {
@@ -92,6 +97,8 @@ struct alignas(kCacheLine) SegmentHeader {
   std::uint32_t pool_slots_per_lane;
   std::uint32_t scope;                           // SegmentScope
   char transport[kMaxTransportName + 1];         // a fleet topic's network transport ("cyclonedds")
+  std::uint64_t signature_offset;                // sizeof(SegmentHeader): the signature follows the header
+  std::uint64_t signature_size;                  // its bytes (0: none given), at most kMaxSignature
   BridgeState bridge;
   Participant participants[kMaxParticipants];
 };
@@ -112,6 +119,7 @@ struct SegmentSpec {
   bool pool_required = true;           // false: accept an existing pool's slot size
   SegmentScope scope = SegmentScope::Host;
   std::string_view transport;          // fleet: the network transport's name (at most 15 characters)
+  std::string_view signature;          // the type's signature (reflect::type_signature<T>()), or empty
 };
 
 struct SegmentError {
@@ -157,6 +165,8 @@ class ShmSegment {
   /// Our index in the participant table (what pins the pool's slots).
   std::uint32_t participant() const noexcept { return slot_; }
   const SegmentHeader& header() const noexcept { return *header_; }
+  /// The type's signature text as the segment's creator wrote it (empty when it gave none).
+  std::string_view signature() const noexcept;
   const std::string& name() const noexcept { return name_; }
   /// Processes attached now (after reaping dead ones).
   std::uint32_t live_participants() const;
@@ -228,6 +238,8 @@ class SegmentView {
   ~SegmentView();
 
   const SegmentHeader& header() const noexcept { return *header_; }
+  /// The type's signature text (empty when its creator gave none).
+  std::string_view signature() const noexcept;
   Ring ring() const noexcept { return ring_; }
   /// The large-data pool, read-only (false when the topic has none).
   Pool pool() const noexcept { return pool_; }

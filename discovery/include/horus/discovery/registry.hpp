@@ -42,6 +42,7 @@ struct TopicEntry {
   std::uint32_t capacity = 0;      // slots per publisher
   std::uint64_t segment_bytes = 0;
   std::uint64_t created_unix_ns = 0;
+  std::string signature;           // the type's layout text (reflect::type_signature): decodes it without the type
   std::uint32_t publishers = 0;    // handles, all processes
   std::uint32_t subscribers = 0;
   std::uint64_t messages_sent = 0;  // since the segment was created
@@ -58,6 +59,7 @@ struct TopicEntry {
   std::uint64_t exported = 0;       // messages of this host sent to the network
   std::uint64_t imported = 0;       // messages of other hosts written into the ring
   std::uint64_t bridge_dropped = 0; // lost on the way (takeovers, transport losses)
+  std::uint64_t malformed = 0;      // samples from the network that did not decode (ignored)
   std::uint32_t remote_publishers = 0;   // remote writers the bridge matched
   std::uint32_t remote_subscribers = 0;  // remote readers the bridge matched
 };
