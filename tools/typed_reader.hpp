@@ -1,13 +1,17 @@
-// A subscriber of a standard-message topic whose type is known only at run time (horus topic
-// echo / hz): one Topic<T> per standard type behind a small interface, instantiated once per
+// Topics of a standard message whose type is known only at run time (horus topic echo / hz /
+// bw / pub): one Topic<T> per standard type behind a small interface, instantiated once per
 // type in typed_reader_*.cpp (two files, so the build compiles the halves in parallel).
 #pragma once
 
 #include <chrono>
+#include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
+
+#include <nlohmann/json_fwd.hpp>
 
 #include "horus/backend.hpp"
 
@@ -18,23 +22,49 @@ class TypedReader {
   virtual ~TypedReader() = default;
   /// The next message as text (JSON or the one-line summary), or nothing.
   virtual std::optional<std::string> recv_text(bool json) = 0;
-  /// Takes the next message without printing it; false when there was none.
-  virtual bool recv_any() = 0;
+  /// Takes the next message without printing it; its size in bytes (the XCDR1 encoding, what it
+  /// takes on DDS), or nothing when there was none.
+  virtual std::optional<std::size_t> recv_size() = 0;
   /// Sleeps until a message is waiting or `timeout` passes (Topic::wait_for); true: one is.
   virtual bool wait(std::chrono::nanoseconds timeout) = 0;
 };
 
+class TypedWriter {
+ public:
+  virtual ~TypedWriter() = default;
+  /// Sends the message `json` describes (from_json: strict); the error naming the field, or empty.
+  virtual std::string send_json(const nlohmann::json& json) = 0;
+  /// Subscribers the topic has (remote readers included for a fleet topic).
+  virtual std::uint32_t sub_count() const = 0;
+  virtual std::string backend() const = 0;
+};
+
+/// The standard message called `type_name` (qualified, "horus::msg::Pose2D", or not, "Pose2D"):
+/// its qualified name, or empty when there is none.
+std::string standard_type(std::string_view type_name);
+
 /// Opens topic `name` (with `backend`: shared memory, or the fleet transport the segment names)
-/// as the standard message called `type_name`. Nothing, with
-/// `error` empty, when it is not a standard type; nothing with `error` set when opening failed.
+/// as the standard message called `type_name`. Nothing, with `error` empty, when it is not a
+/// standard type; nothing with `error` set when opening failed.
 std::unique_ptr<TypedReader> open_reader(std::string_view type_name, const std::string& name, const Backend& backend,
                                          std::string& error);
+/// The same for publishing; without a backend the environment and the configuration file choose.
+std::unique_ptr<TypedWriter> open_writer(std::string_view type_name, const std::string& name,
+                                         const std::optional<Backend>& backend, std::string& error);
 
 namespace detail {
-std::unique_ptr<TypedReader> open_reader_first_half(std::string_view type_name, const std::string& name,
-                                                    const Backend& backend, std::string& error, bool& known);
-std::unique_ptr<TypedReader> open_reader_second_half(std::string_view type_name, const std::string& name,
-                                                     const Backend& backend, std::string& error, bool& known);
+/// What one half of the standard types offers for a type name (known: the name is in it).
+struct Opened {
+  bool known = false;
+  std::string qualified;
+  std::unique_ptr<TypedReader> reader;
+  std::unique_ptr<TypedWriter> writer;
+};
+enum class Want { Name, Reader, Writer };
+void open_first_half(std::string_view type_name, const std::string& name, const std::optional<Backend>& backend,
+                     Want want, Opened& out, std::string& error);
+void open_second_half(std::string_view type_name, const std::string& name, const std::optional<Backend>& backend,
+                      Want want, Opened& out, std::string& error);
 }  // namespace detail
 
 }  // namespace horus::tools

@@ -5,6 +5,7 @@
 #include "horus/json.hpp"
 #include "horus/msg/all.hpp"
 #include "horus/topic.hpp"
+#include "horus/wire/xcdr1.hpp"
 #include "typed_reader.hpp"
 
 namespace horus::tools::detail {
@@ -18,26 +19,58 @@ class ReaderOf final : public TypedReader {
     if (!m) return std::nullopt;
     return json ? horus::to_json(*m).dump() : horus::log_summary(*m);
   }
-  bool recv_any() override { return topic_.recv().has_value(); }
+  std::optional<std::size_t> recv_size() override {
+    auto m = topic_.recv();
+    if (!m) return std::nullopt;
+    return cdr::encoded_size(static_cast<const T&>(*m));
+  }
   bool wait(std::chrono::nanoseconds timeout) override { return topic_.wait_for(timeout); }
 
  private:
   Topic<T> topic_;
 };
 
+template <class T>
+class WriterOf final : public TypedWriter {
+ public:
+  explicit WriterOf(Topic<T> topic) : topic_(std::move(topic)) {}
+  std::string send_json(const nlohmann::json& json) override {
+    try {
+      const T m = horus::from_json<T>(json);
+      if (auto ok = topic_.send_blocking(m, std::chrono::seconds(1)); !ok) return ok.error().message();
+      return {};
+    } catch (const JsonError& e) {
+      return e.what();
+    }
+  }
+  std::uint32_t sub_count() const override { return topic_.sub_count(); }
+  std::string backend() const override { return std::string(to_string(topic_.backend())); }
+
+ private:
+  Topic<T> topic_;
+};
+
+inline bool names_type(std::string_view qualified, std::string_view asked) {
+  return qualified == asked || (qualified.size() > asked.size() + 2 && qualified.ends_with(asked) &&
+                                qualified.substr(qualified.size() - asked.size() - 2, 2) == "::");
+}
+
 template <class... T>
-std::unique_ptr<TypedReader> open_as(msg::TypeList<T...>, std::string_view type_name, const std::string& name,
-                                     const Backend& backend, std::string& error, bool& known) {
-  std::unique_ptr<TypedReader> out;
+void open_as(msg::TypeList<T...>, std::string_view type_name, const std::string& name,
+             const std::optional<Backend>& backend, Want want, Opened& out, std::string& error) {
   auto try_one = [&]<class M>() {
-    if (known || horus::type_name<M>() != type_name) return;
-    known = true;
-    auto topic = Topic<M>::open(name, TopicOptions{backend, {}, {}});
+    if (out.known || !names_type(horus::type_name<M>(), type_name)) return;
+    out.known = true;
+    out.qualified = std::string(horus::type_name<M>());
+    if (want == Want::Name) return;
+    TopicOptions options;
+    options.backend = backend;
+    auto topic = Topic<M>::open(name, options);
     if (!topic) error = topic.error().message();
-    else out = std::make_unique<ReaderOf<M>>(std::move(*topic));
+    else if (want == Want::Reader) out.reader = std::make_unique<ReaderOf<M>>(std::move(*topic));
+    else out.writer = std::make_unique<WriterOf<M>>(std::move(*topic));
   };
   (try_one.template operator()<T>(), ...);
-  return out;
 }
 
 }  // namespace horus::tools::detail

@@ -2,12 +2,12 @@
 
 namespace horus::tools::detail {
 
-std::unique_ptr<TypedReader> open_reader_second_half(std::string_view type_name, const std::string& name,
-                                                     const Backend& backend, std::string& error, bool& known) {
+void open_second_half(std::string_view type_name, const std::string& name, const std::optional<Backend>& backend,
+                      Want want, Opened& out, std::string& error) {
   using Second = msg::detail::Concat<msg::NavigationMessages, msg::DiagnosticsMessages, msg::ForceMessages,
                                      msg::InputMessages, msg::TrackingMessages, msg::TimeMessages,
                                      msg::AudioMessages, msg::GenericMessages>::type;
-  return open_as(Second{}, type_name, name, backend, error, known);
+  open_as(Second{}, type_name, name, backend, want, out, error);
 }
 
 }  // namespace horus::tools::detail

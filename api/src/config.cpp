@@ -36,7 +36,8 @@ std::string_view to_string(Source s) noexcept {
 
 namespace {
 
-constexpr std::array<std::string_view, 2> kTopLevelKeys{"network", "topics"};
+constexpr std::array<std::string_view, 3> kTopLevelKeys{"network", "fleet", "topics"};
+constexpr std::array<std::string_view, 4> kFleetKeys{"announce", "heartbeat_ms", "announce_ms", "misses"};
 constexpr std::array<std::string_view, 4> kNetworkKeys{"backend", "domain_id", "localhost_only", "lcm_url"};
 constexpr std::array<std::string_view, 6> kRuleKeys{"match", "scope", "backend", "reliability", "durability", "capacity"};
 
@@ -142,6 +143,34 @@ class Parser {
       if (!s) return std::unexpected(s.error());
       if (s->empty()) return bad(v, "network.lcm_url", "empty; expected an LCM URL such as \"udpm://239.255.76.67:7667?ttl=1\"");
       out.lcm_url = *s;
+    }
+    return {};
+  }
+
+  Result<void> fleet(const YAML::Node& n, FleetSection& out) const {
+    if (!n.IsDefined() || n.IsNull()) return {};
+    if (!n.IsMap()) return bad(n, "fleet", fmt::format("expected a map of {}, found {}", one_of(kFleetKeys), kind(n)));
+    if (auto ok = known_keys(n, "fleet", kFleetKeys); !ok) return ok;
+    if (const auto v = n["announce"]) {
+      auto b = boolean(v, "fleet.announce");
+      if (!b) return std::unexpected(b.error());
+      out.announce = *b;
+    }
+    if (const auto v = n["heartbeat_ms"]) {
+      auto ms = integer(v, "fleet.heartbeat_ms", kMinHeartbeatMs, kMaxHeartbeatMs,
+                        fmt::format("a heartbeat period; expected milliseconds from {} to {}", kMinHeartbeatMs, kMaxHeartbeatMs));
+      if (!ms) return std::unexpected(ms.error());
+      out.heartbeat_ms = *ms;
+    }
+    if (const auto v = n["announce_ms"]) {
+      auto ms = integer(v, "fleet.announce_ms", 100, 600000, "an announcement period; expected milliseconds from 100 to 600000");
+      if (!ms) return std::unexpected(ms.error());
+      out.announce_ms = *ms;
+    }
+    if (const auto v = n["misses"]) {
+      auto m = integer(v, "fleet.misses", 1, 100, "a number of missed heartbeats; expected an integer from 1 to 100");
+      if (!m) return std::unexpected(m.error());
+      out.misses = *m;
     }
     return {};
   }
@@ -293,6 +322,7 @@ Result<Config> Config::parse(std::string_view text, std::string file) {
                                             root.Mark().line + 1, one_of(kTopLevelKeys), Parser::kind(root)));
     if (auto ok = p.known_keys(root, "", kTopLevelKeys); !ok) return std::unexpected(ok.error());
     if (auto ok = p.network(root["network"], c.network_); !ok) return std::unexpected(ok.error());
+    if (auto ok = p.fleet(root["fleet"], c.fleet_); !ok) return std::unexpected(ok.error());
     if (const auto topics = root["topics"]; topics && !topics.IsNull()) {
       if (!topics.IsSequence())
         return p.bad(topics, "topics", fmt::format("expected a list of rules (- match: ...), found {}", Parser::kind(topics)));
@@ -419,6 +449,36 @@ Result<TopicOptions> resolve_topic_options(std::string_view topic, const TopicOp
   out.capacity = c->capacity;
   out.reliability = c->reliability;
   out.durability = c->durability;
+  return out;
+}
+
+Result<FleetSettings> fleet_settings() {
+  auto config = config_from_environment();
+  if (!config) return std::unexpected(config.error());
+  FleetSettings out;
+  if (*config != nullptr) {
+    const FleetSection& f = (*config)->fleet();
+    if (f.announce) out.announce = *f.announce;
+    if (f.heartbeat_ms) out.heartbeat = std::chrono::milliseconds(*f.heartbeat_ms);
+    if (f.announce_ms) out.announce_period = std::chrono::milliseconds(*f.announce_ms);
+    if (f.misses) out.misses = *f.misses;
+    if (const auto& b = (*config)->network().backend) out.transport = *b;
+  }
+  if (const char* env = std::getenv("HORUS_FLEET_HEARTBEAT_MS"); env != nullptr && *env != '\0') {
+    const std::string_view text(env);
+    std::uint64_t v = 0;
+    auto [p, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (ec != std::errc() || p != text.data() + text.size() || v < kMinHeartbeatMs || v > kMaxHeartbeatMs)
+      return fail(Errc::Config, fmt::format("HORUS_FLEET_HEARTBEAT_MS='{}' is not a heartbeat period; expected "
+                                            "milliseconds from {} to {}",
+                                            text, kMinHeartbeatMs, kMaxHeartbeatMs));
+    out.heartbeat = std::chrono::milliseconds(v);
+  }
+  if (const char* env = std::getenv("HORUS_BACKEND"); env != nullptr && *env != '\0') {
+    auto b = backend_from_environment();
+    if (!b) return std::unexpected(b.error());
+    if (b->scope() == Scope::Fleet) out.transport = std::string(b->transport());
+  }
   return out;
 }
 

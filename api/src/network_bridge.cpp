@@ -32,6 +32,7 @@
 #include <thread>
 #include <unordered_map>
 
+#include "horus/detail/fleet_presence.hpp"
 #include "horus/detail/topic_core.hpp"
 #include "horus/detail/waiting.hpp"
 #include "horus/log.hpp"
@@ -104,16 +105,6 @@ class EchoLedger {
   std::unordered_map<std::uint64_t, std::uint32_t> count_;
 };
 
-// HORUS_BRIDGE: "0" keeps this process from ever bridging a fleet topic (it still uses them
-// through shared memory; another process of the host bridges); "1" or unset: it may.
-Result<bool> may_bridge_from_environment() {
-  const char* v = std::getenv("HORUS_BRIDGE");
-  if (v == nullptr || *v == '\0' || std::string_view(v) == "1") return true;
-  if (std::string_view(v) == "0") return false;
-  return fail(Errc::Config, fmt::format("HORUS_BRIDGE='{}' is not valid; expected 0 (this process never bridges "
-                                        "fleet topics to the network) or 1 (it may; the default)",
-                                        v));
-}
 
 int open_pidfd(pid_t pid) noexcept {
 #ifdef SYS_pidfd_open
@@ -124,6 +115,17 @@ int open_pidfd(pid_t pid) noexcept {
 #endif
 }
 }  // namespace
+
+// HORUS_BRIDGE: "0" keeps this process from ever bridging a fleet topic (it still uses them
+// through shared memory; another process of the host bridges); "1" or unset: it may.
+Result<bool> may_bridge_from_environment() {
+  const char* v = std::getenv("HORUS_BRIDGE");
+  if (v == nullptr || *v == '\0' || std::string_view(v) == "1") return true;
+  if (std::string_view(v) == "0") return false;
+  return fail(Errc::Config, fmt::format("HORUS_BRIDGE='{}' is not valid; expected 0 (this process never bridges "
+                                        "fleet topics to the network) or 1 (it may; the default)",
+                                        v));
+}
 
 class NetworkBridge final : public net::Listener {
  public:
@@ -431,7 +433,20 @@ Result<void> connect_network(TopicCore& core, const WireOps& ops, const net::Qos
     return ok;
   }
   g_network_pid.store(current_pid());
+  // Only a process that may bridge announces the host (the agent publishes through the bridge).
+  if (b.transport_ && !core.name.starts_with(kFleetTopicPrefix)) core.fleet_presence = acquire_fleet_presence(info->name);
   return {};
+}
+
+namespace {
+std::atomic<FleetPresenceHook> g_fleet_hook{nullptr};
+}  // namespace
+
+void set_fleet_presence_hook(FleetPresenceHook hook) noexcept { g_fleet_hook.store(hook); }
+
+FleetPresence acquire_fleet_presence(std::string_view transport) {
+  const FleetPresenceHook hook = g_fleet_hook.load();
+  return hook == nullptr ? nullptr : hook(transport);
 }
 
 std::uint64_t network_dropped(const TopicCore& core) noexcept {
@@ -484,6 +499,11 @@ std::uint32_t network_waiters(const TopicCore& core) noexcept {
   return all > bridge ? all - bridge : 0;
 }
 
+bool network_holds_bridge(const TopicCore& core) noexcept {
+  if (!core.segment || !core.net) return false;
+  return static_cast<int>(core.segment->bridge().owner.load(std::memory_order_acquire) >> 32) == current_pid();
+}
+
 std::uint64_t network_errors(const TopicCore& core) noexcept {
   return core.net ? core.net->errors_.load(std::memory_order_relaxed) : 0;
 }
@@ -493,6 +513,8 @@ std::uint64_t network_decode_failures(const TopicCore& core) noexcept {
 
 void report_network_decode_failure(TopicCore& core, const std::string& what) {
   const auto n = core.net->decode_failures_.fetch_add(1, std::memory_order_relaxed) + 1;
+  // Host-wide too, in the segment: any process (horus topic info, horus::Fleet) can see it.
+  if (core.segment) core.segment->bridge().malformed.fetch_add(1, std::memory_order_relaxed);
   if (n == 1 || n % 1024 == 0)
     log().error("topic '{}': a {} sample from the network does not decode as {} ({}); dropped ({} so far)",
                 core.name, core.type_name, core.net->format_ == net::WireFormat::Lcm ? "an LCM message" : "XCDR1",

@@ -148,7 +148,11 @@ TEST_F(ConfigTest, EveryErrorNamesTheFileTheLineTheKeyAndWhatIsValid) {
     std::vector<std::string> expected;  // substrings of the message
   };
   const std::vector<Case> cases{
-      {"netwrok:\n  backend: lcm\n", {"robot.yaml, line 1", "'netwrok'", "unknown key", "network or topics"}},
+      {"netwrok:\n  backend: lcm\n", {"robot.yaml, line 1", "'netwrok'", "unknown key", "network, fleet or topics"}},
+      {"fleet:\n  heartbeat_ms: 5\n", {"line 2", "fleet.heartbeat_ms", "'5'", "10 to 60000"}},
+      {"fleet:\n  misses: 0\n", {"line 2", "fleet.misses", "1 to 100"}},
+      {"fleet:\n  announce: often\n", {"line 2", "fleet.announce", "true or false"}},
+      {"fleet:\n  heartbeat: 100\n", {"line 2", "fleet.heartbeat", "unknown key", "heartbeat_ms"}},
       {"topics:\n  - match: a.**\n    scop: host\n", {"line 3", "topics[0].scop", "unknown key", "scope"}},
       {"topics:\n  - match: a\n    scope: local\n", {"line 3", "topics[0].scope", "'local'", "process, host or fleet"}},
       {"topics:\n  - match: a\n    capacity: many\n", {"line 3", "topics[0].capacity", "'many'", "power of two"}},
@@ -282,6 +286,40 @@ TEST_F(ConfigTest, TheFilesNetworkSectionIsTheTransportsDefaultAndTheEnvironment
   ASSERT_TRUE(n.has_value()) << n.error().message();
   EXPECT_EQ(n->domain_id, 3u);
   EXPECT_FALSE(n->localhost_only);
+}
+
+TEST_F(ConfigTest, TheFleetSectionAndTheEnvironmentSetTheFleetLayer) {
+  ::unsetenv("HORUS_FLEET_HEARTBEAT_MS");
+  auto d = horus::fleet_settings();
+  ASSERT_TRUE(d.has_value()) << d.error().message();
+  EXPECT_EQ(d->heartbeat, std::chrono::milliseconds(100));
+  EXPECT_EQ(d->misses, 3u);
+  EXPECT_TRUE(d->announce);
+  EXPECT_EQ(d->transport, "");  // no network backend configured: the fleet layer has none
+  TempFile file("network:\n  backend: lcm\nfleet:\n  heartbeat_ms: 250\n  announce_ms: 5000\n  misses: 5\n  announce: false\n");
+  ::setenv("HORUS_CONFIG", file.path.c_str(), 1);
+  auto f = horus::fleet_settings();
+  ASSERT_TRUE(f.has_value()) << f.error().message();
+  EXPECT_EQ(f->heartbeat, std::chrono::milliseconds(250));
+  EXPECT_EQ(f->announce_period, std::chrono::milliseconds(5000));
+  EXPECT_EQ(f->misses, 5u);
+  EXPECT_FALSE(f->announce);
+  EXPECT_EQ(f->transport, "lcm");
+  ::setenv("HORUS_FLEET_HEARTBEAT_MS", "40", 1);
+  ::setenv("HORUS_BACKEND", "cyclonedds", 1);
+  f = horus::fleet_settings();
+  ASSERT_TRUE(f.has_value()) << f.error().message();
+  EXPECT_EQ(f->heartbeat, std::chrono::milliseconds(40));  // the environment wins
+  EXPECT_EQ(f->transport, "cyclonedds");
+  for (const char* bad : {"0", "5", "fast", "100ms", "70000"}) {
+    ::setenv("HORUS_FLEET_HEARTBEAT_MS", bad, 1);
+    auto e = horus::fleet_settings();
+    ASSERT_FALSE(e.has_value()) << bad;
+    EXPECT_NE(e.error().message().find("HORUS_FLEET_HEARTBEAT_MS='" + std::string(bad) + "'"), std::string::npos)
+        << e.error().message();
+    EXPECT_NE(e.error().message().find("10 to 60000"), std::string::npos) << e.error().message();
+  }
+  ::unsetenv("HORUS_FLEET_HEARTBEAT_MS");
 }
 
 }  // namespace

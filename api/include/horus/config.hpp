@@ -5,6 +5,11 @@
 //     domain_id: 0                  # DDS domain, 0..232
 //     localhost_only: false         # DDS: loopback only
 //     lcm_url: "udpm://239.255.76.67:7667?ttl=1"
+//   fleet:                          # the fleet layer (horus/fleet.hpp)
+//     announce: true                # false: this host's processes do not announce it
+//     heartbeat_ms: 100             # heartbeat period (HORUS_FLEET_HEARTBEAT_MS overrides), 10..60000
+//     announce_ms: 2000             # full announcements: this often, and at once on change or request
+//     misses: 3                     # heartbeats missed before a host is lost (+ one period of tolerance)
 //   topics:                         # the first rule whose pattern matches wins
 //     - match: "fleet.**"           # '*' = one dot-separated segment, '**' = any number (also none)
 //       scope: fleet                # process | host | fleet
@@ -20,6 +25,7 @@
 // Nothing here includes yaml-cpp.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -49,6 +55,16 @@ struct TopicRule {
 };
 
 /// The file's `network:` section: defaults of fleet topics and of the transports.
+/// The `fleet:` section: the fleet layer's discovery (horus/fleet.hpp).
+struct FleetSection {
+  std::optional<bool> announce;             // false: this host's processes never announce it
+  std::optional<std::uint32_t> heartbeat_ms;
+  std::optional<std::uint32_t> announce_ms;
+  std::optional<std::uint32_t> misses;
+};
+inline constexpr std::uint32_t kMinHeartbeatMs = 10;
+inline constexpr std::uint32_t kMaxHeartbeatMs = 60000;
+
 struct NetworkSection {
   std::optional<std::string> backend;
   std::optional<std::uint32_t> domain_id;
@@ -66,6 +82,7 @@ class Config {
 
   const std::string& file() const noexcept { return file_; }
   const NetworkSection& network() const noexcept { return network_; }
+  const FleetSection& fleet() const noexcept { return fleet_; }
   const std::vector<TopicRule>& rules() const noexcept { return rules_; }
   /// The first rule whose pattern matches `topic`, or nullptr.
   const TopicRule* match(std::string_view topic) const noexcept;
@@ -73,6 +90,7 @@ class Config {
  private:
   std::string file_;
   NetworkSection network_;
+  FleetSection fleet_;
   std::vector<TopicRule> rules_;
 };
 
@@ -108,5 +126,17 @@ Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code);
 
 /// `code` with what the environment and the file choose filled in (what Topic<T>::open uses).
 Result<TopicOptions> resolve_topic_options(std::string_view topic, const TopicOptions& code);
+
+/// The fleet layer's settings (horus/fleet.hpp): HORUS_FLEET_HEARTBEAT_MS > the file's
+/// `fleet:` section > defaults; the transport: HORUS_BACKEND when it names a network backend,
+/// else the file's `network.backend`, else none (empty).
+struct FleetSettings {
+  bool announce = true;
+  std::chrono::milliseconds heartbeat{100};
+  std::chrono::milliseconds announce_period{2000};
+  std::uint32_t misses = 3;  // a host is lost after this many heartbeats missed (+ one period of tolerance)
+  std::string transport;
+};
+Result<FleetSettings> fleet_settings();
 
 }  // namespace horus

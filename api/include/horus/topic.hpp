@@ -250,6 +250,9 @@ class Topic {
   /// metrics().decode_failures(); messages the backend lost (LCM: datagrams the kernel
   /// dropped) count in dropped_count().
   std::uint64_t network_errors() const noexcept { return detail::network_errors(core()); }
+  /// Fleet topics: true while this process is the host's bridge of the topic (it exports what
+  /// the host's publishers write and imports what other hosts send); false on other topics.
+  bool is_bridge() const noexcept { return detail::network_holds_bridge(core()); }
   /// Threads (of every process on the host) blocked in recv_for/wait_for/WaitSet on this topic.
   std::uint32_t waiter_count() const noexcept { return detail::network_waiters(core()); }
   /// Slots per publisher lane.

@@ -88,6 +88,8 @@ std::uint64_t network_dropped(const TopicCore& core) noexcept;
 std::uint32_t network_publishers(const TopicCore& core) noexcept;   // remote writers + local lanes
 std::uint32_t network_subscribers(const TopicCore& core) noexcept;  // remote readers + local entries
 std::uint64_t network_errors(const TopicCore& core) noexcept;
+/// True when this process holds the host's bridge of the topic (a fleet topic).
+bool network_holds_bridge(const TopicCore& core) noexcept;
 /// Threads blocked on the topic's doorbell on this host, the bridge's own thread not counted.
 std::uint32_t network_waiters(const TopicCore& core) noexcept;
 std::uint64_t network_decode_failures(const TopicCore& core) noexcept;

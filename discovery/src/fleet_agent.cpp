@@ -1,0 +1,375 @@
+// The fleet agent: one per process and network backend, alive while the process has a fleet
+// topic (or a horus::Fleet) open on it. When its process holds the host's bridge of
+// horus.fleet.heartbeat, it publishes the host's heartbeats and announcements; otherwise it
+// only stands by, and takes over with the bridge. Also: this host's identity, the fleet
+// topics' options, and fleet::install() (the hook api/ calls, fleet_presence.hpp).
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <condition_variable>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "fleet_internal.hpp"
+#include "horus/config.hpp"
+#include "horus/detail/fleet_presence.hpp"
+#include "horus/discovery/registry.hpp"
+#include "horus/executor.hpp"
+#include "horus/fleet.hpp"
+#include "horus/log.hpp"
+#include "horus/shm/shm_segment.hpp"
+#include "horus/topic.hpp"
+#include "horus/wire/dynamic.hpp"
+
+namespace horus::fleet {
+
+namespace detail {
+
+TopicOptions heartbeat_options(const std::string& transport) {
+  TopicOptions o;
+  o.backend = Backend::network(transport);
+  o.capacity = 16;
+  o.slot_size = kHeartbeatBytes;
+  o.reliability = net::Reliability::BestEffort;
+  return o;
+}
+
+TopicOptions announce_options(const std::string& transport) {
+  TopicOptions o;
+  o.backend = Backend::network(transport);
+  o.capacity = 4;
+  o.slot_size = kAnnouncementBytes;
+  o.reliability = net::Reliability::Reliable;
+  return o;
+}
+
+TopicOptions request_options(const std::string& transport) {
+  TopicOptions o;
+  o.backend = Backend::network(transport);
+  o.capacity = 16;
+  o.reliability = net::Reliability::Reliable;
+  return o;
+}
+
+std::uint64_t steady_ns() noexcept {
+  return static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count());
+}
+
+}  // namespace detail
+
+namespace {
+
+std::string read_line(const char* path) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  return line;
+}
+
+// Unix time of boot (/proc/stat btime), for processes' start times.
+std::uint64_t boot_unix_ns() {
+  static const std::uint64_t value = [] {
+    std::ifstream in("/proc/stat");
+    std::string key;
+    while (in >> key) {
+      if (key == "btime") {
+        std::uint64_t s = 0;
+        in >> s;
+        return static_cast<std::uint64_t>(s) * std::uint64_t{1'000'000'000};
+      }
+      in.ignore(1 << 16, '\n');
+    }
+    return std::uint64_t{0};
+  }();
+  return value;
+}
+
+AnnouncedProcess describe_process(pid_t pid) {
+  AnnouncedProcess p;
+  p.pid = static_cast<std::uint32_t>(pid);
+  p.name = read_line(("/proc/" + std::to_string(pid) + "/comm").c_str());
+  const std::uint64_t ticks = shm::process_start_time(pid);
+  const long hz = ::sysconf(_SC_CLK_TCK);
+  if (ticks != 0 && hz > 0) p.start_unix_ns = boot_unix_ns() + ticks * (1'000'000'000ULL / static_cast<std::uint64_t>(hz));
+  return p;
+}
+
+std::uint64_t fnv(std::uint64_t h, std::string_view s) noexcept {
+  for (char c : s) {
+    h ^= static_cast<unsigned char>(c);
+    h *= 0x100000001b3ULL;
+  }
+  return h;
+}
+
+// -- the agent --------------------------------------------------------------------------------
+
+class Agent {
+ public:
+  explicit Agent(std::string transport) : transport_(std::move(transport)) {
+    thread_ = std::thread([this] { run(); });
+  }
+  ~Agent() {
+    {
+      std::lock_guard lock(mutex_);
+      stopping_ = true;
+    }
+    cv_.notify_all();
+    executor_.stop();
+    thread_.join();
+  }
+  Agent(const Agent&) = delete;
+  Agent& operator=(const Agent&) = delete;
+
+ private:
+  void run() {
+    auto settings = fleet_settings();
+    if (!settings) {
+      horus::detail::log().error("fleet: {}; this host is not announced", settings.error().message());
+      return;
+    }
+    settings_ = *settings;
+    if (!settings_.announce) return;  // fleet.announce: false
+    // Open the topics; retry while they do not open (a transport busy closing, say).
+    for (int attempt = 0;; ++attempt) {
+      if (open_topics()) break;
+      std::unique_lock lock(mutex_);
+      if (cv_.wait_for(lock, std::chrono::seconds(1), [&] { return stopping_; })) return;
+    }
+    try {
+      executor_.subscribe<Heartbeat>(kHeartbeatTopic, detail::heartbeat_options(transport_),
+                                     [this](const Heartbeat& h) { on_heartbeat(h); });
+      executor_.subscribe<Request>(kRequestTopic, detail::request_options(transport_),
+                                   [this](const Request& r) { on_request(r); });
+      executor_.every(settings_.heartbeat, [this] { tick(); });
+    } catch (const Exception& e) {
+      horus::detail::log().error("fleet: {}; this host is not announced", e.what());
+      return;
+    }
+    tick();
+    executor_.spin();
+    heartbeat_.reset();
+    announce_.reset();
+    request_.reset();
+  }
+
+  bool open_topics() {
+    auto hb = Topic<Heartbeat>::open(kHeartbeatTopic, detail::heartbeat_options(transport_));
+    auto an = Topic<Announcement>::open(kAnnounceTopic, detail::announce_options(transport_));
+    auto rq = Topic<Request>::open(kRequestTopic, detail::request_options(transport_));
+    for (const Error* e : {hb ? nullptr : &hb.error(), an ? nullptr : &an.error(), rq ? nullptr : &rq.error()}) {
+      if (e == nullptr) continue;
+      if (!open_error_logged_) horus::detail::log().error("fleet: {}; retrying every second", e->message());
+      open_error_logged_ = true;
+      return false;
+    }
+    heartbeat_.emplace(std::move(*hb));
+    announce_.emplace(std::move(*an));
+    request_.emplace(std::move(*rq));
+    return true;
+  }
+
+  void on_heartbeat(const Heartbeat& h) {
+    if (h.host_id == 0 || h.host_id == self_) return;
+    heard_[h.host_id] = {h.sent_ns, detail::steady_ns()};
+  }
+
+  void on_request(const Request& r) {
+    if (r.want_host == 0 || r.want_host == self_) announce_due_ = std::min(announce_due_, std::chrono::steady_clock::now());
+  }
+
+  void tick() {
+    const auto now = std::chrono::steady_clock::now();
+    if (!heartbeat_ || !heartbeat_->is_bridge()) {
+      holder_ = false;
+      return;
+    }
+    if (!holder_) {
+      // This process now speaks for the host: announce, and ask every host to, so that this
+      // host's processes learn the fleet at once.
+      holder_ = true;
+      announce_due_ = now;
+      next_scan_ = now;
+      request_->send(Request{self_, 0});
+    }
+    if (now >= next_scan_) {
+      scan();
+      next_scan_ = now + std::min<std::chrono::steady_clock::duration>(settings_.announce_period, std::chrono::milliseconds(500));
+      if (current_.version != sent_version_) announce_due_ = std::min(announce_due_, now);
+    }
+    // At most one announcement per 100 ms, however many requests arrive.
+    if (now >= announce_due_ && now - last_announce_ >= std::chrono::milliseconds(100)) {
+      current_.sent_unix_ns = static_cast<std::uint64_t>(
+          std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count());
+      if (auto ok = announce_->send_blocking(current_, std::chrono::milliseconds(20)); !ok && !announce_error_logged_) {
+        horus::detail::log().warn("fleet: the announcement did not go out: {}", ok.error().message());
+        announce_error_logged_ = true;
+      }
+      sent_version_ = current_.version;
+      last_announce_ = now;
+      announce_due_ = now + settings_.announce_period;
+    }
+    Heartbeat hb;
+    hb.host_id = self_;
+    hb.host = name_;
+    hb.seq = ++seq_;
+    hb.sent_ns = detail::steady_ns();
+    hb.period_ms = static_cast<std::uint32_t>(settings_.heartbeat.count());
+    hb.announce_version = sent_version_;
+    hb.processes = static_cast<std::uint32_t>(current_.processes.size());
+    hb.topics = static_cast<std::uint32_t>(current_.topics.size());
+    const std::uint64_t keep_ns = 2'000'000'000ULL + 10 * hb.period_ms * 1'000'000ULL;
+    for (auto it = heard_.begin(); it != heard_.end();) {
+      const std::uint64_t held = hb.sent_ns - it->second.received_ns;
+      if (held > keep_ns) {
+        it = heard_.erase(it);
+        continue;
+      }
+      if (hb.echoes.size() < 256) hb.echoes.push_back(HeartbeatEcho{it->first, it->second.sent_ns, held});
+      ++it;
+    }
+    heartbeat_->send(hb);
+  }
+
+  // The host's processes and topics, from its shared-memory segments (the local registry).
+  void scan() {
+    const auto ns = shm::shm_namespace();
+    Announcement a;
+    a.host_id = self_;
+    a.host = name_;
+    a.shm_namespace = ns ? *ns : std::string();
+    a.heartbeat_ms = static_cast<std::uint32_t>(settings_.heartbeat.count());
+    std::set<pid_t> pids;
+    std::set<std::uint64_t> typed;
+    const auto now = std::chrono::steady_clock::now();
+    std::map<std::string, Sample> samples;
+    std::uint64_t version = 0xcbf29ce484222325ULL;
+    for (const auto& e : discovery::list_topics(a.shm_namespace)) {
+      for (const auto& p : e.processes)
+        if (p.alive) pids.insert(p.pid);
+      if (e.stale || e.topic.starts_with(horus::detail::kFleetTopicPrefix)) continue;
+      AnnouncedTopic t;
+      t.name = e.topic;
+      t.type_name = e.type_name;
+      t.type_hash = e.type_hash;
+      t.scope = e.scope;
+      t.transport = e.transport;
+      t.publishers = e.publishers;
+      t.subscribers = e.subscribers;
+      t.messages = e.messages_sent;
+      t.dropped = e.dropped + e.bridge_dropped;
+      t.message_size = e.message_size;
+      t.rate_hz = -1;
+      if (auto it = samples_.find(e.segment); it != samples_.end()) {
+        const double secs = std::chrono::duration<double>(now - it->second.at).count();
+        if (secs > 0 && e.messages_sent >= it->second.messages)
+          t.rate_hz = static_cast<double>(e.messages_sent - it->second.messages) / secs;
+      }
+      samples[e.segment] = Sample{e.messages_sent, now};
+      if (!e.signature.empty() && typed.insert(e.type_hash).second)
+        a.types.push_back(AnnouncedType{e.type_hash, e.signature});
+      version = fnv(version, t.name + '\n' + t.type_name + '\n' + t.scope + '\n' + t.transport + '\n' +
+                                 std::to_string(t.type_hash) + ':' + std::to_string(t.publishers) + ':' +
+                                 std::to_string(t.subscribers) + '\n');
+      a.topics.push_back(std::move(t));
+    }
+    for (pid_t pid : pids) {
+      a.processes.push_back(describe_process(pid));
+      version = fnv(version, std::to_string(pid) + ':' + a.processes.back().name + '\n');
+    }
+    samples_ = std::move(samples);
+    a.version = version == 0 ? 1 : version;
+    // Stay within a slot: drop signatures (then topics) if the host has that much to say.
+    while (encoded_too_large(a) && !a.types.empty()) a.types.pop_back();
+    while (encoded_too_large(a) && !a.topics.empty()) a.topics.pop_back();
+    current_ = std::move(a);
+  }
+
+  static bool encoded_too_large(const Announcement& a) {
+    std::size_t n = 256;
+    for (const auto& t : a.topics) n += 96 + t.name.size() + t.type_name.size() + t.scope.size() + t.transport.size();
+    for (const auto& t : a.types) n += 16 + t.signature.size();
+    for (const auto& p : a.processes) n += 24 + p.name.size();
+    return n > detail::kAnnouncementBytes - 4096;
+  }
+
+  struct Heard {
+    std::uint64_t sent_ns;
+    std::uint64_t received_ns;
+  };
+  struct Sample {
+    std::uint64_t messages;
+    std::chrono::steady_clock::time_point at;
+  };
+
+  const std::string transport_;
+  const std::uint64_t self_ = host_id();
+  const std::string name_ = host_name();
+  FleetSettings settings_;
+  Executor executor_;
+  std::optional<Topic<Heartbeat>> heartbeat_;
+  std::optional<Topic<Announcement>> announce_;
+  std::optional<Topic<Request>> request_;
+  std::map<std::uint64_t, Heard> heard_;
+  std::map<std::string, Sample> samples_;
+  Announcement current_;
+  std::uint64_t sent_version_ = 0;
+  std::uint64_t seq_ = 0;
+  bool holder_ = false;
+  bool open_error_logged_ = false;
+  bool announce_error_logged_ = false;
+  std::chrono::steady_clock::time_point announce_due_{};
+  std::chrono::steady_clock::time_point next_scan_{};
+  std::chrono::steady_clock::time_point last_announce_{};
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  bool stopping_ = false;
+  std::thread thread_;  // last: starts once everything above exists
+};
+
+// One agent per transport while something holds it.
+std::shared_ptr<void> presence(std::string_view transport) {
+  static std::mutex mutex;
+  static std::map<std::string, std::weak_ptr<Agent>, std::less<>> agents;
+  std::lock_guard lock(mutex);
+  auto& slot = agents[std::string(transport)];
+  if (auto a = slot.lock()) return a;
+  auto a = std::make_shared<Agent>(std::string(transport));
+  slot = a;
+  return a;
+}
+
+}  // namespace
+
+std::uint64_t host_id() {
+  static const std::uint64_t id = [] {
+    std::uint64_t h = 0xcbf29ce484222325ULL;
+    h = fnv(h, read_line("/proc/sys/kernel/random/boot_id"));
+    h = fnv(h, "\n" + host_name() + "\n");
+    struct stat st{};
+    if (::stat("/dev/shm", &st) == 0)
+      h = fnv(h, std::to_string(st.st_dev) + ':' + std::to_string(st.st_ino) + '\n');
+    if (auto ns = shm::shm_namespace()) h = fnv(h, *ns);
+    return h == 0 ? 1 : h;
+  }();
+  return id;
+}
+
+std::string host_name() {
+  char buf[256] = {};
+  if (::gethostname(buf, sizeof buf - 1) != 0) return "unknown";
+  return buf;
+}
+
+void install() { horus::detail::set_fleet_presence_hook(&presence); }
+
+}  // namespace horus::fleet

@@ -1,0 +1,177 @@
+// horus_fleet_watch: one host's view of the fleet, for the multi-host tests (test_fleet.cpp).
+//
+//   horus_fleet_watch <seconds> [--publish TOPIC START_UNIX_MS HZ] [--subscribe TOPIC]
+//                     [--user-type TOPIC]
+//
+// Opens a horus::Fleet on the backend of HORUS_BACKEND and prints, one line each, as they happen:
+//   start <unix_ms>
+//   event <joined|lost|rejoined|changed> <host> <unix_ms>
+// --publish sends Pose2D{x = seq, y = planned send time in unix ms} on a reliable fleet topic at
+// HZ from START_UNIX_MS on; --subscribe counts what arrives and prints at the end
+//   received <n> first <seq> last <seq> missing <m>: <seq> <seq> ...
+// --user-type publishes a type horus's tools are not compiled with (watch::Battery) at 20 Hz.
+// At the end (after <seconds>) it prints each host it knows:
+//   host <name> <state> rejoins <n> rtt_us <n|-> processes <n> topics <n> announced <0|1>
+// and "malformed <n>".
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <mutex>
+#include <optional>
+#include <set>
+#include <string>
+#include <thread>
+
+#include "horus/executor.hpp"
+#include "horus/fleet.hpp"
+#include "horus/msg/geometry.hpp"
+#include "horus/topic.hpp"
+
+namespace watch {
+enum class Chemistry : std::uint8_t { LiIon, LiFePo4, Lead };
+HORUS_REFLECT_ENUM(Chemistry, LiIon, LiFePo4, Lead)
+struct Cell {
+  float volts{};
+  std::int16_t temp_dc{};
+};
+HORUS_REFLECT(Cell, volts, temp_dc)
+struct Battery {
+  std::string label;
+  Chemistry chemistry{};
+  std::array<Cell, 3> cells{};
+  std::vector<std::uint16_t> history;
+  std::array<char, 8> tag{};
+  double charge{};
+};
+HORUS_REFLECT(Battery, label, chemistry, cells, history, tag, charge)
+}  // namespace watch
+
+namespace {
+
+std::int64_t unix_ms() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+std::mutex g_print;
+void line(const std::string& s) {
+  std::lock_guard lock(g_print);
+  std::fputs((s + "\n").c_str(), stdout);
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: %s <seconds> [--publish TOPIC START_UNIX_MS HZ] [--subscribe TOPIC] [--user-type TOPIC]\n",
+                 argv[0]);
+    return 2;
+  }
+  const int seconds = std::atoi(argv[1]);
+  std::string pub_topic, sub_topic, user_topic;
+  std::int64_t pub_start = 0;
+  double pub_hz = 0;
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--publish" && i + 3 < argc) {
+      pub_topic = argv[++i];
+      pub_start = std::atoll(argv[++i]);
+      pub_hz = std::atof(argv[++i]);
+    } else if (a == "--subscribe" && i + 1 < argc) {
+      sub_topic = argv[++i];
+    } else if (a == "--user-type" && i + 1 < argc) {
+      user_topic = argv[++i];
+    } else {
+      std::fprintf(stderr, "unknown argument %s\n", a.c_str());
+      return 2;
+    }
+  }
+  line(fmt::format("start {}", unix_ms()));
+  // Callbacks on our executor, spun once they are registered: no event is missed.
+  horus::Executor executor;
+  auto fleet = horus::Fleet::open(executor);
+  if (!fleet) {
+    std::fprintf(stderr, "fleet: %s\n", fleet.error().message().c_str());
+    return 3;
+  }
+  (*fleet)->on_change([](const horus::FleetEvent& e) {
+    line(fmt::format("event {} {} {}", horus::to_string(e.kind), e.host.name, unix_ms()));
+  });
+  std::thread spinner([&] { executor.spin(); });
+  horus::TopicOptions reliable;
+  reliable.reliability = horus::net::Reliability::Reliable;
+  std::optional<horus::Topic<horus::msg::Pose2D>> pub, sub;
+  std::optional<horus::Topic<watch::Battery>> user;
+  for (auto [name, slot] : {std::pair{&pub_topic, &pub}, std::pair{&sub_topic, &sub}}) {
+    if (name->empty()) continue;
+    auto t = horus::Topic<horus::msg::Pose2D>::open(*name, reliable);
+    if (!t) {
+      std::fprintf(stderr, "%s\n", t.error().message().c_str());
+      return 3;
+    }
+    slot->emplace(std::move(*t));
+  }
+  if (!user_topic.empty()) user.emplace(horus::Topic<watch::Battery>(user_topic));
+
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
+  std::set<std::int64_t> got;
+  std::int64_t seq = 0;
+  auto next_user = std::chrono::steady_clock::now();
+  while (std::chrono::steady_clock::now() < end) {
+    if (pub) {
+      // Message seq is due at start + seq / hz.
+      const std::int64_t now = unix_ms();
+      while (now >= pub_start + static_cast<std::int64_t>(static_cast<double>(seq) * 1000.0 / pub_hz)) {
+        horus::msg::Pose2D m{};
+        m.x = static_cast<double>(seq);
+        m.y = static_cast<double>(pub_start + static_cast<std::int64_t>(static_cast<double>(seq) * 1000.0 / pub_hz));
+        if (!pub->send_blocking(m, std::chrono::milliseconds(200))) break;
+        ++seq;
+      }
+    }
+    if (user && std::chrono::steady_clock::now() >= next_user) {
+      watch::Battery b;
+      b.label = "pack-" + std::to_string(seq);
+      b.chemistry = watch::Chemistry::LiFePo4;
+      b.cells = {watch::Cell{3.25f, 215}, watch::Cell{3.5f, -12}, watch::Cell{3.0f, 300}};
+      b.history = {100, 99, 65535};
+      std::strncpy(b.tag.data(), "rack7", b.tag.size() - 1);
+      b.charge = 0.875;
+      user->send(b);
+      next_user += std::chrono::milliseconds(50);
+    }
+    if (sub) {
+      while (auto m = sub->recv()) got.insert(static_cast<std::int64_t>(m->x));
+      (void)sub->wait_for(std::chrono::milliseconds(2));
+    } else {
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+  }
+  if (sub) {
+    std::string missing;
+    std::size_t n_missing = 0;
+    if (!got.empty()) {
+      for (std::int64_t s = *got.begin(); s <= *got.rbegin(); ++s)
+        if (!got.contains(s)) {
+          ++n_missing;
+          if (n_missing <= 2000) missing += " " + std::to_string(s);
+        }
+    }
+    line(fmt::format("received {} first {} last {} missing {}:{}", got.size(), got.empty() ? -1 : *got.begin(),
+                     got.empty() ? -1 : *got.rbegin(), n_missing, missing));
+  }
+  if (pub) line(fmt::format("sent {}", seq));
+  for (const auto& h : (*fleet)->hosts())
+    line(fmt::format("host {} {} rejoins {} rtt_us {} processes {} topics {} announced {}", h.name,
+                     horus::to_string(h.state), h.rejoins, h.rtt ? std::to_string(h.rtt->count()) : "-",
+                     h.processes.size(), h.topics.size(), h.announced ? 1 : 0));
+  line(fmt::format("malformed {}", (*fleet)->malformed()));
+  executor.stop();
+  spinner.join();
+  return 0;
+}
