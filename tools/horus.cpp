@@ -559,7 +559,7 @@ int cmd_pub(const std::string& ns, const std::string& name, const std::string& t
   }
   // Give discovery a moment: a message sent before anyone matched would reach nobody.
   const auto matched_by = clock_type::now() + std::chrono::seconds(2);
-  while (!g_stop.load() && writer->sub_count() <= 1 && clock_type::now() < matched_by)
+  while (!g_stop.load() && writer->sub_count() == 0 && clock_type::now() < matched_by)
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   const auto period = std::chrono::duration_cast<clock_type::duration>(std::chrono::duration<double>(rate_hz > 0 ? 1.0 / rate_hz : 0));
   auto next = clock_type::now();

@@ -33,7 +33,7 @@ class ReaderOf final : public TypedReader {
 template <class T>
 class WriterOf final : public TypedWriter {
  public:
-  explicit WriterOf(Topic<T> topic) : topic_(std::move(topic)) {}
+  explicit WriterOf(Topic<T> topic) : topic_(std::move(topic)) { topic_.publish_only(); }
   std::string send_json(const nlohmann::json& json) override {
     try {
       const T m = horus::from_json<T>(json);

@@ -242,6 +242,7 @@ Result<std::unique_ptr<Fleet>> Fleet::open(Executor& executor, FleetOptions opti
   auto rq = Topic<Request>::open(fleet::kRequestTopic, fleet::detail::request_options(state->transport));
   if (!rq) return std::unexpected(rq.error());
   state->request.emplace(std::move(*rq));
+  state->request->publish_only();
   state->executor = &executor;
   try {
     std::weak_ptr<State> weak = state;

@@ -172,9 +172,13 @@ class Agent {
       open_error_logged_ = true;
       return false;
     }
+    // Send-only handles: a non-holder may never send on them, and must never hold senders back.
     heartbeat_.emplace(std::move(*hb));
     announce_.emplace(std::move(*an));
     request_.emplace(std::move(*rq));
+    heartbeat_->publish_only();
+    announce_->publish_only();
+    request_->publish_only();
     return true;
   }
 

@@ -1,7 +1,7 @@
 // horus_fleet_watch: one host's view of the fleet, for the multi-host tests (test_fleet.cpp).
 //
 //   horus_fleet_watch <seconds> [--publish TOPIC START_UNIX_MS HZ] [--subscribe TOPIC]
-//                     [--user-type TOPIC]
+//                     [--user-type TOPIC] [--garbage N]
 //
 // Opens a horus::Fleet on the backend of HORUS_BACKEND and prints, one line each, as they happen:
 //   start <unix_ms>
@@ -10,6 +10,9 @@
 // HZ from START_UNIX_MS on; --subscribe counts what arrives and prints at the end
 //   received <n> first <seq> last <seq> missing <m>: <seq> <seq> ...
 // --user-type publishes a type horus's tools are not compiled with (watch::Battery) at 20 Hz.
+// --garbage sends N samples of raw bytes that are no Announcement on horus.fleet.announce (its
+// own endpoint, not horus's), then N Announcements whose type signature does not hash to its
+// type (host "forged"): every other host must count and ignore all 2N.
 // At the end (after <seconds>) it prints each host it knows:
 //   host <name> <state> rejoins <n> rtt_us <n|-> processes <n> topics <n> announced <0|1>
 // and "malformed <n>".
@@ -23,10 +26,14 @@
 #include <mutex>
 #include <optional>
 #include <set>
+#include <span>
 #include <string>
 #include <thread>
 
+#include "horus/discovery/fleet_messages.hpp"
 #include "horus/executor.hpp"
+#include "horus/network.hpp"
+#include "horus/transport_registry.hpp"
 #include "horus/fleet.hpp"
 #include "horus/msg/geometry.hpp"
 #include "horus/topic.hpp"
@@ -64,6 +71,67 @@ void line(const std::string& s) {
   std::fflush(stdout);
 }
 
+struct Quiet final : horus::net::Listener {
+  void on_sample(const horus::net::Sample&) override {}
+  void on_error(std::string_view) override {}
+};
+
+int send_garbage(int n) {
+  const auto backend = horus::backend_from_environment();
+  if (!backend || !horus::is_network(*backend)) return 4;
+  const auto* info = horus::net::find_transport(backend->transport());
+  auto transport = info->open();
+  auto wire = horus::wire_name(*backend, horus::fleet::kAnnounceTopic);
+  if (!transport || !wire) return 4;
+  horus::net::EndpointSpec spec;
+  spec.topic = horus::fleet::kAnnounceTopic;
+  spec.wire_topic = *wire;
+  spec.type_name = std::string(horus::type_name<horus::fleet::Announcement>());
+  spec.type_hash = horus::type_hash<horus::fleet::Announcement>;
+  spec.qos.reliability = horus::net::Reliability::Reliable;
+  Quiet quiet;
+  auto ep = (*transport)->open(spec, quiet);
+  if (!ep) {
+    std::fprintf(stderr, "%s\n", ep.error().message().c_str());
+    return 4;
+  }
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(3);
+  while ((*ep)->matched_subscribers() == 0 && std::chrono::steady_clock::now() < until)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  for (int i = 0; i < n; ++i) {
+    auto ok = (*ep)->write(16, horus::net::BodyWriter{[](void*, std::span<std::byte> b) {
+                                                        std::memset(b.data(), 0xff, b.size());
+                                                      },
+                                                      nullptr});
+    if (!ok) std::fprintf(stderr, "raw write: %s\n", ok.error().message().c_str());
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  horus::TopicOptions o;
+  o.backend = *backend;
+  o.slot_size = 256 * 1024;
+  o.capacity = 4;
+  o.reliability = horus::net::Reliability::Reliable;
+  auto forged = horus::Topic<horus::fleet::Announcement>::open(horus::fleet::kAnnounceTopic, o);
+  if (!forged) {
+    std::fprintf(stderr, "%s\n", forged.error().message().c_str());
+    return 4;
+  }
+  for (int i = 0; i < n; ++i) {
+    horus::fleet::Announcement a;
+    a.host_id = 12345;
+    a.host = "forged";
+    a.version = 1;
+    a.types.push_back({1, "X{u8 a;}"});  // its hash is not 1
+    if (auto ok = forged->send_blocking(a, std::chrono::seconds(1)); !ok)
+      std::fprintf(stderr, "forged send: %s\n", ok.error().message().c_str());
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  line(fmt::format("garbage sent {}", n));
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));  // reliable writers deliver before they go
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -76,6 +144,7 @@ int main(int argc, char** argv) {
   std::string pub_topic, sub_topic, user_topic;
   std::int64_t pub_start = 0;
   double pub_hz = 0;
+  int garbage = 0;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--publish" && i + 3 < argc) {
@@ -86,6 +155,8 @@ int main(int argc, char** argv) {
       sub_topic = argv[++i];
     } else if (a == "--user-type" && i + 1 < argc) {
       user_topic = argv[++i];
+    } else if (a == "--garbage" && i + 1 < argc) {
+      garbage = std::atoi(argv[++i]);
     } else {
       std::fprintf(stderr, "unknown argument %s\n", a.c_str());
       return 2;
@@ -117,6 +188,9 @@ int main(int argc, char** argv) {
     slot->emplace(std::move(*t));
   }
   if (!user_topic.empty()) user.emplace(horus::Topic<watch::Battery>(user_topic));
+  if (garbage > 0) {
+    if (const int rc = send_garbage(garbage); rc != 0) return rc;
+  }
 
   const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
   std::set<std::int64_t> got;

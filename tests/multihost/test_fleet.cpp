@@ -10,10 +10,14 @@
 #include <chrono>
 #include <cstdlib>
 #include <map>
+#include <set>
+#include <utility>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "horus/topic.hpp"
 #include "netns.hpp"
@@ -142,6 +146,141 @@ TEST_P(Fleet, HostsSeeEachOtherALostLinkIsDetectedAndRejoinsWithoutLosingReliabl
   // Heartbeats carried RTTs, and nothing malformed came.
   EXPECT_NE(w1.output().find("malformed 0"), std::string::npos) << all;
   EXPECT_EQ(v1.hosts.at(lan.host(1)).find("rtt_us -"), std::string::npos) << all;
+}
+
+// Runs the horus CLI on host i; its output (stdout and stderr) and exit status.
+std::pair<int, std::string> cli(const horus_test::NetnsLan& lan, int i, const std::vector<std::string>& env,
+                                std::vector<std::string> args) {
+  args.insert(args.begin(), HORUS_CLI);
+  auto p = lan.spawn(i, args, env);
+  const int rc = p.wait(30s);
+  return {rc, p.output()};
+}
+
+// The CLI on one host sees what another host publishes, on every backend: horus fleet, topic
+// list/info/echo/hz/bw of a topic that exists only there (a standard type, and a type the CLI
+// was not compiled with), pub to a subscriber there; a host on another DDS domain or LCM URL is
+// not seen; raw bytes and forged announcements are counted and ignored.
+TEST_P(Fleet, TheCliSeesAndReachesTopicsOfAnotherHost) {
+  if (!horus::backend_available(GetParam()))
+    GTEST_SKIP() << "this build has no " << horus::to_string(GetParam()) << " backend";
+  horus_test::NetnsLan lan(3);
+  if (!lan.ok()) GTEST_SKIP() << "no namespace hosts: " << lan.why();
+  const auto env = fleet_env(GetParam());
+  const std::string count_topic = "fleet.count_" + std::to_string(::getpid());
+  const std::string battery_topic = "fleet.battery_" + std::to_string(::getpid());
+  const std::string cmd_topic = "fleet.cmd_" + std::to_string(::getpid());
+  auto robot = lan.spawn(0, {FLEET_WATCH, "25", "--publish", count_topic, std::to_string(unix_ms()), "50",
+                             "--user-type", battery_topic, "--subscribe", cmd_topic},
+                         env);
+  auto watcher = lan.spawn(1, {FLEET_WATCH, "25"}, env);
+  // Host 3 is on another network: another DDS domain, another LCM port.
+  auto other_env = env;
+  other_env[1] = "HORUS_DOMAIN_ID=" + std::to_string(1 + (::getpid() + 78) % 200);
+  other_env[3] = "HORUS_LCM_URL=udpm://239.255.76.68:" + std::to_string(20000 + (::getpid() * 11 + 4) % 20000) + "?ttl=1";
+  auto stranger = lan.spawn(2, {FLEET_WATCH, "25", "--user-type", "fleet.strange"}, other_env);
+  std::this_thread::sleep_for(2s);
+  const std::string robot_host = lan.host(0);
+
+  // horus fleet --json --once: the robot's host with its topics, this host, not the stranger.
+  {
+    auto [rc, out] = cli(lan, 1, env, {"fleet", "--json", "--once", "--wait", "1500"});
+    ASSERT_EQ(rc, 0) << out;
+    const auto j = nlohmann::json::parse(out.substr(out.find('{')));
+    std::map<std::string, nlohmann::json> hosts;
+    for (const auto& h : j.at("hosts")) hosts[h.at("host").get<std::string>()] = h;
+    ASSERT_TRUE(hosts.contains(robot_host)) << out;
+    ASSERT_TRUE(hosts.contains(lan.host(1))) << out;
+    EXPECT_FALSE(hosts.contains(lan.host(2))) << "a host on another network was shown:\n" << out;
+    const auto& r = hosts[robot_host];
+    EXPECT_EQ(r.at("state"), "alive") << out;
+    EXPECT_LT(r.at("age_ms").get<int>(), 400) << out;
+    EXPECT_FALSE(r.at("rtt_us").is_null()) << out;
+    EXPECT_TRUE(hosts[lan.host(1)].at("self").get<bool>()) << out;
+    std::set<std::string> topics;
+    for (const auto& t : r.at("topics")) topics.insert(t.at("topic").get<std::string>());
+    EXPECT_TRUE(topics.contains(count_topic) && topics.contains(battery_topic)) << out;
+  }
+  // topic list: the robot's topics, with the host that has them.
+  {
+    auto [rc, out] = cli(lan, 1, env, {"topic", "list", "--json"});
+    ASSERT_EQ(rc, 0) << out;
+    const auto j = nlohmann::json::parse(out.substr(out.find('[')));
+    bool found = false;
+    for (const auto& t : j)
+      if (t.at("topic") == count_topic) {
+        found = true;
+        EXPECT_EQ(t.at("type"), "horus::msg::Pose2D") << out;
+        EXPECT_EQ(t.at("hosts"), nlohmann::json::array({robot_host})) << out;
+        EXPECT_NEAR(t.value("rate_hz", 0.0), 50.0, 15.0) << out;
+      }
+    EXPECT_TRUE(found) << out;
+  }
+  // topic info, echo of a type the CLI lacks, hz, bw.
+  {
+    auto [rc, out] = cli(lan, 1, env, {"topic", "info", battery_topic});
+    ASSERT_EQ(rc, 0) << out;
+    EXPECT_NE(out.find("watch::Battery"), std::string::npos) << out;
+    EXPECT_NE(out.find(robot_host), std::string::npos) << out;
+  }
+  {
+    auto [rc, out] = cli(lan, 1, env, {"topic", "echo", battery_topic, "-n", "2", "--json", "--timeout", "10"});
+    ASSERT_EQ(rc, 0) << out;
+    std::istringstream in(out);
+    std::string l;
+    int lines = 0;
+    while (std::getline(in, l)) {
+      if (l.empty() || l[0] != '{') continue;
+      const auto b = nlohmann::json::parse(l);
+      EXPECT_EQ(b.at("chemistry"), "LiFePo4") << l;
+      EXPECT_EQ(b.at("tag"), "rack7") << l;
+      EXPECT_EQ(b.at("history"), nlohmann::json::array({100, 99, 65535})) << l;
+      EXPECT_EQ(b.at("cells").at(1).at("temp_dc"), -12) << l;
+      EXPECT_DOUBLE_EQ(b.at("cells").at(0).at("volts").get<double>(), 3.25) << l;
+      EXPECT_EQ(b.at("label").get<std::string>().rfind("pack-", 0), 0U) << l;
+      ++lines;
+    }
+    EXPECT_EQ(lines, 2) << out;
+  }
+  {
+    auto [rc, out] = cli(lan, 1, env, {"topic", "hz", count_topic, "--duration", "2.5"});
+    ASSERT_EQ(rc, 0) << out;
+    const auto at = out.rfind("average rate: ");
+    ASSERT_NE(at, std::string::npos) << out;
+    EXPECT_NEAR(std::atof(out.c_str() + at + 14), 50.0, 10.0) << out;
+  }
+  {
+    auto [rc, out] = cli(lan, 1, env, {"topic", "bw", count_topic, "--duration", "2.5"});
+    ASSERT_EQ(rc, 0) << out;
+    // Pose2D is 4 doubles: 32 bytes of XCDR1, 40 with LCM's fingerprint.
+    const std::string size = GetParam() == horus::Backend::Lcm ? "mean: 40 B" : "mean: 32 B";
+    EXPECT_NE(out.find(size), std::string::npos) << out;
+    EXPECT_NE(out.find("B/s from"), std::string::npos) << out;
+  }
+  // pub: to the robot's subscriber; a bad field names it; an unknown topic names those that exist.
+  {
+    auto [rc, out] = cli(lan, 1, env, {"topic", "pub", cmd_topic, "Pose2D", R"({"x": 7, "theta": 0.5})", "--count", "3", "--rate", "10"});
+    EXPECT_EQ(rc, 0) << out;
+    EXPECT_NE(out.find("published 3 messages"), std::string::npos) << out;
+    auto [rc2, out2] = cli(lan, 1, env, {"topic", "pub", cmd_topic, "Pose2D", R"({"z": 7})"});
+    EXPECT_EQ(rc2, 2) << out2;
+    EXPECT_NE(out2.find("'z'"), std::string::npos) << out2;
+    auto [rc3, out3] = cli(lan, 1, env, {"topic", "echo", "fleet.nowhere", "-n", "1", "--wait", "1000"});
+    EXPECT_EQ(rc3, 1) << out3;
+    EXPECT_NE(out3.find(count_topic), std::string::npos) << out3;
+  }
+  // Garbage on the announcement topic from host 1: counted and ignored on host 2.
+  auto garbage = lan.spawn(0, {FLEET_WATCH, "1", "--garbage", "10"}, env);
+  EXPECT_EQ(garbage.wait(30s), 0) << garbage.output();
+  for (auto* p : {&robot, &watcher, &stranger}) (void)p->wait(40s);
+  const std::string robot_out = robot.output(), watcher_out = watcher.output();
+  EXPECT_NE(robot_out.find("received 1 first 7 last 7"), std::string::npos) << robot_out;
+  const auto at = watcher_out.rfind("malformed ");
+  ASSERT_NE(at, std::string::npos) << watcher_out;
+  EXPECT_GE(std::atoll(watcher_out.c_str() + at + 10), 20) << watcher_out;
+  EXPECT_EQ(watcher_out.find("forged"), std::string::npos) << watcher_out;
+  EXPECT_NE(watcher_out.find("host " + robot_host + " alive"), std::string::npos) << watcher_out;
+  EXPECT_EQ(watcher_out.find(lan.host(2)), std::string::npos) << watcher_out;
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, Fleet, ::testing::Values(horus::Backend::CycloneDds, horus::Backend::FastDds,

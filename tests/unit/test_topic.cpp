@@ -464,6 +464,26 @@ TEST(Topic, AnIdleSubscriberMakesTrySendRefuseUntilItReads) {
   EXPECT_TRUE(pub.try_send(Stamp::make(0, 2)));
 }
 
+TEST(Topic, AHandleDeclaredPublishOnlyNeverHoldsSendersBackUntilItReceives) {
+  const auto name = unique_name("publish_only");
+  auto waiting = must(Topic<Stamp>::with_capacity(name, 2));  // will publish, some day
+  waiting.publish_only();
+  Topic<Stamp> pub(name);
+  EXPECT_EQ(pub.sub_count(), 1u);  // pub itself; not `waiting`
+  for (std::uint64_t i = 0; i < 5; ++i) EXPECT_TRUE(pub.try_send(Stamp::make(0, i))) << i;
+  EXPECT_EQ(pub.dropped_count(), 0u);
+  // A receive subscribes it again, from then on: it holds senders back like any subscriber.
+  EXPECT_EQ(pub.sub_count(), 0u);  // pub is a pure publisher too, since its first send
+  EXPECT_FALSE(waiting.recv());
+  EXPECT_EQ(pub.sub_count(), 1u);
+  EXPECT_TRUE(pub.try_send(Stamp::make(0, 5)));
+  EXPECT_TRUE(pub.try_send(Stamp::make(0, 6)));
+  EXPECT_FALSE(pub.try_send(Stamp::make(0, 7)));
+  auto m = waiting.recv();
+  ASSERT_TRUE(m);
+  EXPECT_EQ(m->seq, 5u);
+}
+
 TEST(Topic, SendBlockingWithoutAFreeLaneFailsAtOnceWithLimitReached) {
   const auto name = unique_name("blocking_nolane");
   auto pubs = take_every_lane(name);

@@ -12,8 +12,8 @@
 //
 // Roles. A handle subscribes when it is opened, so it receives every message
 // sent after that. A handle whose first call is a send (before any receive call)
-// becomes a pure publisher and stops counting as a subscriber; if it receives
-// later, it subscribes from that moment on.
+// becomes a pure publisher and stops counting as a subscriber (publish_only() does
+// it at once); if it receives later, it subscribes from that moment on.
 //
 // Threads. One handle belongs to one thread at a time (like iceoryx publishers
 // or a std::vector): open one handle per thread; handles are cheap and all
@@ -250,6 +250,11 @@ class Topic {
   /// metrics().decode_failures(); messages the backend lost (LCM: datagrams the kernel
   /// dropped) count in dropped_count().
   std::uint64_t network_errors() const noexcept { return detail::network_errors(core()); }
+  /// Declares this handle a pure publisher now, as its first send would: it stops counting as a
+  /// subscriber, so it never holds back send_blocking/try_send of other handles while it only
+  /// waits to publish (a receive subscribes it again, from that moment on). Does nothing on a
+  /// handle that has received.
+  void publish_only() noexcept { port_.publish_only(); }
   /// Fleet topics: true while this process is the host's bridge of the topic (it exports what
   /// the host's publishers write and imports what other hosts send); false on other topics.
   bool is_bridge() const noexcept { return detail::network_holds_bridge(core()); }

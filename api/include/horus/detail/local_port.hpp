@@ -62,6 +62,11 @@ class LocalPort {
   /// True once this handle has used a receiving method (then its first send keeps it subscribed).
   bool receives() const noexcept { return received || counters.recv_failures != 0 || reader_.delivered() != 0; }
 
+  /// A handle that will only publish gives its subscriber entry back now, as its first send would.
+  void publish_only() noexcept {
+    if (!receives()) reader_.unsubscribe();
+  }
+
   HandleCounters counters;
   bool received = false;   // has_message/pending_count/read_latest were called
 
