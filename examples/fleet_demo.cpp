@@ -37,6 +37,7 @@
 #include <memory>
 #include <vector>
 
+#include "horus/fleet.hpp"
 #include "horus/horus.hpp"
 
 extern char** environ;
@@ -194,6 +195,20 @@ void print_table(const horus::Executor& ex, std::vector<std::unique_ptr<RobotVie
   std::fflush(stdout);
 }
 
+// One line: each host of the fleet with its state, heartbeat age and link RTT.
+void print_hosts(const horus::Fleet& f) {
+  std::string line;
+  for (const auto& h : f.hosts()) {
+    line += fmt::format("{}{} {}", line.empty() ? "" : ", ", h.name, horus::to_string(h.state));
+    if (h.rejoins > 0) line += fmt::format(" {}x", h.rejoins);
+    if (h.self) line += " (here)";
+    else line += fmt::format(" ({} ms ago{})", h.heartbeat_age.count(),
+                             h.rtt ? fmt::format(", rtt {:.2f} ms", static_cast<double>(h.rtt->count()) / 1000.0) : "");
+  }
+  fmt::print("hosts: {}\n", line.empty() ? "none heard yet" : line);
+  std::fflush(stdout);
+}
+
 // Starts `fleet_demo --role robot --id <id> ...` as a child process.
 pid_t spawn_robot(int id, double pose_rate_hz, double duration_s) {
   const std::string self = "/proc/self/exe";
@@ -218,13 +233,28 @@ int run_monitor(int robots, double duration_s, double print_interval_s, const st
   const auto chosen = horus::resolve_topic_options(topic_of(1, "pose"), {});
   fmt::print("horus fleet demo: {} robots, poses on {}, {:.0f} s\n", robots,
              chosen && chosen->backend ? horus::to_string(*chosen->backend) : std::string_view("shm"), duration_s);
-  if (tick) tick(-1.0);  // start the robots now
+  // The hosts of the fleet (horus::Fleet): who is alive, lost, back; on the same Executor.
   const auto start = clock_type::now();
+  const auto elapsed = [&] { return std::chrono::duration<double>(clock_type::now() - start).count(); };
+  std::unique_ptr<horus::Fleet> hosts;
+  if (auto f = horus::Fleet::open(ex)) {
+    hosts = std::move(*f);
+    hosts->on_change([&](const horus::FleetEvent& e) {
+      if (e.kind == horus::FleetEvent::Kind::Changed) return;
+      fmt::print("fleet: host {} {} at t = {:.1f} s{}\n", e.host.name, horus::to_string(e.kind), elapsed(),
+                 e.kind == horus::FleetEvent::Kind::Lost
+                     ? fmt::format(" (no heartbeat for {} ms)", e.host.heartbeat_age.count())
+                     : std::string());
+      std::fflush(stdout);
+    });
+  }
+  if (tick) tick(-1.0);  // start the robots now
   const auto seconds = [](double s) {
     return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::duration<double>(s));
   };
   ex.every(seconds(print_interval_s), [&] {
-    print_table(ex, fleet, std::chrono::duration<double>(clock_type::now() - start).count(), print_interval_s);
+    print_table(ex, fleet, elapsed(), print_interval_s);
+    if (hosts) print_hosts(*hosts);
   });
   if (tick) ex.every(std::chrono::milliseconds(50), [&] { tick(std::chrono::duration<double>(clock_type::now() - start).count()); });
   g_executor = &ex;
@@ -238,6 +268,7 @@ int run_monitor(int robots, double duration_s, double print_interval_s, const st
     total += r->hb_count + r->pose_count + r->tf_count;
     if (r->pose_count == 0 || r->hb_count == 0 || r->tf_count == 0) ++silent;
   }
+  if (hosts) print_hosts(*hosts);
   fmt::print("\nreceived {} messages from {} robots; {} silent\n", total, robots, silent);
   return silent == 0 ? 0 : 1;
 }

@@ -631,9 +631,9 @@ int cmd_list(const std::string& ns, bool json, bool verbose, const Lookup& looku
                "rate Hz", "hosts");
     for (const auto& [n, r] : remote) {
       const auto& t = r.topic;
-      fmt::print("{:<36} {:<34} {:<17} {:>9} {:>4} {:>4} {:>9.1f}  {}\n", n, t.type_name,
+      fmt::print("{:<36} {:<34} {:<17} {:>9} {:>4} {:>4} {:>9}  {}\n", n, t.type_name,
                  t.scope == "fleet" ? fmt::format("fleet ({})", t.transport) : t.scope, t.message_size, t.publishers,
-                 t.subscribers, t.rate_hz, join(r.hosts));
+                 t.subscribers, t.rate_hz < 0 ? std::string("-") : fmt::format("{:.1f}", t.rate_hz), join(r.hosts));
     }
   }
   return 0;
