@@ -37,50 +37,23 @@ fi
 demo="$PWD/build/default/examples/fleet_demo"
 cli="$PWD/build/default/tools/horus"
 
+. scripts/lib/netns-hosts.sh
 p="hfd$$"
-subnet="10.214.$(( $$ % 250 + 1 ))"
 work="$(mktemp -d /tmp/horus-fleet-demo.XXXXXX)"
-holders=()
 cleanup() {
-  for h in "${holders[@]}"; do kill -9 "$h" 2>/dev/null || true; done
-  for h in "${holders[@]}"; do wait "$h" 2>/dev/null || true; done
-  for i in 1 2 3; do ip netns del "${p}h$i" 2>/dev/null || true; done
-  ip netns del "${p}b" 2>/dev/null || true
+  nh_cleanup
   rm -rf "$work"
 }
 trap cleanup EXIT
-
-ip netns add "${p}b"
-ip -n "${p}b" link add br0 type bridge mcast_snooping 0
-ip -n "${p}b" link set br0 up
-for i in 1 2 3; do
-  ns="${p}h$i"
-  ip netns add "$ns"
-  ip link add "${p}v$i" type veth peer name "${p}p$i"
-  ip link set "${p}v$i" netns "$ns"
-  ip link set "${p}p$i" netns "${p}b"
-  ip -n "$ns" link set "${p}v$i" name eth0
-  ip -n "$ns" addr add "$subnet.$i/24" dev eth0
-  ip -n "$ns" link set eth0 up
-  ip -n "$ns" link set lo up
-  ip -n "$ns" route add 224.0.0.0/4 dev eth0
-  ip -n "${p}b" link set "${p}p$i" master br0
-  ip -n "${p}b" link set "${p}p$i" up
-  name=$([ "$i" = 3 ] && echo monitor || echo "robot$i")
-  ip netns exec "$ns" unshare --mount --uts --propagation private \
-    sh -c "mount -t tmpfs -o mode=1777 tmpfs /dev/shm && hostname $name && exec sleep infinity" &
-  holders+=("$!")
-done
-for h in "${holders[@]}"; do
-  for _ in $(seq 200); do [ "$(cat /proc/$h/comm 2>/dev/null)" = sleep ] && break; sleep 0.05; done
-done
+subnet="10.214.$(( $$ % 250 + 1 ))"
+nh_create "$p" "$subnet" robot1 robot2 monitor
 
 config="$work/fleet.yaml"
 sed "s/^  backend: cyclonedds .*/  backend: $backend/" examples/fleet.yaml >"$config"
 on() {  # on HOST command...: runs it in that host's namespaces with the demo's configuration
-  local h="${holders[$(( $1 - 1 ))]}"
+  local i="$1"
   shift
-  nsenter -t "$h" -n -m -u -- env HORUS_CONFIG="$config" "$@"
+  nh_on "$i" env HORUS_CONFIG="$config" "$@"
 }
 
 echo "horus fleet demo: 3 namespace hosts ($subnet.1-3), fleet topics on $backend, scopes from examples/fleet.yaml"
@@ -99,9 +72,8 @@ if [ "$cut" = 1 ]; then
   # robot2's link: down at a third of the run, up again a third later (the kernel drops the
   # multicast route with the link; the host's network setup puts it back).
   cut_at=$(awk "BEGIN { print $duration / 3 }")
-  ( sleep "$cut_at"; ip -n "${p}h2" link set eth0 down; echo "--- robot2: link down"
-    sleep "$cut_at"; ip -n "${p}h2" link set eth0 up; ip -n "${p}h2" route replace 224.0.0.0/4 dev eth0
-    echo "--- robot2: link up" ) &
+  ( sleep "$cut_at"; nh_link 2 down; echo "--- robot2: link down"
+    sleep "$cut_at"; nh_link 2 up; echo "--- robot2: link up" ) &
   nodes+=("$!")
 fi
 rc=0

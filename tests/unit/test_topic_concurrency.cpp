@@ -3,13 +3,16 @@
 // Every loop is bounded by a deadline: a bug makes a test fail, never hang.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <optional>
 #include <cstdlib>
 #include <string>
 #include <chrono>
 #include <thread>
 #include <vector>
 
+#include "horus/fleet.hpp"
 #include "horus/topic.hpp"
 #include "test_support.hpp"
 
@@ -266,4 +269,64 @@ TEST(TopicConcurrency, AFleetTopicsBridgeExportsEveryMessageOnceWhileThreadsPubl
   std::this_thread::sleep_for(100ms);
   EXPECT_FALSE(sub.recv()) << "a message came back through the transport";
   EXPECT_EQ(sub.dropped_count(), 0u);
+}
+
+// The fleet layer in one process (LCM udpm, ttl=0): a fleet topic starts the process's agent,
+// which holds the host's bridge and announces the host; a horus::Fleet on its own thread sees
+// this host alive, announced with the topic and its type's signature, while another thread
+// publishes. Under TSan this checks the agent's thread, the Fleet's executor thread, the
+// transport's thread and the user's threads against each other.
+TEST(TopicConcurrency, AProcessWithAFleetTopicAnnouncesItsHostToAFleetOnAnotherThread) {
+  if (!horus::backend_available(horus::Backend::Lcm)) GTEST_SKIP() << "this build has no lcm backend";
+  const int port = 20000 + static_cast<int>((::getpid() * 13 + 5) % 40000);
+  ::setenv("HORUS_LCM_URL", ("udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0").c_str(), 1);
+  ::setenv("HORUS_FLEET_HEARTBEAT_MS", "20", 1);
+  horus::TopicOptions fleet;
+  fleet.backend = horus::Backend::Lcm;
+  const auto name = unique_name("conc.announced");
+  auto opened = Topic<Stamp>::open(name, fleet);
+  if (!opened && opened.error() == horus::Errc::Io) GTEST_SKIP() << "udpm is not available here: " << opened.error().message();
+  ASSERT_TRUE(opened) << opened.error().message();
+  std::atomic<bool> stop{false};
+  std::thread pub([&] {
+    auto p = Topic<Stamp>::open(name, fleet).value();
+    for (std::uint64_t i = 0; !stop.load(); ++i) {
+      p.send(Stamp::make(0, i));
+      std::this_thread::sleep_for(1ms);
+    }
+  });
+  horus::FleetOptions options;
+  options.transport = "lcm";
+  auto f = horus::Fleet::open(options);
+  ASSERT_TRUE(f) << f.error().message();
+  std::atomic<int> events{0};
+  (*f)->on_change([&](const horus::FleetEvent&) { events.fetch_add(1); });
+  std::optional<horus::FleetHost> self;
+  const auto deadline = std::chrono::steady_clock::now() + 10s;
+  while (std::chrono::steady_clock::now() < deadline) {
+    self = (*f)->host(horus::fleet::host_name());
+    if (self && self->announced && self->heartbeats >= 5 &&
+        std::any_of(self->topics.begin(), self->topics.end(), [&](const auto& t) { return t.name == name; }))
+      break;
+    std::this_thread::sleep_for(10ms);
+  }
+  stop.store(true);
+  pub.join();
+  ASSERT_TRUE(self.has_value()) << "this host was never seen";
+  EXPECT_TRUE(self->self);
+  EXPECT_EQ(self->id, (*f)->self_id());
+  EXPECT_EQ(self->state, horus::HostState::Alive);
+  EXPECT_EQ(self->period, 20ms);
+  EXPECT_GE(self->heartbeats, 5u);
+  const auto t = std::find_if(self->topics.begin(), self->topics.end(), [&](const auto& x) { return x.name == name; });
+  ASSERT_NE(t, self->topics.end()) << "the topic was never announced";
+  EXPECT_EQ(t->scope, "fleet");
+  EXPECT_EQ(t->transport, "lcm");
+  EXPECT_EQ(t->type_hash, horus::type_hash<Stamp>);
+  EXPECT_EQ(t->signature, horus::reflect::type_signature<Stamp>());
+  EXPECT_FALSE(std::any_of(self->topics.begin(), self->topics.end(),
+                           [](const auto& x) { return x.name.starts_with("horus.fleet."); }));
+  EXPECT_GE(events.load(), 1);  // joined (and changed) arrived on the Fleet's thread
+  EXPECT_EQ((*f)->malformed(), 0u);
+  ::unsetenv("HORUS_FLEET_HEARTBEAT_MS");
 }
