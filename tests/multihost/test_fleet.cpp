@@ -170,17 +170,19 @@ TEST_P(Fleet, TheCliSeesAndReachesTopicsOfAnotherHost) {
   const std::string count_topic = "fleet.count_" + std::to_string(::getpid());
   const std::string battery_topic = "fleet.battery_" + std::to_string(::getpid());
   const std::string cmd_topic = "fleet.cmd_" + std::to_string(::getpid());
-  auto robot = lan.spawn(0, {FLEET_WATCH, "25", "--publish", count_topic, std::to_string(unix_ms()), "50",
+  auto robot = lan.spawn(0, {FLEET_WATCH, "28", "--publish", count_topic, std::to_string(unix_ms()), "50",
                              "--user-type", battery_topic, "--subscribe", cmd_topic},
                          env);
-  auto watcher = lan.spawn(1, {FLEET_WATCH, "25"}, env);
+  auto watcher = lan.spawn(1, {FLEET_WATCH, "28"}, env);
   // Host 3 is on another network: another DDS domain, another LCM port.
   auto other_env = env;
   other_env[1] = "HORUS_DOMAIN_ID=" + std::to_string(1 + (::getpid() + 78) % 200);
   other_env[3] = "HORUS_LCM_URL=udpm://239.255.76.68:" + std::to_string(20000 + (::getpid() * 11 + 4) % 20000) + "?ttl=1";
-  auto stranger = lan.spawn(2, {FLEET_WATCH, "25", "--user-type", "fleet.strange"}, other_env);
+  auto stranger = lan.spawn(2, {FLEET_WATCH, "28", "--user-type", "fleet.strange"}, other_env);
   std::this_thread::sleep_for(2s);
   const std::string robot_host = lan.host(0);
+  // Meanwhile, garbage on the announcement topic from host 1: counted and ignored on host 2.
+  auto garbage = lan.spawn(0, {FLEET_WATCH, "1", "--garbage", "10"}, env);
 
   // horus fleet --json --once: the robot's host with its topics, this host, not the stranger.
   {
@@ -243,14 +245,14 @@ TEST_P(Fleet, TheCliSeesAndReachesTopicsOfAnotherHost) {
     EXPECT_EQ(lines, 2) << out;
   }
   {
-    auto [rc, out] = cli(lan, 1, env, {"topic", "hz", count_topic, "--duration", "2.5"});
+    auto [rc, out] = cli(lan, 1, env, {"topic", "hz", count_topic, "--duration", "4.5"});  // the last window counts
     ASSERT_EQ(rc, 0) << out;
     const auto at = out.rfind("average rate: ");
     ASSERT_NE(at, std::string::npos) << out;
     EXPECT_NEAR(std::atof(out.c_str() + at + 14), 50.0, 10.0) << out;
   }
   {
-    auto [rc, out] = cli(lan, 1, env, {"topic", "bw", count_topic, "--duration", "2.5"});
+    auto [rc, out] = cli(lan, 1, env, {"topic", "bw", count_topic, "--duration", "3.5"});
     ASSERT_EQ(rc, 0) << out;
     // Pose2D is 4 doubles: 32 bytes of XCDR1, 40 with LCM's fingerprint.
     const std::string size = GetParam() == horus::Backend::Lcm ? "mean: 40 B" : "mean: 32 B";
@@ -269,8 +271,6 @@ TEST_P(Fleet, TheCliSeesAndReachesTopicsOfAnotherHost) {
     EXPECT_EQ(rc3, 1) << out3;
     EXPECT_NE(out3.find(count_topic), std::string::npos) << out3;
   }
-  // Garbage on the announcement topic from host 1: counted and ignored on host 2.
-  auto garbage = lan.spawn(0, {FLEET_WATCH, "1", "--garbage", "10"}, env);
   EXPECT_EQ(garbage.wait(30s), 0) << garbage.output();
   for (auto* p : {&robot, &watcher, &stranger}) (void)p->wait(40s);
   const std::string robot_out = robot.output(), watcher_out = watcher.output();
