@@ -66,6 +66,10 @@ std::string own_setting(std::uint32_t id, const net::Qos& qos, std::string_view 
 // Cyclone listener callbacks of an endpoint's reader and writer (arg: the EndpointCore).
 void on_data_available(dds_entity_t reader, void* arg) { static_cast<EndpointCore*>(arg)->take_all(reader); }
 
+void on_sample_lost(dds_entity_t, const dds_sample_lost_status_t status, void* arg) {
+  if (status.total_count_change > 0) static_cast<EndpointCore*>(arg)->lost(static_cast<std::uint64_t>(status.total_count_change));
+}
+
 void on_requested_incompatible_qos(dds_entity_t, const dds_requested_incompatible_qos_status_t status, void* arg) {
   auto* core = static_cast<EndpointCore*>(arg);
   try {
@@ -188,6 +192,7 @@ Result<void> CycloneEndpoint::create() {
   dds_lset_offered_incompatible_qos(writer_listener.get(), on_offered_incompatible_qos);
   dds_lset_requested_incompatible_qos(reader_listener.get(), on_requested_incompatible_qos);
   dds_lset_data_available(reader_listener.get(), on_data_available);
+  dds_lset_sample_lost(reader_listener.get(), on_sample_lost);
 
   writer_ = dds_create_writer(participant, topic_, qos.get(), writer_listener.get());
   if (writer_ < 0) {

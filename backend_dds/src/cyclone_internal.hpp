@@ -50,6 +50,11 @@ class EndpointCore {
   void report(std::string_view message) noexcept {
     gate_.run([&](net::EndpointGate::Calls& calls) { calls.error(message); });
   }
+  /// Samples Cyclone reports lost before they reached the reader (a reliable KEEP_LAST writer
+  /// that dropped unacknowledged samples, a best-effort gap): added to dropped_count().
+  void lost(std::uint64_t count) noexcept {
+    gate_.run([&](net::EndpointGate::Calls& calls) { calls.lost(count); });
+  }
   /// After this returns, the listener is never called again.
   void close() noexcept { gate_.close(); }
   /// Takes every sample the reader holds and hands the valid ones to the listener.

@@ -128,6 +128,9 @@ int main(int argc, char** argv) {
                 static_cast<unsigned long long>(dups), static_cast<unsigned long long>(tail),
                 static_cast<unsigned long long>(counted));
   }
+  std::uint64_t out_dropped = 0;
+  for (const auto& t : out) out_dropped += t.dropped_count();
+  std::printf("own topics: dropped_count %llu\n", static_cast<unsigned long long>(out_dropped));
   std::size_t alive = 0;
   if (fleet)
     for (const auto& h : (*fleet)->hosts()) alive += h.state != horus::HostState::Lost ? 1 : 0;
