@@ -152,6 +152,7 @@ class NetworkBridge final : public net::Listener {
   std::atomic<bool> stop_{false};
   int wake_fd_ = -1;
   std::atomic<std::uint64_t> decode_failures_{0};
+  std::uint64_t write_retries_ = 0;  // reliable writes that waited for slow readers (bridge thread)
   std::atomic<std::uint64_t> errors_{0};  // incompatible endpoints reported
   std::uint64_t send_failures_ = 0;       // for the log's rate
   std::uint64_t export_lost_seen_ = 0;
@@ -263,6 +264,13 @@ class NetworkBridge final : public net::Listener {
                                  &ctx};
     state().inflight.store(1, std::memory_order_relaxed);
     auto ok = endpoint_->write(*n, writer);
+    // Reliable: a writer that timed out waiting for its readers to catch up keeps the message
+    // and tries again (back-pressure, not a loss), until the topic closes.
+    while (!ok && ok.error().code() == Errc::Timeout && qos_.reliability == net::Reliability::Reliable &&
+           !stop_.load(std::memory_order_relaxed)) {
+      ++write_retries_;
+      ok = endpoint_->write(*n, writer);
+    }
     state().inflight.store(0, std::memory_order_relaxed);
     if (!ok) [[unlikely]]
       return report(ok.error());

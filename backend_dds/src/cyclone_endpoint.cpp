@@ -16,6 +16,7 @@ namespace horus::dds::cyclone {
 namespace {
 
 constexpr dds_duration_t kMaxBlockingTime = DDS_MSECS(100);  // reliable write() blocks at most this
+constexpr int32_t kReaderSamples = 4096;  // a reliable reader's samples not yet taken, at most
 constexpr std::size_t kMaxBody = 2147483640u;  // Cyclone's default MaxSampleSize (2^31 - 1), minus header
 
 std::string_view policy_name(std::uint32_t id) noexcept {
@@ -179,7 +180,16 @@ Result<void> CycloneEndpoint::create() {
   dds_qset_durability(qos.get(), spec.qos.durability == net::Durability::TransientLocal
                                      ? DDS_DURABILITY_TRANSIENT_LOCAL
                                      : DDS_DURABILITY_VOLATILE);
-  dds_qset_history(qos.get(), DDS_HISTORY_KEEP_LAST, static_cast<int32_t>(spec.qos.depth));
+  // Reliable: KEEP_ALL, so nothing is dropped silently under load. A writer whose unacknowledged
+  // samples pile up blocks (max_blocking_time) and the bridge retries: the back-pressure reaches
+  // the host's publishers through the ring. A reader holds at most kReaderSamples not yet taken
+  // and refuses more (unacknowledged: the writer sends them again). Best effort: KEEP_LAST depth.
+  if (spec.qos.reliability == net::Reliability::Reliable) {
+    dds_qset_history(qos.get(), DDS_HISTORY_KEEP_ALL, 0);
+    dds_qset_resource_limits(qos.get(), kReaderSamples, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
+  } else {
+    dds_qset_history(qos.get(), DDS_HISTORY_KEEP_LAST, static_cast<int32_t>(spec.qos.depth));
+  }
   // Cyclone keeps durability_service.history (default KEEP_LAST 1) for late joiners.
   dds_qset_durability_service(qos.get(), 0, DDS_HISTORY_KEEP_LAST, static_cast<int32_t>(spec.qos.depth),
                               DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);

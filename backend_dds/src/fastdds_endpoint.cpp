@@ -191,7 +191,11 @@ Result<void> FastddsEndpoint::create(fd::Topic* topic, fd::ContentFilteredTopic*
   wq.reliability().kind = reliable ? fd::RELIABLE_RELIABILITY_QOS : fd::BEST_EFFORT_RELIABILITY_QOS;
   wq.reliability().max_blocking_time = max_blocking;
   wq.durability().kind = transient ? fd::TRANSIENT_LOCAL_DURABILITY_QOS : fd::VOLATILE_DURABILITY_QOS;
-  wq.history().kind = fd::KEEP_LAST_HISTORY_QOS;
+  // Reliable: KEEP_ALL within `depth` samples (resource limits), so nothing is dropped silently
+  // under load: a writer whose readers lag blocks (max_blocking_time), the bridge retries and the
+  // back-pressure reaches the host's publishers; a full reader refuses samples, which the writer
+  // sends again. Best effort: KEEP_LAST depth.
+  wq.history().kind = reliable ? fd::KEEP_ALL_HISTORY_QOS : fd::KEEP_LAST_HISTORY_QOS;
   wq.history().depth = depth;
   wq.resource_limits().max_instances = 1;
   wq.resource_limits().max_samples_per_instance = depth;
@@ -208,7 +212,7 @@ Result<void> FastddsEndpoint::create(fd::Topic* topic, fd::ContentFilteredTopic*
   rq.reliability().kind = wq.reliability().kind;
   rq.reliability().max_blocking_time = max_blocking;
   rq.durability().kind = wq.durability().kind;
-  rq.history().kind = fd::KEEP_LAST_HISTORY_QOS;
+  rq.history().kind = wq.history().kind;
   rq.history().depth = depth;
   rq.resource_limits().max_instances = 1;
   rq.resource_limits().max_samples_per_instance = depth;
