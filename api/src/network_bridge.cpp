@@ -36,6 +36,7 @@
 #include "horus/detail/topic_core.hpp"
 #include "horus/detail/waiting.hpp"
 #include "horus/log.hpp"
+#include "horus/shm/seqlock_slot.hpp"
 
 namespace horus::detail {
 
@@ -43,6 +44,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr auto kWatchPeriod = std::chrono::milliseconds(50);  // a non-holder looks at the claim
 constexpr auto kMatchWait = std::chrono::seconds(1);          // a successor waits for the readers
+constexpr auto kImportWait = std::chrono::milliseconds(100);  // a reliable import waits for room
 
 std::atomic<int> g_network_pid{0};  // the process that created this process's transports
 
@@ -156,6 +158,8 @@ class NetworkBridge final : public net::Listener {
   std::atomic<std::uint64_t> errors_{0};  // incompatible endpoints reported
   std::uint64_t send_failures_ = 0;       // for the log's rate
   std::uint64_t export_lost_seen_ = 0;
+  bool import_stalled_ = false;     // the transport's thread: a subscriber let a whole wait pass
+  std::uint64_t import_stalls_ = 0;  // for the log's rate
 
   shm::ShmSegment& segment() const noexcept { return *core_.segment; }
   shm::BridgeState& state() const noexcept { return core_.segment->bridge(); }
@@ -163,16 +167,45 @@ class NetworkBridge final : public net::Listener {
   // --- the listener (the transport's threads) ---------------------------------
   void on_sample(const net::Sample& sample) override {
     if (loopback_ && ledger_.consume(body_hash(sample.body))) return;  // our own, back
+    if (qos_.reliability == net::Reliability::Reliable) wait_for_import_room();
     if (port_->deliver(format_, sample)) state().imported.fetch_add(1, std::memory_order_relaxed);
+  }
+  // Reliable topics: a sample waits (up to kImportWait) for the host's subscribers to make room,
+  // so a slow subscriber slows the transport's reader (and, through the protocol's flow
+  // control, the sending host) instead of losing messages to overwrites. A subscriber that let
+  // a whole wait pass is stuck (stopped, in a debugger): the next samples overwrite its oldest
+  // messages (counted in its dropped_count) without waiting, until it reads again.
+  void wait_for_import_room() {
+    if (port_->has_import_room()) {
+      import_stalled_ = false;
+      return;
+    }
+    if (import_stalled_) return;
+    const auto deadline = Clock::now() + kImportWait;
+    for (int i = 0; i < 64; ++i) {
+      shm::cpu_relax();
+      if (port_->has_import_room()) return;
+    }
+    while (Clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::microseconds(50));
+      if (port_->has_import_room()) return;
+      // A subscriber that died with unread messages must not hold us (reaped every 50 ms).
+      if (reap_dead_participants(core_) && port_->has_import_room()) return;
+    }
+    import_stalled_ = true;
+    if (import_stalls_++ % 64 == 0)
+      log().warn("topic '{}': a subscriber on this host has not read for {} ms; the bridge stops waiting for it "
+                 "and overwrites its oldest messages (counted in its dropped_count()) until it reads again "
+                 "({} time(s) so far)",
+                 core_.name, std::chrono::duration_cast<std::chrono::milliseconds>(kImportWait).count(),
+                 import_stalls_);
   }
   void on_lost(std::uint64_t count) override {
     const auto before = state().dropped.fetch_add(count, std::memory_order_relaxed);
     // Log the first loss, then at most once per 1024 more (the count is in dropped_count()).
     if (before == 0 || before / 1024 != (before + count) / 1024)
       log().warn("topic '{}': the {} backend lost {} message(s) or datagram(s) ({} so far on this host; they "
-                 "count in dropped_count()). On LCM the kernel dropped datagrams because the socket receive "
-                 "buffer was full: large messages need a larger buffer (HORUS_LCM_URL=...?recv_buf_size=N and "
-                 "sysctl net.core.rmem_max)",
+                 "count in dropped_count())",
                  core_.name, info_.name, count, before + count);
   }
   void on_error(std::string_view message) override {

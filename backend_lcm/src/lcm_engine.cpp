@@ -48,6 +48,27 @@ std::string regex_escape(std::string_view channel) {
   return out;
 }
 
+std::int64_t unix_us() noexcept {
+  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+// True (and counted, reported on the first and every 4096th) when the message waited too long
+// in LCM's queue. recv_utime is the kernel's receive time (SO_TIMESTAMP, the system clock); an
+// age over a minute is a clock step, not a backlog.
+bool drop_if_stale(Subscription& sub, const lcm_recv_buf_t& rb, net::EndpointGate::Calls& calls) {
+  if (sub.max_queue_age_us <= 0) return false;
+  const std::int64_t age = unix_us() - rb.recv_utime;
+  if (age <= sub.max_queue_age_us || age > 60'000'000) return false;
+  calls.lost(1);
+  if (sub.stale++ % 4096 == 0)
+    calls.error(sub.label() + ": dropped " + std::to_string(sub.stale) +
+                " message(s) so far that waited more than " + std::to_string(sub.max_queue_age_us / 1000) +
+                " ms in LCM's receive queue (this one " + std::to_string(age / 1000) +
+                " ms): this process reads slower than the fleet sends; they count in dropped_count()");
+  return true;
+}
+
 void on_message(const lcm_recv_buf_t* rb, const char* /*channel*/, void* user) {
   auto* raw = static_cast<Subscription*>(user);
   if (!raw->gate.is_open() || raw->paused.load(std::memory_order_acquire)) return;
@@ -55,6 +76,7 @@ void on_message(const lcm_recv_buf_t* rb, const char* /*channel*/, void* user) {
   const std::shared_ptr<Subscription> sub = raw->shared_from_this();
   sub->gate.run([&](net::EndpointGate::Calls& calls) {
     if (sub->paused.load(std::memory_order_acquire)) return;
+    if (drop_if_stale(*sub, *rb, calls)) return;
     const std::span<const std::byte> body(static_cast<const std::byte*>(rb->data), rb->data_size);
     calls.sample(net::Sample{body, false});  // LCM encodes big-endian
   });
@@ -103,12 +125,13 @@ void Engine::request_stop() noexcept {
 
 Result<void> Engine::subscribe(const std::shared_ptr<Subscription>& sub, const std::string& channel) {
   const std::string pattern = regex_escape(channel);
+  if (info_.provider == Provider::Udpm) sub->max_queue_age_us = kMaxQueueAgeUs;
   HandleLock lock(*this);
   subs_.reserve(subs_.size() + 1);  // so that push_back below cannot throw after subscribing
   lcm_subscription_t* handle = lcm_subscribe(lcm_, pattern.c_str(), &on_message, sub.get());
   if (handle == nullptr)
     return fail(Errc::Io, sub->label() + ": liblcm refused the subscription (it printed the reason on stderr)");
-  lcm_subscription_set_queue_capacity(handle, 0);  // unlimited: the topic's ring bounds it
+  lcm_subscription_set_queue_capacity(handle, 0);  // unlimited (never silent): kMaxQueueAgeUs bounds it
   sub->handle = handle;
   subs_.push_back(sub);
   return {};
@@ -261,7 +284,16 @@ void Engine::account_drops() noexcept {
   for (const auto& sub : subs) {
     // A paused endpoint (nobody in the process reads it) loses nothing it wanted.
     sub->gate.run([&](net::EndpointGate::Calls& calls) {
-      if (!sub->paused.load(std::memory_order_acquire)) calls.lost(delta);
+      if (sub->paused.load(std::memory_order_acquire)) return;
+      calls.lost(delta);
+      const std::uint64_t before = sub->kernel_lost;
+      sub->kernel_lost += delta;
+      if (before == 0 || before / 4096 != sub->kernel_lost / 4096)
+        calls.error("LCM URL '" + url_ + "': the kernel dropped " + std::to_string(sub->kernel_lost) +
+                    " datagram(s) so far on the receive socket, whose buffer was full (LCM does not say of "
+                    "which channel: every LCM topic of the process counts them in dropped_count()); large or "
+                    "bursty messages need a larger buffer: ?recv_buf_size=N in the URL and sysctl "
+                    "net.core.rmem_max");
     });
   }
   run_deferred_locked();

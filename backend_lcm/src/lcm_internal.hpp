@@ -63,6 +63,13 @@ std::optional<std::uint32_t> socket_drops(std::uint64_t inode, std::string& tabl
 
 // ---- the instance (lcm_engine.cpp) ------------------------------------------------------------
 
+/// How long a message may wait in LCM's receive queue (udpm). liblcm's own thread reads the
+/// socket into a queue that grows without bound (horus sets no queue capacity: LCM would drop
+/// silently at it); when this process dispatches slower than messages arrive, the ones that
+/// waited longer than this are dropped (cheaply: not decoded) and counted, so the queue and
+/// the memory stay bounded and every loss shows in dropped_count().
+inline constexpr std::int64_t kMaxQueueAgeUs = 500'000;
+
 /// One open endpoint as the receive thread sees it (the `user` pointer of its LCM subscription).
 /// Its listener calls go through its gate.
 struct Subscription : std::enable_shared_from_this<Subscription> {
@@ -70,6 +77,11 @@ struct Subscription : std::enable_shared_from_this<Subscription> {
   net::EndpointGate gate;                // closed first by ~LcmEndpoint: no listener call after
   lcm_subscription_t* handle = nullptr;  // guarded by the engine's handle lock
   std::atomic<bool> paused{false};       // set_receiving(false): samples are not delivered
+  // udpm: a message that waited longer than this in LCM's receive queue is dropped and counted
+  // (0: no limit). Receive thread only, like the counts below.
+  std::int64_t max_queue_age_us = 0;
+  std::uint64_t stale = 0;        // messages dropped for their age
+  std::uint64_t kernel_lost = 0;  // datagrams the kernel dropped on the socket, as reported here
 
   const std::string& label() const noexcept { return gate.label(); }
   void report(std::string_view message) noexcept {

@@ -11,6 +11,10 @@
 //       endpoint (DDS) or a message of another type fails to decode (LCM: another fingerprint),
 //       e.g. from a Pose2D publisher on another host, 1 if none is reported in time, or 4 if a
 //       message arrives (a Pose2D must never be delivered as a CmdVel)
+//   horus_dds_peer burst <topic> <count> <seconds>
+//       opens <topic> as a reliable Pose2D, says "ready", waits for a 'g' on stdin, then sends
+//       <count> of them (x = sequence number) with send_blocking, as fast as the reliable
+//       path takes them, and prints "sent <n>" (how many send_blocking accepted)
 //   horus_dds_peer raw <dds-topic or lcm-channel> <dds-type> <seconds>
 //       a raw writer (the byte-level transport, no horus codec): every 20 ms, a malformed
 //       sample, then a valid Pose2D with x = 42 (tests that bad samples are counted and later
@@ -62,6 +66,34 @@ int publish_pose(const std::string& topic, Clock::time_point deadline) {
     pub->send(horus::msg::Pose2D{static_cast<double>(i), 0.0, 0.0, i});
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
+  return 0;
+}
+
+int burst(const std::string& topic, std::uint64_t count, Clock::time_point deadline) {
+  horus::TopicOptions reliable;
+  reliable.reliability = horus::net::Reliability::Reliable;
+  auto pub = horus::Topic<horus::msg::Pose2D>::open(topic, reliable);
+  if (!pub) {
+    std::fprintf(stderr, "horus_dds_peer: %s\n", pub.error().message().c_str());
+    return 3;
+  }
+  pub->publish_only();
+  std::printf("ready\n");
+  std::fflush(stdout);
+  for (;;) {  // 'g' starts, a closed stdin or 'q' ends
+    if (Clock::now() >= deadline) return 1;
+    pollfd p{0, POLLIN, 0};
+    if (::poll(&p, 1, 50) <= 0) continue;
+    char c;
+    if (::read(0, &c, 1) <= 0 || c == 'q') return 0;
+    if (c == 'g') break;
+  }
+  std::uint64_t sent = 0;
+  for (std::uint64_t i = 0; i < count && Clock::now() < deadline; ++i)
+    if (pub->send_blocking(horus::msg::Pose2D{static_cast<double>(i), 0.0, 0.0, i}, std::chrono::seconds(5))) ++sent;
+  std::printf("sent %llu\n", static_cast<unsigned long long>(sent));
+  std::fflush(stdout);
+  while (Clock::now() < deadline && !parent_gone()) std::this_thread::sleep_for(std::chrono::milliseconds(20));
   return 0;
 }
 
@@ -160,6 +192,7 @@ int main(int argc, char** argv) {
   if (mode == "echo") return horus_test::echo_all(argv[2], horus_test::standard_types(), deadline, &parent_gone);
   if (mode == "publish-pose") return publish_pose(argv[2], deadline);
   if (mode == "expect-mismatch") return expect_mismatch(argv[2], deadline);
+  if (mode == "burst" && argc == 5) return burst(argv[2], std::strtoull(argv[3], nullptr, 10), deadline);
   if (mode == "raw" && argc == 5) return raw_writer(argv[2], argv[3], deadline);
   std::fprintf(stderr, "horus_dds_peer: unknown mode '%s'\n", mode.c_str());
   return 2;

@@ -1,9 +1,10 @@
 // The fleet under load (label load: opt-in, `ctest --preset load`; the default test presets
 // exclude it): 3 namespace hosts x 50 reliable fleet topics x 1 kHz for 60 s
-// (HORUS_LOAD_SECONDS, HORUS_LOAD_TOPICS, HORUS_LOAD_HZ change it). Every host receives every
-// message the others sent (reliable topics push back instead of dropping: a host sends what
-// its peers can take), with no gap and no duplicate, nobody is declared lost, and resident
-// memory stays flat (the last sample within 20% + 8 MiB of the one at 10 s).
+// (HORUS_LOAD_SECONDS, HORUS_LOAD_TOPICS, HORUS_LOAD_HZ change it). On DDS every host receives
+// every message the others sent (reliable topics push back instead of dropping: a host sends
+// what its peers can take), with no gap and no duplicate; on LCM (best effort) every message
+// arrives or is counted in dropped_count(). Nobody is declared lost, and resident memory stays
+// flat (the last sample within 20% + 8 MiB of the one at 10 s).
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -78,10 +79,20 @@ TEST_P(FleetLoad, ThreeHostsOfFiftyTopicsAtOneKilohertzLoseNothingAndHoldTheirMe
         std::string host, r, g, d;
         unsigned long long received = 0, gaps = 0, dups = 0;
         w >> host >> r >> received >> g >> gaps >> d >> dups;
+        std::string c;
+        unsigned long long counted = 0;
+        w >> c >> counted;
         const int from = std::atoi(host.c_str() + 1);
-        EXPECT_EQ(received, static_cast<unsigned long long>(sent[from]) * static_cast<unsigned long long>(topics))
-            << "host " << i + 1 << ": " << line;
-        EXPECT_EQ(gaps, 0ULL) << "host " << i + 1 << " lost messages of reliable topics: " << line;
+        const auto expected = static_cast<unsigned long long>(sent[from]) * static_cast<unsigned long long>(topics);
+        if (GetParam() == horus::Backend::Lcm) {
+          // Best effort: what did not arrive was counted (kernel drops count on every topic of
+          // the socket, so the count may exceed the loss; never fall short of it).
+          EXPECT_GE(received + counted, expected) << "host " << i + 1 << " lost messages silently: " << line;
+          EXPECT_LE(gaps, counted) << "host " << i + 1 << ": " << line;
+        } else {
+          EXPECT_EQ(received, expected) << "host " << i + 1 << ": " << line;
+          EXPECT_EQ(gaps, 0ULL) << "host " << i + 1 << " lost messages of reliable topics: " << line;
+        }
         EXPECT_EQ(dups, 0ULL) << line;
         ++froms;
       } else if (k == "hosts") {

@@ -12,6 +12,7 @@
 #include <chrono>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <tuple>
 #include <vector>
@@ -98,6 +99,9 @@ class Peer {
     }
     return false;
   }
+
+  // Writes `text` to its stdin ('q' there means quit).
+  bool say(std::string_view text) { return ::write(stdin_, text.data(), text.size()) == static_cast<ssize_t>(text.size()); }
 
   // Closes its stdin and waits (at most 10 s, then SIGKILL); the exit status.
   int stop() {

@@ -167,7 +167,7 @@ std::string udpm_url(int offset, std::string_view options = "ttl=0") {
   ASSERT_TRUE(var##_result) << var##_result.error().message();                                             \
   std::shared_ptr<Transport> var = *var##_result
 
-std::unique_ptr<Endpoint> open_endpoint(Transport& transport, const std::string& channel_name, Collector& listener) {
+std::unique_ptr<Endpoint> open_endpoint(Transport& transport, const std::string& channel_name, horus::net::Listener& listener) {
   auto endpoint = transport.open(spec(channel_name), listener);
   EXPECT_TRUE(endpoint) << (endpoint ? "" : endpoint.error().message());
   return endpoint ? std::move(*endpoint) : nullptr;
@@ -742,6 +742,63 @@ TEST(LcmUdpm, KernelDropsAreReportedAsLostToEveryEndpoint) {
   EXPECT_EQ(l_other.lost(), l_big.lost());
   std::printf("[          ] %zu of %d messages of 2 MB arrived; %llu datagrams reported lost\n", l_big.count(),
               kMessages, static_cast<unsigned long long>(l_big.lost()));
+}
+
+// A process that dispatches slower than messages arrive: liblcm's thread keeps queueing them
+// (without bound); the ones that waited over kMaxQueueAgeUs (500 ms) are dropped and counted,
+// so the queue cannot grow forever and nothing goes missing unnoticed.
+class StallingListener final : public horus::net::Listener {
+ public:
+  void on_sample(const horus::net::Sample&) override {
+    if (samples_.fetch_add(1) == 0) std::this_thread::sleep_for(900ms);  // the first one stalls
+  }
+  void on_error(std::string_view message) override {
+    std::lock_guard lock(mutex_);
+    errors_.emplace_back(message);
+  }
+  void on_lost(std::uint64_t count) override { lost_ += count; }
+  std::uint64_t samples() const { return samples_.load(); }
+  std::uint64_t lost() const { return lost_.load(); }
+  std::vector<std::string> errors() const {
+    std::lock_guard lock(mutex_);
+    return errors_;
+  }
+
+ private:
+  std::atomic<std::uint64_t> samples_{0}, lost_{0};
+  mutable std::mutex mutex_;
+  std::vector<std::string> errors_;
+};
+
+TEST(LcmUdpm, MessagesThatWaitedTooLongInLcmsQueueAreDroppedAndCounted) {
+  ASSIGN_UDPM_OR_SKIP(t, udpm_url(3, "ttl=0&recv_buf_size=4194304"));
+  StallingListener slow;
+  Collector sender_side;
+  const std::string ch = channel("stale");
+  auto rx = open_endpoint(*t, ch, slow);
+  auto pub = open_endpoint(*t, ch, sender_side);
+  ASSERT_TRUE(rx && pub);
+  const auto body = pattern(64, 3);
+  // The first message stalls the receive thread 900 ms; the next ones (one per 4 ms, for
+  // 800 ms) queue meanwhile. Those sent before ~400 ms are over 500 ms old at 900 ms.
+  constexpr std::uint64_t kMessages = 200;
+  ASSERT_TRUE(send(*pub, body));
+  std::this_thread::sleep_for(50ms);
+  for (std::uint64_t i = 1; i < kMessages; ++i) {
+    ASSERT_TRUE(send(*pub, body));
+    std::this_thread::sleep_for(4ms);
+  }
+  const auto deadline = Clock::now() + 10s;
+  while (slow.samples() + slow.lost() < kMessages && Clock::now() < deadline) std::this_thread::sleep_for(10ms);
+  std::this_thread::sleep_for(100ms);  // nothing more may come
+  // The kernel loses nothing here (4 MB buffer, 200 small datagrams); each one is delivered or
+  // counted, and those sent in the first ~400 ms of the stall (~85) were too old when dispatched.
+  EXPECT_EQ(slow.samples() + slow.lost(), kMessages) << slow.samples() << " delivered, " << slow.lost() << " lost";
+  EXPECT_GE(slow.lost(), 40u);
+  EXPECT_GT(slow.samples(), 1u) << "the messages sent at the end of the stall were young enough to deliver";
+  const auto errors = slow.errors();
+  ASSERT_FALSE(errors.empty());
+  EXPECT_NE(errors[0].find("ms in LCM's receive queue"), std::string::npos) << errors[0];
 }
 
 }  // namespace

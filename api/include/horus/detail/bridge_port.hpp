@@ -34,6 +34,7 @@ class TypedBridgePort final : public BridgePort {
     import_codec_.deliver(import_, format, sample);
     return import_.writer().sent() != before;
   }
+  bool has_import_room() override { return import_.writer().has_space(export_.reader().token()); }
 
   bool take_entry(std::uint32_t entry, std::uint64_t from) override {
     return from != 0 ? export_.reader().adopt(entry, from) : export_.reader().subscribe();
