@@ -23,14 +23,17 @@
 #include <sys/syscall.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdlib>
 #include <cstring>
 #include <deque>
 #include <mutex>
 #include <thread>
 #include <unordered_map>
+#include <vector>
 
 #include "horus/detail/fleet_presence.hpp"
 #include "horus/detail/topic_core.hpp"
@@ -44,7 +47,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr auto kWatchPeriod = std::chrono::milliseconds(50);  // a non-holder looks at the claim
 constexpr auto kMatchWait = std::chrono::seconds(1);          // a successor waits for the readers
-constexpr auto kImportWait = std::chrono::milliseconds(100);  // a reliable import waits for room
+constexpr auto kImportWait = std::chrono::milliseconds(100);  // a reliable import holds samples for room
 
 std::atomic<int> g_network_pid{0};  // the process that created this process's transports
 
@@ -129,6 +132,46 @@ Result<bool> may_bridge_from_environment() {
                                         v));
 }
 
+class NetworkBridge;
+
+// The import pump: one thread per process, running only while some bridge's transport holds
+// samples back (a reliable topic whose host subscribers have no room). Every 200 us it lets
+// each such bridge take what now fits (NetworkBridge::pump_held). Leaked on purpose: bridges
+// may stop during static destruction.
+class ImportPump {
+ public:
+  void add(NetworkBridge* b) {
+    std::lock_guard lock(mutex_);
+    if (std::find(held_.begin(), held_.end(), b) != held_.end()) return;
+    held_.push_back(b);
+    if (!thread_started_) {
+      thread_started_ = true;
+      std::thread([this] { run(); }).detach();
+    }
+    cv_.notify_all();
+  }
+  /// After this returns, the pump does not call `b` (it waits for a call in progress).
+  void remove(NetworkBridge* b) {
+    std::unique_lock lock(mutex_);
+    std::erase(held_, b);
+    done_.wait(lock, [&] { return current_ != b; });
+  }
+
+ private:
+  void run();
+
+  std::mutex mutex_;
+  std::condition_variable cv_, done_;
+  std::vector<NetworkBridge*> held_;
+  NetworkBridge* current_ = nullptr;
+  bool thread_started_ = false;
+};
+
+ImportPump& import_pump() {
+  static auto* pump = new ImportPump;
+  return *pump;
+}
+
 class NetworkBridge final : public net::Listener {
  public:
   NetworkBridge(TopicCore& core, const WireOps& ops, const net::Qos& qos, const net::TransportInfo& info)
@@ -148,6 +191,7 @@ class NetworkBridge final : public net::Listener {
   std::unique_ptr<net::Endpoint> endpoint_;    // the holder's only; reset first: no callback after that
   bool holder_ = false;                        // the bridge thread's (and start()'s) view
   std::atomic<bool> endpoint_ready_{false};    // endpoint_ is set (user threads may ask it for counts)
+  std::mutex endpoint_mutex_;                  // endpoint_ set or reset, against the import pump
   bool loopback_ = false;                      // the transport delivers our own samples back (LCM)
   EchoLedger ledger_;
   std::thread thread_;
@@ -158,8 +202,11 @@ class NetworkBridge final : public net::Listener {
   std::atomic<std::uint64_t> errors_{0};  // incompatible endpoints reported
   std::uint64_t send_failures_ = 0;       // for the log's rate
   std::uint64_t export_lost_seen_ = 0;
-  bool import_stalled_ = false;     // the transport's thread: a subscriber let a whole wait pass
-  std::uint64_t import_stalls_ = 0;  // for the log's rate
+  bool hold_ = false;                           // reliable, and the transport holds samples
+  std::atomic<bool> held_{false};               // the transport holds samples back for room
+  std::atomic<std::int64_t> held_since_ns_{0};  // since when (steady clock)
+  std::atomic<bool> stalled_{false};            // a subscriber let kImportWait pass: overwrite
+  std::atomic<std::uint64_t> import_stalls_{0}; // for the log's rate
 
   shm::ShmSegment& segment() const noexcept { return *core_.segment; }
   shm::BridgeState& state() const noexcept { return core_.segment->bridge(); }
@@ -167,39 +214,51 @@ class NetworkBridge final : public net::Listener {
   // --- the listener (the transport's threads) ---------------------------------
   void on_sample(const net::Sample& sample) override {
     if (loopback_ && ledger_.consume(body_hash(sample.body))) return;  // our own, back
-    if (qos_.reliability == net::Reliability::Reliable) wait_for_import_room();
     if (port_->deliver(format_, sample)) state().imported.fetch_add(1, std::memory_order_relaxed);
   }
-  // Reliable topics: a sample waits (up to kImportWait) for the host's subscribers to make room,
-  // so a slow subscriber slows the transport's reader (and, through the protocol's flow
-  // control, the sending host) instead of losing messages to overwrites. A subscriber that let
-  // a whole wait pass is stuck (stopped, in a debugger): the next samples overwrite its oldest
-  // messages (counted in its dropped_count) without waiting, until it reads again.
-  void wait_for_import_room() {
-    if (port_->has_import_room()) {
-      import_stalled_ = false;
-      return;
+  // Reliable topics on a transport that holds samples (DDS): the transport takes no more than
+  // the host's subscribers have room for, and the rest waits in its reader, whose flow control
+  // slows the sending host, instead of overwriting. The transport's thread never blocks (it
+  // serves every topic and the fleet's heartbeats): the import pump takes the held samples
+  // when room appears. A subscriber that leaves the lane full for kImportWait is stuck
+  // (stopped, in a debugger): then its oldest messages are overwritten (counted in its
+  // dropped_count) until it reads again.
+  std::size_t room() override {
+    if (!hold_) return SIZE_MAX;
+    const std::size_t r = port_->import_room();
+    if (r > 0) {  // the subscribers read: not stuck
+      stalled_.store(false, std::memory_order_relaxed);
+      held_since_ns_.store(0, std::memory_order_relaxed);
+      return r;
     }
-    if (import_stalled_) return;
-    const auto deadline = Clock::now() + kImportWait;
-    for (int i = 0; i < 64; ++i) {
-      shm::cpu_relax();
-      if (port_->has_import_room()) return;
-    }
-    while (Clock::now() < deadline) {
-      std::this_thread::sleep_for(std::chrono::microseconds(50));
-      if (port_->has_import_room()) return;
-      // A subscriber that died with unread messages must not hold us (reaped every 50 ms).
-      if (reap_dead_participants(core_) && port_->has_import_room()) return;
-    }
-    import_stalled_ = true;
-    if (import_stalls_++ % 64 == 0)
-      log().warn("topic '{}': a subscriber on this host has not read for {} ms; the bridge stops waiting for it "
-                 "and overwrites its oldest messages (counted in its dropped_count()) until it reads again "
-                 "({} time(s) so far)",
-                 core_.name, std::chrono::duration_cast<std::chrono::milliseconds>(kImportWait).count(),
-                 import_stalls_);
+    if (stalled_.load(std::memory_order_relaxed)) return SIZE_MAX;
+    if (held_since_ns_.load(std::memory_order_relaxed) == 0)
+      held_since_ns_.store(Clock::now().time_since_epoch().count(), std::memory_order_relaxed);
+    if (!held_.exchange(true, std::memory_order_acq_rel)) import_pump().add(this);
+    return 0;
   }
+
+  // The import pump's thread: takes what the transport held once there is room (room() above
+  // decides); false when nothing is held any more.
+  bool pump_held() noexcept {
+    const std::int64_t since_ns = held_since_ns_.load(std::memory_order_relaxed);
+    const auto since = Clock::time_point(Clock::duration(since_ns));
+    if (since_ns != 0 && Clock::now() - since > kImportWait && !stalled_.exchange(true, std::memory_order_relaxed)) {
+      const std::uint64_t n = ++import_stalls_;
+      if (n == 1 || n % 64 == 0)
+        log().warn("topic '{}': a subscriber on this host has not read for {} ms; the bridge stops holding the {} "
+                   "samples back for it and overwrites its oldest messages (counted in its dropped_count()) until it "
+                   "reads again ({} time(s) so far)",
+                   core_.name, std::chrono::duration_cast<std::chrono::milliseconds>(kImportWait).count(),
+                   info_.name, n);
+    }
+    std::lock_guard lock(endpoint_mutex_);
+    if (!endpoint_) return true;  // not open yet: try again
+    held_.store(false, std::memory_order_release);  // room() sets it again if it must hold on
+    endpoint_->take_held();
+    return held_.load(std::memory_order_acquire);
+  }
+
   void on_lost(std::uint64_t count) override {
     const auto before = state().dropped.fetch_add(count, std::memory_order_relaxed);
     // Log the first loss, then at most once per 1024 more (the count is in dropped_count()).
@@ -249,7 +308,10 @@ class NetworkBridge final : public net::Listener {
       port_->leave();  // recorded: the next holder adopts them
       return std::unexpected(std::move(endpoint.error()));
     }
-    endpoint_ = std::move(*endpoint);
+    {
+      std::lock_guard lock(endpoint_mutex_);
+      endpoint_ = std::move(*endpoint);
+    }
     holder_ = true;
     endpoint_ready_.store(true, std::memory_order_release);
     if (takeover || inherited) {
@@ -381,6 +443,7 @@ class NetworkBridge final : public net::Listener {
     if (!transport) return std::unexpected(std::move(transport.error()));
     transport_ = std::move(*transport);
     loopback_ = transport_->delivers_own_samples();
+    hold_ = qos_.reliability == net::Reliability::Reliable && transport_->holds_samples();
     const auto claim = segment().claim_bridge();
     if (claim == shm::ShmSegment::BridgeClaim::Claimed || claim == shm::ShmSegment::BridgeClaim::TookOver) {
       if (auto ok = become_holder(claim == shm::ShmSegment::BridgeClaim::TookOver); !ok) {
@@ -407,8 +470,12 @@ class NetworkBridge final : public net::Listener {
       }
       thread_.join();
     }
-    endpoint_ready_.store(false, std::memory_order_release);
-    endpoint_.reset();  // no callback after this
+    {
+      std::lock_guard lock(endpoint_mutex_);  // the import pump is not inside take_held()
+      endpoint_ready_.store(false, std::memory_order_release);
+      endpoint_.reset();  // no callback after this
+    }
+    import_pump().remove(this);
     if (holder_) {
       state().matched_publishers.store(0, std::memory_order_relaxed);
       state().matched_subscribers.store(0, std::memory_order_relaxed);
@@ -419,6 +486,27 @@ class NetworkBridge final : public net::Listener {
   }
   std::atomic<bool> done_{false};
 };
+
+void ImportPump::run() {
+  std::unique_lock lock(mutex_);
+  for (;;) {
+    cv_.wait(lock, [&] { return !held_.empty(); });
+    const std::vector<NetworkBridge*> now = held_;
+    for (NetworkBridge* b : now) {
+      if (std::find(held_.begin(), held_.end(), b) == held_.end()) continue;  // removed meanwhile
+      current_ = b;
+      lock.unlock();
+      const bool still = b->pump_held();
+      lock.lock();
+      current_ = nullptr;
+      done_.notify_all();
+      if (!still) std::erase(held_, b);
+    }
+    lock.unlock();
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+    lock.lock();
+  }
+}
 
 void NetworkBridgeDeleter::operator()(NetworkBridge* b) const noexcept {
   if (b == nullptr) return;

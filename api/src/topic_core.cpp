@@ -43,6 +43,13 @@ struct OpenTopics {  // the topics open in this process, by name and namespace
 
 OpenTopics& open_topics() {
   static OpenTopics r;
+  // A thread opening a topic while another forks would leave the mutex locked in the child
+  // (which could then open no topic): fork waits for the open instead.
+  static const bool fork_safe = [] {
+    ::pthread_atfork([] { r.mutex.lock(); }, [] { r.mutex.unlock(); }, [] { r.mutex.unlock(); });
+    return true;
+  }();
+  (void)fork_safe;
   return r;
 }
 

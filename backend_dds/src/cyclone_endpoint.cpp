@@ -2,6 +2,7 @@
 // the raw-bytes sertype (cyclone_sertype.hpp), a writer and a reader that ignore this
 // participant's own samples, and the reports of incompatible QoS. Everything it reports goes
 // through its EndpointCore's gate (horus/transport/endpoint_gate.hpp).
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -102,13 +103,17 @@ void EndpointCore::take_all(dds_entity_t reader) noexcept {
     ddsi_serdata* data[kTakeBatch];
     dds_sample_info_t info[kTakeBatch];
     for (;;) {
-      const dds_return_t n = dds_takecdr(reader, data, kTakeBatch, info, DDS_ANY_STATE);
+      // No more than the listener has room for: the rest waits in the reader (held samples;
+      // a full reliable reader makes the remote writer wait), until take_held().
+      const std::size_t want = std::min<std::size_t>(kTakeBatch, calls.room());
+      if (want == 0) return;
+      const dds_return_t n = dds_takecdr(reader, data, static_cast<std::uint32_t>(want), info, DDS_ANY_STATE);
       if (n <= 0) return;
       for (dds_return_t i = 0; i < n; i++) {
         if (info[i].valid_data && calls.open()) deliver(calls, data[i]);
         ddsi_serdata_unref(data[i]);
       }
-      if (static_cast<std::uint32_t>(n) < kTakeBatch) return;
+      if (static_cast<std::size_t>(n) < want) return;  // the reader is empty
     }
   });
 }

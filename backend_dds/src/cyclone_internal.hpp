@@ -82,6 +82,7 @@ class CycloneTransport final : public net::Transport, public std::enable_shared_
   static Result<std::shared_ptr<CycloneTransport>> create(net::CacheTicket ticket, const net::Config& config);
 
   std::string_view name() const noexcept override { return "cyclonedds"; }
+  bool holds_samples() const noexcept override { return true; }
   Result<std::unique_ptr<net::Endpoint>> open(const net::EndpointSpec& spec, net::Listener& listener) override;
 
   const net::Config& config() const noexcept { return config_; }
@@ -114,6 +115,9 @@ class CycloneEndpoint final : public net::Endpoint {
   void mark_registered() noexcept { registered_ = true; }
 
   Result<void> write(std::size_t body_size, const net::BodyWriter& writer) override;
+  void take_held() noexcept override {
+    if (reader_ != 0) core_->take_all(reader_);
+  }
   std::uint32_t matched_publishers() const override;
   std::uint32_t matched_subscribers() const override;
 

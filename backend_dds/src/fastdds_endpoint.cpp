@@ -19,6 +19,7 @@ namespace horus::dds::fastdds_detail {
 namespace {
 
 constexpr std::int32_t kHeartbeatMs = 100;  // reliable writer: quick repair of lost fragments
+constexpr std::int32_t kReaderSamples = 4096;  // a reliable reader's samples not yet taken, at most
 
 std::string endpoint_label(const net::EndpointSpec& spec) {
   return "topic '" + spec.topic + "' (DDS topic '" + spec.wire_topic + "')";
@@ -81,7 +82,13 @@ void Core::deliver(net::EndpointGate::Calls& calls) {
   if (reader == nullptr) return;
   fd::LoanableSequence<RawReadSample> data;
   fd::SampleInfoSeq infos;
-  while (calls.open() && reader->take(data, infos) == ReturnCode_t::RETCODE_OK) {
+  // No more than the listener has room for: the rest waits in the reader (held samples; a full
+  // reliable reader makes the remote writer wait), until take_held().
+  for (;;) {
+    const std::size_t room = calls.room();
+    if (room == 0 || !calls.open()) break;
+    const auto max = static_cast<std::int32_t>(std::min<std::size_t>(room, 256));
+    if (reader->take(data, infos, max) != ReturnCode_t::RETCODE_OK) break;
     for (fd::LoanableCollection::size_type i = 0; i < infos.length(); ++i) {
       const fd::SampleInfo& info = infos[i];
       if (!info.valid_data) continue;
@@ -215,8 +222,11 @@ Result<void> FastddsEndpoint::create(fd::Topic* topic, fd::ContentFilteredTopic*
   rq.history().kind = wq.history().kind;
   rq.history().depth = depth;
   rq.resource_limits().max_instances = 1;
-  rq.resource_limits().max_samples_per_instance = depth;
-  rq.resource_limits().max_samples = depth;
+  // A reliable reader keeps up to kReaderSamples the bridge has not taken yet (it takes no more
+  // than the host's subscribers have room for): a buffer before the writer is pushed back.
+  const std::int32_t reader_samples = reliable ? std::max(depth, kReaderSamples) : depth;
+  rq.resource_limits().max_samples_per_instance = reader_samples;
+  rq.resource_limits().max_samples = reader_samples;
   rq.resource_limits().allocated_samples = std::min(depth, 16);
   rq.data_sharing().off();
   rq.type_consistency().representation.m_value = {fd::XCDR_DATA_REPRESENTATION};

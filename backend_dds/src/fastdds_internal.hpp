@@ -220,6 +220,7 @@ class FastddsTransport final : public net::Transport, public std::enable_shared_
   Result<void> start();
 
   std::string_view name() const noexcept override { return "fastdds"; }
+  bool holds_samples() const noexcept override { return true; }
   Result<std::unique_ptr<net::Endpoint>> open(const net::EndpointSpec& spec, net::Listener& listener) override;
 
   // For endpoints.
@@ -275,6 +276,7 @@ class FastddsEndpoint final : public net::Endpoint {
   Result<void> create(fd::Topic* topic, fd::ContentFilteredTopic* filtered);
 
   Result<void> write(std::size_t body_size, const net::BodyWriter& writer) override;
+  void take_held() noexcept override { core_->drain(); }
   std::uint32_t matched_publishers() const override { return core_->matched(true); }
   std::uint32_t matched_subscribers() const override { return core_->matched(false); }
 

@@ -3,6 +3,8 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <pthread.h>
+
 #include <array>
 #include <cstdlib>
 #include <string_view>
@@ -13,6 +15,11 @@ namespace {
 std::shared_ptr<spdlog::logger> make_logger() {
   auto logger = spdlog::get("horus");
   if (!logger) logger = spdlog::stderr_color_mt("horus");
+  // fork() while another thread writes a line would leave the console's mutex locked in the
+  // child forever (a forked child that logs would hang): fork waits for the line instead.
+  ::pthread_atfork([] { spdlog::details::console_mutex::mutex().lock(); },
+                   [] { spdlog::details::console_mutex::mutex().unlock(); },
+                   [] { spdlog::details::console_mutex::mutex().unlock(); });
   logger->set_level(spdlog::level::info);
   const char* env = std::getenv("HORUS_LOG_LEVEL");
   if (env != nullptr && *env != '\0') {

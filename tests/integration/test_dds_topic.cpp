@@ -185,6 +185,38 @@ TEST_P(DdsBackend, AReliableTopicsSlowSubscriberLosesNothingFromABurst) {
   EXPECT_EQ(peer.stop(), 0);
 }
 
+// A subscriber that never reads (stopped, in a debugger) holds a reliable topic back for
+// 100 ms at most: then the bridge overwrites its oldest messages, counted, and the sender is
+// not held up forever.
+TEST_P(DdsBackend, AStuckSubscriberOfAReliableTopicIsOverwrittenAndCountedAfterAWhile) {
+  REQUIRE_BACKEND(GetParam());
+  const auto name = horus_test::unique_name("dds.stuck");
+  horus::TopicOptions options = on(GetParam());
+  options.reliability = horus::net::Reliability::Reliable;
+  options.capacity = 8;
+  auto stuck = horus::Topic<horus::msg::Pose2D>::open(name, options);
+  ASSERT_TRUE(stuck) << stuck.error().message();
+  constexpr std::uint64_t kCount = 2000;
+  Peer peer(GetParam(), {"burst", name, std::to_string(kCount), "60"});
+  ASSERT_TRUE(peer.ready());
+  horus_test::Deadline matched(20s);
+  while (!matched.expired() && stuck->pub_count() == 0) std::this_thread::sleep_for(10ms);
+  ASSERT_EQ(stuck->pub_count(), 1u) << "the peer's writer was not matched in 20 s";
+  std::this_thread::sleep_for(300ms);
+  ASSERT_TRUE(peer.say("g"));
+  horus_test::Deadline d(30s);
+  while (!d.expired() && stuck->dropped_count() < kCount - 8) std::this_thread::sleep_for(20ms);
+  EXPECT_EQ(stuck->dropped_count(), kCount - 8) << "all but the ring's 8 newest should be overwritten and counted";
+  std::uint64_t last = 0, n = 0;
+  while (auto m = stuck->recv()) {
+    last = static_cast<std::uint64_t>(m->x);
+    ++n;
+  }
+  EXPECT_EQ(n, 8u);
+  EXPECT_EQ(last, kCount - 1) << "the ring keeps the newest";
+  EXPECT_EQ(peer.stop(), 0);
+}
+
 TEST_P(DdsBackend, AnotherMessageTypeOnTheSameTopicIsReported) {
   REQUIRE_BACKEND(GetParam());
   const auto name = horus_test::unique_name("dds.mismatch");

@@ -93,6 +93,11 @@ class Listener {
   /// before they reached this endpoint, e.g. LCM datagrams the kernel dropped because the
   /// socket buffer was full. Added to the topic's dropped_count().
   virtual void on_lost(std::uint64_t count) { (void)count; }
+  /// How many samples the listener can take now without losing one (SIZE_MAX: any number). A
+  /// reliable fleet topic whose host subscribers are a whole ring behind says 0. A transport
+  /// that holds samples (Transport::holds_samples) takes no more than this and leaves the rest
+  /// in its reader, whose flow control slows the remote writer, until Endpoint::take_held().
+  virtual std::size_t room() { return SIZE_MAX; }
 
  protected:
   ~Listener() = default;
@@ -115,6 +120,9 @@ class Endpoint {
   /// process's own samples back (LCM) stops receiving the channel meanwhile, so its own
   /// traffic costs it nothing. Thread-safe; never called from a listener callback.
   virtual void set_receiving(bool on) noexcept { (void)on; }
+  /// Takes what the reader held back while Listener::room() said 0, as far as room() allows
+  /// now. Thread-safe; never called from a listener callback.
+  virtual void take_held() noexcept {}
   /// Remote writers matched with our reader (other processes and hosts).
   virtual std::uint32_t matched_publishers() const = 0;
   /// Remote readers matched with our writer.
@@ -134,6 +142,9 @@ class Transport {
   /// multicast loops back, and the messages carry no sender). The topic then does not write
   /// what it sends into its ring: the sample arrives once, through the endpoint.
   virtual bool delivers_own_samples() const noexcept { return false; }
+  /// True when its endpoints honour Listener::room(): a sample not taken stays in the reader
+  /// and the protocol pushes back on the writer (DDS, reliable). LCM has nowhere to keep it.
+  virtual bool holds_samples() const noexcept { return false; }
 };
 
 }  // namespace horus::net

@@ -41,6 +41,15 @@ void EndpointGate::Calls::error(std::string_view message) noexcept {
   }
 }
 
+std::size_t EndpointGate::Calls::room() noexcept {
+  if (!gate_.is_open()) return 0;
+  try {
+    return gate_.listener_.room();
+  } catch (...) {
+    return 0;
+  }
+}
+
 void EndpointGate::Calls::lost(std::uint64_t count) noexcept {
   if (!gate_.is_open()) return;
   try {

@@ -34,7 +34,9 @@ class TypedBridgePort final : public BridgePort {
     import_codec_.deliver(import_, format, sample);
     return import_.writer().sent() != before;
   }
-  bool has_import_room() override { return import_.writer().has_space(export_.reader().token()); }
+  std::size_t import_room() override {
+    return has_lane() ? static_cast<std::size_t>(import_.writer().room(export_.reader().token())) : SIZE_MAX;
+  }
 
   bool take_entry(std::uint32_t entry, std::uint64_t from) override {
     return from != 0 ? export_.reader().adopt(entry, from) : export_.reader().subscribe();

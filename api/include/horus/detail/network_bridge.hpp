@@ -47,9 +47,9 @@ class BridgePort {
   virtual std::uint64_t lane_token() const = 0;
   /// Decodes a sample and writes it into the ring; false when it did not decode or was refused.
   virtual bool deliver(net::WireFormat format, const net::Sample& sample) = 0;
-  /// True when a message written now would overwrite nothing unread: every subscriber but the
-  /// bridge's own export entry (which passes over this lane) has room on the lane.
-  virtual bool has_import_room() = 0;
+  /// How many messages the lane takes before one would overwrite a message some subscriber has
+  /// not read (the bridge's own export entry, which passes over this lane, aside).
+  virtual std::size_t import_room() = 0;
   // -- export: a subscriber entry ------------------------------------------
   /// Subscribes, or adopts the predecessor's entry (`from` != 0); false when none is available.
   virtual bool take_entry(std::uint32_t entry, std::uint64_t from) = 0;

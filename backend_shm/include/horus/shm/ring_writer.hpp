@@ -109,6 +109,13 @@ class RingWriter {
     return head_ < space_limit_;
   }
 
+  /// How many messages fit before one would overwrite a message some subscriber (but
+  /// `self_subscriber`) has not read; reads the cursors again when the cached limit is near.
+  std::uint64_t room(std::uint64_t self_subscriber) noexcept {
+    if (space_limit_ < head_ + 64) space_limit_ = ring_.space_limit(lane_, head_, self_subscriber);
+    return space_limit_ > head_ ? space_limit_ - head_ : 0;
+  }
+
   /// Reads the subscribers' cursors again (has_space() caches what it read).
   void refresh_space(std::uint64_t self_subscriber) noexcept {
     space_limit_ = ring_.space_limit(lane_, head_, self_subscriber);
