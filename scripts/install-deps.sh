@@ -17,6 +17,7 @@ packages=(
   liblcm-dev liblcm-bin   # the lcm backend; lcm-gen, lcm-logger, lcm-logplayer for the interop tests
   libyaml-cpp-dev   # HORUS_CONFIG: the per-topic configuration file (api/src/config.cpp)
   iproute2   # ip netns: the multi-host tests make hosts out of network namespaces
+  libzstd-dev liblz4-dev   # MCAP recordings: zstd and lz4 chunk compression (record/)
 )
 
 missing=()

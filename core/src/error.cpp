@@ -13,6 +13,7 @@ std::string_view to_string(Errc code) noexcept {
     case Errc::MessageTooLarge: return "message_too_large";
     case Errc::Config: return "config";
     case Errc::Io: return "io";
+    case Errc::Corrupt: return "corrupt";
   }
   return "unknown";
 }

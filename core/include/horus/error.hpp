@@ -23,6 +23,7 @@ enum class Errc {
   MessageTooLarge,   // a message does not fit its slot
   Config,            // a malformed setting (an environment variable such as HORUS_BACKEND)
   Io,                // an operating-system call failed
+  Corrupt,           // bytes (a file, a recording) are not what their format says
 };
 
 /// A short stable name of the code ("type_mismatch").

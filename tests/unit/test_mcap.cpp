@@ -1,0 +1,364 @@
+// The MCAP writer and reader (record/): files round-trip with each compression, carry a summary
+// whose statistics match, a file cut short reads back to its last complete chunk, and damaged
+// files are clear errors naming the offset, never a crash.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cstring>
+#include <fstream>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "horus/record/mcap.hpp"
+
+namespace {
+
+using horus::Errc;
+namespace mcap = horus::mcap;
+
+std::string temp_path(const std::string& tag) {
+  return "/tmp/horus_test_mcap_" + std::to_string(::getpid()) + "_" + tag + ".mcap";
+}
+
+std::vector<std::byte> read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::vector<char> c((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<std::byte> out(c.size());
+  if (!c.empty()) std::memcpy(out.data(), c.data(), c.size());
+  return out;
+}
+
+void write_file(const std::string& path, std::span<const std::byte> bytes) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+}
+
+std::vector<std::byte> payload(std::size_t n, std::uint32_t seed) {
+  std::vector<std::byte> v(n);
+  std::uint32_t x = seed * 2654435761u + 1;
+  for (auto& b : v) {
+    x ^= x << 13;
+    x ^= x >> 17;
+    x ^= x << 5;
+    b = std::byte{static_cast<std::uint8_t>(x)};
+  }
+  return v;
+}
+
+struct Written {
+  std::uint16_t channel;
+  std::uint32_t sequence;
+  std::uint64_t log_time, publish_time;
+  std::vector<std::byte> data;
+};
+
+// Writes 2 schemas, 3 channels and `n` messages (sizes 0..3000 bytes, one of 1 MB) in chunks
+// of about `chunk` bytes; returns what it wrote.
+std::vector<Written> write_sample(const std::string& path, mcap::Compression c, int n, std::size_t chunk,
+                                  bool close = true, std::unique_ptr<mcap::Writer>* keep = nullptr) {
+  mcap::WriterOptions o;
+  o.compression = c;
+  o.chunk_size = chunk;
+  o.profile = "horus-test";
+  auto w = mcap::Writer::create(path, o);
+  EXPECT_TRUE(w) << (w ? "" : w.error().message());
+  if (!w) return {};
+  const std::string idl = "module m { struct A { double x; }; };";
+  const auto s1 = (*w)->add_schema("m::A", "omgidl", std::as_bytes(std::span(idl.data(), idl.size())));
+  const auto s2 = (*w)->add_schema("m::B", "jsonschema", {});
+  EXPECT_TRUE(s1 && s2);
+  const auto c1 = (*w)->add_channel(*s1, "robot.pose", "cdr", {{"horus.type_hash", "0123456789abcdef"}, {"scope", "fleet"}});
+  const auto c2 = (*w)->add_channel(*s2, "robot.log", "json");
+  const auto c3 = (*w)->add_channel(0, "raw", "");
+  EXPECT_TRUE(c1 && c2 && c3);
+  std::vector<Written> out;
+  const std::uint16_t ch[3] = {*c1, *c2, *c3};
+  for (int i = 0; i < n; ++i) {
+    const std::size_t size = i == n / 2 ? (1u << 20) : static_cast<std::size_t>((i * 37) % 3001);
+    Written m{ch[i % 3], static_cast<std::uint32_t>(i), 1'700'000'000'000'000'000ULL + static_cast<std::uint64_t>(i) * 1000,
+              1'700'000'000'000'000'000ULL + static_cast<std::uint64_t>(i) * 1000 - 7, payload(size, static_cast<std::uint32_t>(i))};
+    EXPECT_TRUE((*w)->write(mcap::Message{m.channel, m.sequence, m.log_time, m.publish_time, m.data}));
+    out.push_back(std::move(m));
+  }
+  if (close) {
+    EXPECT_TRUE((*w)->close());
+  } else if (keep != nullptr) {
+    *keep = std::move(*w);
+  }
+  return out;
+}
+
+std::vector<Written> read_all(mcap::Reader& r, horus::Result<void>* status = nullptr) {
+  std::vector<Written> got;
+  auto ok = r.read_messages([&](const mcap::Channel& c, const mcap::Schema*, const mcap::Message& m) {
+    EXPECT_EQ(c.id, m.channel_id);
+    got.push_back({m.channel_id, m.sequence, m.log_time, m.publish_time, {m.data.begin(), m.data.end()}});
+    return true;
+  });
+  if (status != nullptr) *status = ok;
+  else EXPECT_TRUE(ok) << ok.error().message();
+  return got;
+}
+
+class McapCompression : public ::testing::TestWithParam<mcap::Compression> {};
+
+TEST_P(McapCompression, MessagesSchemasAndChannelsRoundTripWithASummary) {
+  const auto path = temp_path("roundtrip" + std::string(mcap::to_string(GetParam())));
+  const auto sent = write_sample(path, GetParam(), 600, 64 * 1024);
+  auto r = mcap::Reader::open(path);
+  ASSERT_TRUE(r) << r.error().message();
+  EXPECT_EQ((*r)->profile(), "horus-test");
+  EXPECT_EQ((*r)->library(), "horus");
+  EXPECT_TRUE((*r)->has_summary());
+  EXPECT_FALSE((*r)->truncated());
+  // The summary alone (before any message is read) knows the schemas and channels.
+  ASSERT_EQ((*r)->schemas().size(), 2u);
+  ASSERT_EQ((*r)->channels().size(), 3u);
+  EXPECT_EQ((*r)->schemas().at(1).name, "m::A");
+  EXPECT_EQ((*r)->schemas().at(1).encoding, "omgidl");
+  EXPECT_EQ((*r)->channels().at(1).topic, "robot.pose");
+  EXPECT_EQ((*r)->channels().at(1).metadata.at("horus.type_hash"), "0123456789abcdef");
+  EXPECT_EQ((*r)->channels().at(3).schema_id, 0);
+  const auto stats = (*r)->statistics();
+  ASSERT_TRUE(stats);
+  EXPECT_EQ(stats->message_count, sent.size());
+  EXPECT_EQ(stats->channel_count, 3u);
+  EXPECT_EQ(stats->schema_count, 2u);
+  EXPECT_GT(stats->chunk_count, 10u) << "64 KiB chunks for ~2 MB of messages";
+  EXPECT_EQ(stats->message_start_time, sent.front().log_time);
+  EXPECT_EQ(stats->message_end_time, sent.back().log_time);
+  EXPECT_EQ(stats->channel_message_counts.at(1), 200u);
+  const auto got = read_all(**r);
+  ASSERT_EQ(got.size(), sent.size());
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    EXPECT_EQ(got[i].channel, sent[i].channel) << i;
+    EXPECT_EQ(got[i].sequence, sent[i].sequence) << i;
+    EXPECT_EQ(got[i].log_time, sent[i].log_time) << i;
+    EXPECT_EQ(got[i].publish_time, sent[i].publish_time) << i;
+    EXPECT_TRUE(got[i].data == sent[i].data) << "message " << i << " of " << sent[i].data.size() << " bytes";
+  }
+  ::unlink(path.c_str());
+}
+
+INSTANTIATE_TEST_SUITE_P(All, McapCompression,
+                         ::testing::Values(mcap::Compression::None, mcap::Compression::Zstd, mcap::Compression::Lz4),
+                         [](const auto& p) { return p.param == mcap::Compression::None ? std::string("none") : std::string(mcap::to_string(p.param)); });
+
+TEST(Mcap, CompressionNamesAreCheckedWithTheValidOnesNamed) {
+  EXPECT_EQ(mcap::parse_compression("zstd").value(), mcap::Compression::Zstd);
+  EXPECT_EQ(mcap::parse_compression("none").value(), mcap::Compression::None);
+  const auto bad = mcap::parse_compression("gzip");
+  ASSERT_FALSE(bad);
+  EXPECT_NE(bad.error().message().find("expected zstd, lz4 or none"), std::string::npos);
+}
+
+TEST(Mcap, Crc32IsTheZlibOne) {
+  const std::string s = "123456789";
+  EXPECT_EQ(mcap::crc32(std::as_bytes(std::span(s.data(), s.size()))), 0xCBF43926u);
+  // Continuing a CRC gives the same as one pass.
+  const auto a = mcap::crc32(std::as_bytes(std::span(s.data(), 4)));
+  EXPECT_EQ(mcap::crc32(std::as_bytes(std::span(s.data() + 4, 5)), a), 0xCBF43926u);
+}
+
+TEST(Mcap, AFileCutShortReadsBackToItsLastCompleteChunk) {
+  const auto path = temp_path("cut");
+  std::unique_ptr<mcap::Writer> w;
+  const auto sent = write_sample(path, mcap::Compression::Zstd, 300, 16 * 1024, false, &w);
+  ASSERT_TRUE(w);
+  ASSERT_TRUE(w->flush());
+  // What a recorder killed now leaves: every chunk so far, no summary, no footer.
+  const auto whole = read_file(path);
+  const auto copy = temp_path("cut_copy");
+  write_file(copy, whole);
+  auto strict = mcap::Reader::open(copy);
+  ASSERT_FALSE(strict);
+  EXPECT_EQ(strict.error().code(), Errc::Corrupt);
+  EXPECT_NE(strict.error().message().find("does not end with the MCAP magic"), std::string::npos) << strict.error().message();
+  auto r = mcap::Reader::open(copy, {.recover = true});
+  ASSERT_TRUE(r) << r.error().message();
+  EXPECT_FALSE((*r)->has_summary());
+  auto got = read_all(**r);
+  EXPECT_TRUE((*r)->truncated());
+  ASSERT_EQ(got.size(), sent.size()) << "everything was flushed";
+  // Cut in the middle of the last chunk: the messages of the complete chunks come back.
+  std::size_t last_chunk = 0;
+  for (std::size_t at = 8; at + 9 <= whole.size();) {
+    std::uint64_t n = 0;
+    for (int i = 0; i < 8; ++i) n |= static_cast<std::uint64_t>(whole[at + 1 + static_cast<std::size_t>(i)]) << (8 * i);
+    if (static_cast<std::uint8_t>(whole[at]) == 0x06) last_chunk = at;
+    at += 9 + n;
+  }
+  ASSERT_GT(last_chunk, 0u);
+  std::vector<std::byte> cut(whole.begin(), whole.begin() + static_cast<std::ptrdiff_t>(last_chunk + 50));
+  write_file(copy, cut);
+  auto r2 = mcap::Reader::open(copy, {.recover = true});
+  ASSERT_TRUE(r2) << r2.error().message();
+  got = read_all(**r2);
+  EXPECT_TRUE((*r2)->truncated());
+  EXPECT_GT(got.size(), sent.size() / 2);
+  EXPECT_LT(got.size(), sent.size());
+  for (std::size_t i = 0; i < got.size(); ++i) EXPECT_TRUE(got[i].data == sent[i].data) << i;
+  const auto stats = (*r2)->statistics();
+  ASSERT_TRUE(stats);
+  EXPECT_EQ(stats->message_count, got.size());
+  ASSERT_TRUE(w->close());
+  ::unlink(path.c_str());
+  ::unlink(copy.c_str());
+}
+
+// Damage one thing at a time in a good file; each is Errc::Corrupt naming the problem.
+class McapDamage : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    path_ = temp_path("damage");
+    sent_ = write_sample(path_, mcap::Compression::Lz4, 120, 8 * 1024);
+    good_ = read_file(path_);
+    ASSERT_GT(good_.size(), 1000u);
+  }
+  void TearDown() override { ::unlink(path_.c_str()); }
+  // The error of opening and reading `bytes` (nullopt when both succeed).
+  std::optional<horus::Error> error_of(const std::vector<std::byte>& bytes) {
+    write_file(path_, bytes);
+    auto r = mcap::Reader::open(path_);
+    if (!r) return r.error();
+    horus::Result<void> status;
+    (void)read_all(**r, &status);
+    if (!status) return status.error();
+    return std::nullopt;
+  }
+  // The offset of the first record with `op` after the magic (top level).
+  std::size_t first_record(std::uint8_t op) const {
+    std::size_t at = 8;
+    while (at + 9 <= good_.size()) {
+      std::uint64_t n = 0;
+      for (int i = 0; i < 8; ++i) n |= static_cast<std::uint64_t>(good_[at + 1 + static_cast<std::size_t>(i)]) << (8 * i);
+      if (static_cast<std::uint8_t>(good_[at]) == op) return at;
+      at += 9 + n;
+    }
+    return 0;
+  }
+  std::string path_;
+  std::vector<Written> sent_;
+  std::vector<std::byte> good_;
+};
+
+TEST_F(McapDamage, WrongMagicIsNotAnMcapFile) {
+  auto b = good_;
+  b[1] = std::byte{'X'};
+  const auto e = error_of(b);
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->code(), Errc::Corrupt);
+  EXPECT_NE(e->message().find("offset 0: not an MCAP file"), std::string::npos) << e->message();
+}
+
+TEST_F(McapDamage, AChunkWhoseBytesChangedFailsItsCheck) {
+  const std::size_t chunk = first_record(0x06);
+  ASSERT_NE(chunk, 0u);
+  auto b = good_;
+  b[chunk + 9 + 60] ^= std::byte{0x5a};  // inside the compressed records
+  const auto e = error_of(b);
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->code(), Errc::Corrupt);
+  EXPECT_NE(e->message().find("Chunk at offset " + std::to_string(chunk)), std::string::npos) << e->message();
+}
+
+TEST_F(McapDamage, ARecordLengthPastTheEndIsNamed) {
+  const std::size_t chunk = first_record(0x06);
+  auto b = good_;
+  b[chunk + 8] = std::byte{0x7f};  // the length's top byte: far past the file
+  const auto e = error_of(b);
+  ASSERT_TRUE(e);
+  EXPECT_NE(e->message().find("Chunk record at offset " + std::to_string(chunk) + " says"), std::string::npos)
+      << e->message();
+}
+
+TEST_F(McapDamage, AnUnknownCompressionIsNamed) {
+  const std::size_t chunk = first_record(0x06);
+  auto b = good_;
+  // The compression string follows 8+8+8+4 bytes of the chunk: "lz4" becomes "lzX".
+  const std::size_t name = chunk + 9 + 28 + 4;
+  ASSERT_EQ(static_cast<char>(b[name]), 'l');
+  b[name + 2] = std::byte{'X'};
+  const auto e = error_of(b);
+  ASSERT_TRUE(e);
+  EXPECT_NE(e->message().find("unknown compression 'lzX'"), std::string::npos) << e->message();
+}
+
+TEST_F(McapDamage, AChangedChannelRecordFailsTheDataSectionCrc) {
+  const std::size_t channel = first_record(0x04);
+  ASSERT_NE(channel, 0u);
+  auto b = good_;
+  std::uint64_t n = 0;
+  for (int i = 0; i < 8; ++i) n |= static_cast<std::uint64_t>(b[channel + 1 + static_cast<std::size_t>(i)]) << (8 * i);
+  ASSERT_EQ(static_cast<char>(b[channel + 9 + n - 1]), 't') << "the last metadata value, scope's \"fleet\"";
+  b[channel + 9 + n - 1] = std::byte{'X'};  // metadata, which only the CRC covers
+  const auto e = error_of(b);
+  ASSERT_TRUE(e);
+  EXPECT_NE(e->message().find("the data section's CRC"), std::string::npos) << e->message();
+}
+
+TEST_F(McapDamage, AChangedSummaryFailsItsCrc) {
+  auto b = good_;
+  std::uint64_t summary = 0;
+  for (int i = 0; i < 8; ++i) summary |= static_cast<std::uint64_t>(b[b.size() - 8 - 20 + static_cast<std::size_t>(i)]) << (8 * i);
+  ASSERT_GT(summary, 0u);
+  b[summary + 20] ^= std::byte{1};
+  const auto e = error_of(b);
+  ASSERT_TRUE(e);
+  EXPECT_NE(e->message().find("the summary's CRC"), std::string::npos) << e->message();
+}
+
+TEST_F(McapDamage, TooShortAndEmptyFilesAreClearErrors) {
+  for (std::size_t n : {0, 5, 8, 16}) {
+    const auto e = error_of(std::vector<std::byte>(good_.begin(), good_.begin() + static_cast<std::ptrdiff_t>(n)));
+    ASSERT_TRUE(e) << n;
+    EXPECT_EQ(e->code(), Errc::Corrupt) << n;
+  }
+}
+
+TEST_F(McapDamage, RandomDamageNeverCrashesTheReader) {
+  std::mt19937 rng(7);
+  int errors = 0;
+  for (int round = 0; round < 300; ++round) {
+    auto b = good_;
+    const int flips = 1 + static_cast<int>(rng() % 4);
+    for (int k = 0; k < flips; ++k) b[rng() % b.size()] ^= std::byte{static_cast<std::uint8_t>(1 + rng() % 255)};
+    if (round % 3 == 0) b.resize(rng() % b.size());
+    for (const bool recover : {false, true}) {
+      write_file(path_, b);
+      auto r = mcap::Reader::open(path_, {.recover = recover});
+      if (!r) {
+        EXPECT_EQ(r.error().code(), Errc::Corrupt) << r.error().message();
+        ++errors;
+        continue;
+      }
+      horus::Result<void> status;
+      (void)read_all(**r, &status);
+      if (!status) {
+        EXPECT_EQ(status.error().code(), Errc::Corrupt) << status.error().message();
+        ++errors;
+      }
+      (void)(*r)->statistics();
+    }
+  }
+  EXPECT_GT(errors, 100) << "damage should mostly be caught";
+}
+
+TEST(Mcap, WriterRefusesUnknownChannelsAndSchemas) {
+  const auto path = temp_path("refuse");
+  auto w = mcap::Writer::create(path);
+  ASSERT_TRUE(w);
+  EXPECT_EQ((*w)->add_channel(3, "x", "cdr").error().code(), Errc::InvalidArgument);
+  const std::byte one{1};
+  EXPECT_EQ((*w)->write(mcap::Message{9, 0, 0, 0, std::span(&one, 1)}).error().code(), Errc::InvalidArgument);
+  ASSERT_TRUE((*w)->close());
+  auto bad = mcap::Writer::create("/nonexistent-dir/x.mcap");
+  ASSERT_FALSE(bad);
+  EXPECT_EQ(bad.error().code(), Errc::Io);
+  EXPECT_NE(bad.error().message().find("/nonexistent-dir/x.mcap"), std::string::npos);
+  ::unlink(path.c_str());
+}
+
+}  // namespace
