@@ -65,8 +65,8 @@ std::string join(const std::vector<std::string>& parts, std::string_view sep) {
 class FileEmitter {
  public:
   FileEmitter(const Model& model, const std::string& file, const IdlOptions& options,
-              std::vector<Definition>* definitions = nullptr)
-      : model_(model), file_(file), options_(options), definitions_(definitions) {}
+              std::vector<Definition>* definitions = nullptr, bool bare = false)
+      : model_(model), file_(file), options_(options), definitions_(definitions), bare_(bare) {}
 
   std::string run() {
     std::string body;
@@ -75,6 +75,7 @@ class FileEmitter {
     for (const auto& s : model_.structs())
       if (s.file == file_) body += in_module(s.name, record(s.name, struct_text(s)));
     body += close_modules();
+    if (bare_) return body;  // one self-contained text: no comment, guard or #include
 
     const std::string guard = upper(options_.guard_prefix) + "_" + upper(file_) + "_IDL_";
     std::string out;
@@ -237,6 +238,7 @@ class FileEmitter {
   std::vector<std::string> includes_;
   bool first_ = true;
   std::vector<Definition>* definitions_;
+  bool bare_;
 };
 
 bool wanted(const IdlOptions& options, const std::string& file) {
@@ -275,6 +277,14 @@ std::vector<OutputFile> emit_idl(const Model& model, const IdlOptions& options) 
 }  // namespace horus::idlgen
 
 namespace horus::idlgen {
+
+std::string omgidl_schema(const wire::DynType& root) {
+  Model model;
+  model.add(root, "schema");
+  model.structs();
+  const IdlOptions options;
+  return FileEmitter(model, "schema", options, nullptr, true).run();
+}
 
 std::vector<Definition> idl_definitions(const Model& model, const IdlOptions& options) {
   std::vector<Definition> out;

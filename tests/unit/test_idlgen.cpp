@@ -101,6 +101,60 @@ TEST(IdlGen, PutsEachStandardDomainInItsFileWithIncludes) {
   EXPECT_GE(model.structs().size(), horus::msg::AllMessages::size);
 }
 
+// The definitions of a type built from its signature alone (a recording's, another host's) are
+// those of its C++ type, for every standard message and every IDL construct.
+template <class T>
+void expect_signature_gives_the_same_idl() {
+  Model typed;
+  typed.add<T>("schema");
+  const auto type = horus::wire::parse_signature(horus::reflect::type_signature<T>());
+  ASSERT_TRUE(type) << type.error();
+  Model dynamic;
+  dynamic.add(*type, "schema");
+  const auto a = horus::idlgen::idl_definitions(typed);
+  const auto b = horus::idlgen::idl_definitions(dynamic);
+  ASSERT_EQ(a.size(), b.size()) << horus::type_name<T>();
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    EXPECT_EQ(a[i].type, b[i].type);
+    EXPECT_EQ(a[i].text, b[i].text) << a[i].type;
+  }
+  // The MCAP schema: every definition, nothing for a preprocessor, the root last.
+  const auto schema = horus::idlgen::omgidl_schema(*type);
+  EXPECT_EQ(schema.find('#'), std::string::npos) << schema;
+  EXPECT_EQ(schema.find("//"), std::string::npos) << schema;
+  const std::string root = "struct " + std::string(horus::idlgen::short_name(horus::type_name<T>())) + " {";
+  EXPECT_NE(schema.find(root), std::string::npos) << schema;
+  for (const auto& d : a)
+    EXPECT_NE(schema.find(std::string(horus::idlgen::short_name(d.type)) + " {"), std::string::npos)
+        << d.type << " missing from the schema of " << horus::type_name<T>() << ":\n" << schema;
+}
+
+TEST(IdlGen, ATypeFromItsSignatureHasTheIdlOfItsCppType) {
+  std::size_t n = 0;
+  horus::msg::for_each_message([&]<class T>(std::string_view) {
+    expect_signature_gives_the_same_idl<T>();
+    ++n;
+  });
+  EXPECT_EQ(n, horus::msg::AllMessages::size);
+  expect_signature_gives_the_same_idl<wiretest::All>();
+  expect_signature_gives_the_same_idl<wiretest::Keywords>();
+  expect_signature_gives_the_same_idl<wiretest::Widths>();
+}
+
+TEST(IdlGen, AnOmgIdlSchemaNestsModulesAndTypesInOrder) {
+  const auto type = horus::wire::parse_signature(horus::reflect::type_signature<horus::msg::Odometry>());
+  ASSERT_TRUE(type) << type.error();
+  const auto schema = horus::idlgen::omgidl_schema(*type);
+  EXPECT_EQ(schema.rfind("module horus {\n  module msg {\n", 0), 0u) << schema;
+  // Pose2D and Twist come before the struct that uses them.
+  EXPECT_LT(schema.find("struct Pose2D {"), schema.find("struct Odometry {")) << schema;
+  EXPECT_LT(schema.find("struct Twist {"), schema.find("struct Odometry {")) << schema;
+  // Not a struct: refused with a message.
+  horus::wire::DynType not_struct;
+  not_struct.kind = horus::wire::DynType::Kind::String;
+  EXPECT_THROW(horus::idlgen::omgidl_schema(not_struct), std::invalid_argument);
+}
+
 TEST(IdlGen, RefusesAFileNameThatIsNotAnIdentifier) {
   EXPECT_THROW(
       {

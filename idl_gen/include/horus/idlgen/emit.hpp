@@ -46,6 +46,12 @@ struct Definition {
 };
 std::vector<Definition> idl_definitions(const Model& model, const IdlOptions& options = {});
 
+/// The IDL of `root` (a parsed type signature) and of every type it refers to, in one text, each
+/// type after those it uses, with no comment, include guard or #include: the data of an MCAP
+/// schema of encoding "omgidl" named root.name (Foxglove's IDL parser reads no preprocessor
+/// line). Definitions are those emit_idl() writes. Throws std::invalid_argument as emit_idl does.
+std::string omgidl_schema(const wire::DynType& root);
+
 /// One .lcm per file of the model (IdlOptions::only_files applies; guard_prefix does not).
 /// A struct LCM cannot express (a vector of vectors, a member clashing with a num_<field>
 /// length member, a name too long), or one that uses such a struct, is left out: the file

@@ -23,8 +23,9 @@
 #include <utility>
 #include <vector>
 
-#include "horus/wire/mapping.hpp"
 #include "horus/reflect.hpp"
+#include "horus/wire/dynamic.hpp"
+#include "horus/wire/mapping.hpp"
 
 namespace horus::idlgen {
 
@@ -75,6 +76,11 @@ class Model {
       if (!structs_index_.contains(std::string(type_name<T>()))) build_struct<T>(f);
     });
   }
+
+  /// Adds the struct a parsed type signature describes (horus/wire/dynamic.hpp) as a root of
+  /// `file`, with every type it refers to: the same definitions add<T>() gives for the C++ type,
+  /// for a type this program was not compiled with (a recording's, another host's).
+  void add(const wire::DynType& type, std::string_view file);
 
   const std::vector<StructDef>& structs() const {
     build();
@@ -171,6 +177,9 @@ class Model {
       default: return is_signed ? Prim::Int64 : Prim::Uint64;
     }
   }
+
+  TypeRef dynamic_ref(const wire::DynType& t, const std::string& file);
+  void dynamic_struct(const wire::DynType& t, const std::string& file);
 
   void note_file(const std::string& file) const;
   // Builds the roots added since the last call (every root is known first, so a nested type
