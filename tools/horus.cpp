@@ -49,6 +49,7 @@
 #include "horus/json.hpp"
 #include "horus/msg/all.hpp"
 #include "horus/shm/shm_segment.hpp"
+#include "record_cmd.hpp"
 #include "remote_reader.hpp"
 #include "typed_reader.hpp"
 
@@ -843,12 +844,44 @@ int main(int argc, char** argv) {
   explain->add_option("name", name, "topic name")->required();
   explain->add_option("--file", config_file, "the YAML file (default: HORUS_CONFIG's)");
 
+  horus::tools::RecordArgs rec;
+  auto* record = app.add_subcommand("record", "record topics into an MCAP file (or an LCM log)");
+  record->require_subcommand(0, 1);
+  record->add_option("-o,--output", rec.output, "the file to write (FILE.mcap; with --split-size, FILE_1.mcap, ...)");
+  record->add_option("--topics", rec.topics, "topic patterns to record ('*' one segment, '**' any): 'robot.**'");
+  record->add_flag("--all", rec.all, "record every topic (not the fleet layer's own horus.fleet.*)");
+  record->add_option("--duration", rec.duration_s, "stop after S seconds");
+  record->add_option("--split-size", rec.split_mb, "start a new file every N MB");
+  record->add_option("--compression", rec.compression, "MCAP chunk compression: zstd (default), lz4 or none");
+  record->add_option("--format", rec.format, "mcap (default) or lcm (an LCM event log, as lcm-logger writes)");
+  record->add_option("--backend", rec.backend, "network backend of the fleet (default: the configuration's)");
+  std::string record_file, recover_out;
+  auto* record_info = record->add_subcommand("info", "topics, types, counts, duration and size of a recording");
+  record_info->add_option("file", record_file, "an MCAP file or an LCM log")->required();
+  record_info->add_flag("--json", json, "print JSON");
+  auto* recover = record->add_subcommand("recover", "copy what a killed recorder left into a whole file");
+  recover->add_option("file", record_file, "the MCAP file or LCM log")->required();
+  recover->add_option("-o,--output", recover_out, "the new file (default: FILE.recovered.mcap)");
+
+  horus::tools::PlayArgs play_args;
+  auto* play = app.add_subcommand("play", "publish a recording into horus topics with its timing");
+  play->add_option("file", play_args.file, "an MCAP file or an LCM log (lcm-logger's too)")->required();
+  play->add_option("--rate", play_args.rate, "speed factor (2: twice as fast; 0: as fast as possible)")
+      ->check(CLI::Range(0.0, 1e6));
+  play->add_option("--start", play_args.start_s, "skip the first S seconds")->check(CLI::Range(0.0, 1e9));
+  play->add_flag("--loop", play_args.loop, "start over at the end, until Ctrl-C");
+  play->add_option("--topics", play_args.topics, "topic patterns to play (default: all)");
+  play->add_option("--remap", play_args.remap, "publish recorded topic OLD into topic NEW (OLD=NEW)");
+
   CLI11_PARSE(app, argc, argv);
+  if (*record_info) return horus::tools::cmd_record_info(record_file, json);
+  if (*recover) return horus::tools::cmd_record_recover(record_file, recover_out);
   if (*check) return cmd_config_check(config_file);
   if (*explain) return cmd_config_explain(name, config_file);
   ::signal(SIGINT, on_signal);
   ::signal(SIGTERM, on_signal);
   if (*fleet) return cmd_fleet(lookup.transport, json, once, fleet_wait_ms, duration_s);
+  if (*play) return horus::tools::cmd_play(play_args, g_stop);
 
   auto ns = horus::shm::shm_namespace();
   if (!ns) {
@@ -860,6 +893,14 @@ int main(int argc, char** argv) {
     for (const auto& t : removed) fmt::print("removed stale topic {} (/dev/shm/horus.{}.{})\n", t, *ns, t);
     fmt::print("{} stale segment{} removed from namespace '{}'\n", removed.size(), removed.size() == 1 ? "" : "s", *ns);
     return 0;
+  }
+  if (*record) {
+    if (rec.output.empty()) {
+      fmt::print(stderr, "horus record: name the file to write with -o FILE.mcap\n");
+      return 2;
+    }
+    rec.ns = *ns;
+    return horus::tools::cmd_record(rec, g_stop);
   }
   if (*list) return cmd_list(*ns, json, verbose, lookup, local_only, all);
   if (*info) return cmd_info(*ns, name, lookup);

@@ -14,6 +14,8 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "horus/backend.hpp"
+#include "horus/record/player.hpp"
+#include "horus/record/recorder.hpp"
 
 namespace horus::tools {
 
@@ -52,15 +54,34 @@ std::unique_ptr<TypedReader> open_reader(std::string_view type_name, const std::
 std::unique_ptr<TypedWriter> open_writer(std::string_view type_name, const std::string& name,
                                          const std::optional<Backend>& backend, std::string& error);
 
+/// The standard message whose LCM type has fingerprint `fingerprint` (lcm-gen's): its qualified
+/// name, or empty.
+std::string standard_type_by_lcm_fingerprint(std::uint64_t fingerprint);
+
+/// A recorder's source for topic `name` (opened with `backend`) of the standard message
+/// `type_name`; nothing with `error` empty when it is not a standard type.
+std::unique_ptr<RecordSource> open_record_source(std::string_view type_name, const std::string& name,
+                                                 const std::optional<Backend>& backend, std::string& error);
+/// A player's sink publishing into topic `name` (the environment and configuration choose its
+/// scope), decoding the recorded bytes (LCM's encoding, or XCDR1 with its header); `type_hash`
+/// receives the standard type's hash to compare with the recorded one.
+std::unique_ptr<PlaySink> open_play_sink(std::string_view type_name, const std::string& name, bool lcm_encoding,
+                                         std::uint64_t& type_hash, std::string& error);
+
 namespace detail {
-/// What one half of the standard types offers for a type name (known: the name is in it).
+/// What one half of the standard types offers for a type name, or for an LCM fingerprint when
+/// `lcm_fingerprint` is not 0 (known: it is in that half).
 struct Opened {
   bool known = false;
   std::string qualified;
+  std::uint64_t hash = 0;
+  std::uint64_t lcm_fingerprint = 0;
   std::unique_ptr<TypedReader> reader;
   std::unique_ptr<TypedWriter> writer;
+  std::unique_ptr<RecordSource> source;
+  std::unique_ptr<PlaySink> sink;
 };
-enum class Want { Name, Reader, Writer };
+enum class Want { Name, Reader, Writer, Record, PlayCdr, PlayLcm };
 void open_first_half(std::string_view type_name, const std::string& name, const std::optional<Backend>& backend,
                      Want want, Opened& out, std::string& error);
 void open_second_half(std::string_view type_name, const std::string& name, const std::optional<Backend>& backend,

@@ -4,8 +4,9 @@ namespace horus::tools {
 
 namespace {
 detail::Opened open_any(std::string_view type_name, const std::string& name, const std::optional<Backend>& backend,
-                        detail::Want want, std::string& error) {
+                        detail::Want want, std::string& error, std::uint64_t lcm_fingerprint = 0) {
   detail::Opened out;
+  out.lcm_fingerprint = lcm_fingerprint;
   error.clear();
   detail::open_first_half(type_name, name, backend, want, out, error);
   if (!out.known) detail::open_second_half(type_name, name, backend, want, out, error);
@@ -26,6 +27,24 @@ std::unique_ptr<TypedReader> open_reader(std::string_view type_name, const std::
 std::unique_ptr<TypedWriter> open_writer(std::string_view type_name, const std::string& name,
                                          const std::optional<Backend>& backend, std::string& error) {
   return open_any(type_name, name, backend, detail::Want::Writer, error).writer;
+}
+
+std::string standard_type_by_lcm_fingerprint(std::uint64_t fingerprint) {
+  if (fingerprint == 0) return {};
+  std::string error;
+  return open_any({}, {}, std::nullopt, detail::Want::Name, error, fingerprint).qualified;
+}
+
+std::unique_ptr<RecordSource> open_record_source(std::string_view type_name, const std::string& name,
+                                                 const std::optional<Backend>& backend, std::string& error) {
+  return open_any(type_name, name, backend, detail::Want::Record, error).source;
+}
+
+std::unique_ptr<PlaySink> open_play_sink(std::string_view type_name, const std::string& name, bool lcm_encoding,
+                                         std::uint64_t& type_hash, std::string& error) {
+  auto out = open_any(type_name, name, std::nullopt, lcm_encoding ? detail::Want::PlayLcm : detail::Want::PlayCdr, error);
+  type_hash = out.hash;
+  return std::move(out.sink);
 }
 
 namespace detail {

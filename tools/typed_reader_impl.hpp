@@ -59,16 +59,23 @@ template <class... T>
 void open_as(msg::TypeList<T...>, std::string_view type_name, const std::string& name,
              const std::optional<Backend>& backend, Want want, Opened& out, std::string& error) {
   auto try_one = [&]<class M>() {
-    if (out.known || !names_type(horus::type_name<M>(), type_name)) return;
+    std::uint64_t fingerprint = 0;
+    if constexpr (lcm::expressible<M>) fingerprint = lcm::fingerprint<M>();
+    if (out.known) return;
+    if (out.lcm_fingerprint != 0 ? fingerprint != out.lcm_fingerprint : !names_type(horus::type_name<M>(), type_name))
+      return;
     out.known = true;
     out.qualified = std::string(horus::type_name<M>());
+    out.hash = horus::type_hash<M>;
     if (want == Want::Name) return;
     TopicOptions options;
     options.backend = backend;
     auto topic = Topic<M>::open(name, options);
     if (!topic) error = topic.error().message();
     else if (want == Want::Reader) out.reader = std::make_unique<ReaderOf<M>>(std::move(*topic));
-    else out.writer = std::make_unique<WriterOf<M>>(std::move(*topic));
+    else if (want == Want::Writer) out.writer = std::make_unique<WriterOf<M>>(std::move(*topic));
+    else if (want == Want::Record) out.source = std::make_unique<TopicSource<M>>(std::move(*topic));
+    else out.sink = std::make_unique<TopicSink<M>>(std::move(*topic), want == Want::PlayLcm);
   };
   (try_one.template operator()<T>(), ...);
 }
