@@ -402,6 +402,10 @@ int cmd_play(const PlayArgs& a, const std::atomic<bool>& stop) {
     if (!a.topics.empty() &&
         std::none_of(a.topics.begin(), a.topics.end(), [&](const auto& p) { return topic_pattern_matches(p, c.topic); }))
       continue;
+    if (auto ok = Player::playable(c); !ok) {
+      fmt::print(stderr, "horus play: skipping '{}': {}\n", c.topic, ok.error().message());
+      continue;
+    }
     const bool lcm = c.encoding == "lcm";
     const std::string type = lcm ? standard_type_by_lcm_fingerprint(c.lcm_fingerprint) : standard_type(c.type);
     if (type.empty()) {

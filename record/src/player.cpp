@@ -104,6 +104,7 @@ struct Player::Impl {
     auto& c = channel_of(ch.topic);
     by_channel_id.emplace(id, static_cast<std::size_t>(&c - channels.data()));
     c.encoding = ch.message_encoding;
+    c.channel_id = id;
     auto meta = [&](const char* key) {
       auto it = ch.metadata.find(key);
       return it == ch.metadata.end() ? std::string() : it->second;
@@ -112,8 +113,11 @@ struct Player::Impl {
     c.type_hash = parse_hex(meta("horus.type_hash"));
     c.signature = meta("horus.signature");
     c.scope = meta("horus.scope");
-    if (c.type.empty() && ch.schema_id != 0)
-      if (auto it = mcap->schemas().find(ch.schema_id); it != mcap->schemas().end()) c.type = it->second.name;
+    if (ch.schema_id != 0)
+      if (auto it = mcap->schemas().find(ch.schema_id); it != mcap->schemas().end()) {
+        if (c.type.empty()) c.type = it->second.name;
+        c.schema_encoding = it->second.encoding;
+      }
   }
 };
 
@@ -168,12 +172,22 @@ Result<void> Player::mismatch(const PlayChannel& c, std::string_view type) {
 Result<void> Player::bind(std::string_view topic, std::unique_ptr<PlaySink> sink) {
   auto it = impl_->by_topic.find(topic);
   if (it == impl_->by_topic.end()) return unknown(topic);
-  const auto& c = impl_->channels[it->second];
-  if (c.encoding != "cdr" && c.encoding != "lcm")
-    return fail(Errc::InvalidArgument, fmt::format("topic '{}' has message encoding '{}'; horus plays cdr and lcm",
-                                                   topic, c.encoding));
+  if (auto ok = playable(impl_->channels[it->second]); !ok) return ok;
   if (!sink) return fail(Errc::InvalidArgument, "Player::bind: no sink");
   impl_->sinks[it->second] = std::move(sink);
+  return {};
+}
+
+Result<void> Player::playable(const PlayChannel& c) {
+  if (c.encoding == "lcm") return {};
+  if (c.encoding != "cdr")
+    return fail(Errc::TypeMismatch, fmt::format("topic '{}' (channel {}) has message encoding '{}'; horus plays cdr "
+                                                "messages (with an omgidl schema) and LCM logs",
+                                                c.topic, c.channel_id, c.encoding));
+  if (!c.schema_encoding.empty() && c.schema_encoding != "omgidl")
+    return fail(Errc::TypeMismatch, fmt::format("topic '{}' (channel {}) has schema {} of encoding '{}'; horus plays cdr "
+                                                "messages whose schema is omgidl",
+                                                c.topic, c.channel_id, c.type, c.schema_encoding));
   return {};
 }
 

@@ -45,6 +45,9 @@ struct MessageType {
   /// with to_json; then checks that every truncation fails in both decoders alike. The
   /// failures, or empty.
   std::string (*dynamic_check)();
+  /// The sample Trip sends, as horus::to_json renders it (text), and the type's signature.
+  std::string (*sample_json)();
+  std::string (*signature)();
 };
 
 /// The 81 standard messages, in catalogue order.

@@ -119,7 +119,8 @@ template <class T>
 MessageType entry() {
   static const std::string name = short_name(horus::type_name<T>());
   return {name, [] { return std::unique_ptr<Trip>(new TripOf<T>()); },
-          [] { return std::unique_ptr<Echo>(new EchoOf<T>()); }, &dynamic_check<T>};
+          [] { return std::unique_ptr<Echo>(new EchoOf<T>()); }, &dynamic_check<T>,
+          [] { return horus::to_json(topic_sample<T>()).dump(); }, [] { return horus::reflect::type_signature<T>(); }};
 }
 
 template <class... T>

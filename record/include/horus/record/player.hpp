@@ -36,7 +36,9 @@ struct PlayChannel {
   std::string type;              // qualified horus type; empty when unknown (an lcm-logger log)
   std::uint64_t type_hash = 0;   // MCAP: from the channel's metadata (0: none)
   std::string signature;         // MCAP: the layout text (empty: none)
-  std::string encoding;          // "cdr" or "lcm"
+  std::string encoding;          // the messages': "cdr" or "lcm" (others are not played)
+  std::string schema_encoding;   // MCAP: "omgidl" for horus's (empty: no schema)
+  std::uint16_t channel_id = 0;  // MCAP
   std::uint64_t lcm_fingerprint = 0;  // LCM: the first message's fingerprint
   std::string scope;             // MCAP: as recorded
   std::uint64_t messages = 0;
@@ -125,6 +127,7 @@ class Player {
   Result<void> bind(std::string_view topic, std::string_view to = {}, const TopicOptions& options = {}) {
     const auto* c = channel(topic);
     if (c == nullptr) return unknown(topic);
+    if (auto ok = playable(*c); !ok) return ok;
     if (c->encoding == "lcm") {
       if constexpr (lcm::expressible<T>) {
         if (c->lcm_fingerprint != lcm::fingerprint<T>()) return mismatch(*c, type_name<T>());
@@ -139,6 +142,9 @@ class Player {
     return bind(topic, std::make_unique<TopicSink<T>>(std::move(*t), c->encoding == "lcm"));
   }
   Result<void> bind(std::string_view topic, std::unique_ptr<PlaySink> sink);
+  /// Whether horus can play channel `c`: cdr messages with an omgidl schema (or none), or LCM;
+  /// else an error naming the channel, its encodings and what horus plays.
+  static Result<void> playable(const PlayChannel& c);
 
   /// Publishes the bound channels' messages in log-time order, spaced as recorded (divided by
   /// rate), until the end (or, with loop, until `stop`). `stop` (may be null) ends it early.
