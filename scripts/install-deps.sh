@@ -18,6 +18,7 @@ packages=(
   libyaml-cpp-dev   # HORUS_CONFIG: the per-topic configuration file (api/src/config.cpp)
   iproute2   # ip netns: the multi-host tests make hosts out of network namespaces
   libzstd-dev liblz4-dev   # MCAP recordings: zstd and lz4 chunk compression (record/)
+  nodejs   # the independent MCAP readers of the recording tests (tests/interop/mcap_js)
 )
 
 missing=()
@@ -27,16 +28,31 @@ for p in "${packages[@]}"; do
   fi
 done
 
-if [ ${#missing[@]} -eq 0 ]; then
-  echo "install-deps: all ${#packages[@]} packages are installed"
-  exit 0
-fi
+# npm: Debian's, unless the installed Node.js ships its own (NodeSource's nodejs does, and
+# conflicts with Debian's npm package).
+if ! command -v npm >/dev/null; then missing+=(npm); fi
 
 sudo=""
-if [ "$(id -u)" -ne 0 ]; then
-  command -v sudo >/dev/null || { echo "install-deps: not root and no sudo; install: ${missing[*]}" >&2; exit 1; }
-  sudo="sudo"
+if [ "$(id -u)" -ne 0 ]; then sudo="sudo"; fi
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages are installed"
+else
+  if [ -n "$sudo" ] && ! command -v sudo >/dev/null; then
+    echo "install-deps: not root and no sudo; install: ${missing[*]}" >&2
+    exit 1
+  fi
+  echo "install-deps: installing ${missing[*]}"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
-echo "install-deps: installing ${missing[*]}"
-$sudo apt-get update -qq
-DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
+
+# The npm packages of the recording tests' MCAP readers, at the versions the lock file pins;
+# reinstalled only when the lock file changed.
+js="$(cd "$(dirname "$0")/.." && pwd)/tests/interop/mcap_js"
+stamp="$js/node_modules/.horus-lock-sha256"
+want="$(sha256sum "$js/package-lock.json" | cut -d' ' -f1)"
+if [ "$(cat "$stamp" 2>/dev/null)" != "$want" ]; then
+  echo "install-deps: npm ci in tests/interop/mcap_js"
+  (cd "$js" && npm ci --no-audit --no-fund --loglevel=error)
+  echo "$want" > "$stamp"
+fi

@@ -23,6 +23,8 @@
 #include <vector>
 
 #include "dds_support.hpp"
+#include "horus/msg/all.hpp"
+#include "process_support.hpp"
 #include "horus/wire/lcm.hpp"
 #include "test_support.hpp"
 #include "wire_test_types.hpp"
@@ -197,7 +199,82 @@ TEST_F(LcmInterop, LcmLoggerRecordsHorusTrafficAndLogplayerReplaysItIntoHorus) {
   EXPECT_EQ(player_rc, 0) << "lcm-logplayer did not exit cleanly at the end of the log";
   ASSERT_EQ(replayed.size(), static_cast<std::size_t>(kN)) << "lcm-logplayer's replay did not all arrive";
   for (int i = 0; i < kN; ++i) EXPECT_EQ(replayed[static_cast<std::size_t>(i)], i);
+
+  // horus play reads lcm-logger's log too: the channel's messages into a horus topic (the type
+  // found from the LCM fingerprint), in order, with nothing else.
+  auto into = horus::Topic<horus::msg::Pose2D>::open(prefix + ".replayed");
+  ASSERT_TRUE(into) << into.error().message();
+  std::string out;
+  ASSERT_EQ(horus_test::run_command(std::string(HORUS_CLI) + " play " + log + " --rate 0 --topics '" + channel +
+                                        "' --remap '" + channel + "=" + prefix + ".replayed'",
+                                    out),
+            0)
+      << out;
+  std::vector<double> played;
+  while (auto m = into->recv()) played.push_back(m->x);
+  ASSERT_EQ(played.size(), static_cast<std::size_t>(kN)) << out;
+  for (int i = 0; i < kN; ++i) EXPECT_EQ(played[static_cast<std::size_t>(i)], i);
   std::remove(log.c_str());
+}
+
+// horus record --format lcm writes the log lcm-logger writes: liblcm's own reader reads it, and
+// lcm-logplayer replays it into horus.
+TEST_F(LcmInterop, HorusRecordsAnLcmLogThatLiblcmReadsAndLcmLogplayerReplays) {
+  const std::string player = tool("lcm-logplayer");
+  if (player.empty()) GTEST_SKIP() << "lcm-logplayer is not installed (Debian: liblcm-bin)";
+  const std::string prefix = horus_test::unique_name("hlog");
+  const std::string channel = prefix + ".pose";
+  const std::string log = "/tmp/horus-" + prefix + ".lcmlog", out_file = log + ".out";
+  auto pub = horus::Topic<horus::msg::Pose2D>::open(channel, horus_test::on(Backend::Lcm));
+  ASSERT_TRUE(pub) << pub.error().message();
+  pub->publish_only();  // sub_count() then counts the recorder alone
+  // The recorder subscribes to the fleet topic on this host (shared memory).
+  const pid_t rec = horus_test::spawn([&] {
+    const std::string cmd = std::string(HORUS_CLI) + " record --format lcm -o " + log + " --topics '" + prefix +
+                            ".**' --duration 4 > " + out_file + " 2>&1";
+    return std::system(cmd.c_str()) == 0 ? 0 : 1;
+  });
+  horus_test::Deadline up(15s);
+  while (!up.expired() && pub->sub_count() < 1) std::this_thread::sleep_for(10ms);
+  constexpr int kN = 30;
+  for (int i = 0; i < kN; ++i) {
+    pub->send(horus::msg::Pose2D{static_cast<double>(i), -1.0, 0.5, static_cast<std::uint64_t>(i)});
+    std::this_thread::sleep_for(5ms);
+  }
+  ASSERT_EQ(horus_test::wait_for(rec, 30s), 0) << std::ifstream(out_file).rdbuf();
+  // liblcm reads every event: the channel, the bytes of lcm-gen's encoding, timestamps in order.
+  std::vector<double> logged;
+  std::int64_t last_ts = 0;
+  lcm_eventlog_t* l = lcm_eventlog_create(log.c_str(), "r");
+  ASSERT_NE(l, nullptr);
+  while (lcm_eventlog_event_t* e = lcm_eventlog_read_next_event(l)) {
+    EXPECT_EQ(std::string(e->channel, static_cast<std::size_t>(e->channellen)), channel);
+    EXPECT_EQ(e->eventnum, static_cast<std::int64_t>(logged.size()));
+    EXPECT_GE(e->timestamp, last_ts);
+    last_ts = e->timestamp;
+    auto m = horus::lcm::decode<horus::msg::Pose2D>(
+        std::span(static_cast<const std::byte*>(e->data), static_cast<std::size_t>(e->datalen)));
+    EXPECT_TRUE(m) << m.error();
+    if (m) logged.push_back(m->x);
+    lcm_eventlog_free_event(e);
+  }
+  lcm_eventlog_destroy(l);
+  ASSERT_EQ(logged.size(), static_cast<std::size_t>(kN));
+  for (int i = 0; i < kN; ++i) EXPECT_EQ(logged[static_cast<std::size_t>(i)], i);
+  // lcm-logplayer replays it over LCM, into horus.
+  auto sub = horus::Topic<horus::msg::Pose2D>::open(channel, horus_test::on(Backend::Lcm));
+  ASSERT_TRUE(sub) << sub.error().message();
+  Child play({player, "-l", test_url(), "-s", "4", log});
+  std::vector<double> replayed;
+  horus_test::Deadline deadline(30s);
+  while (!deadline.expired() && replayed.size() < static_cast<std::size_t>(kN)) {
+    while (auto m = sub->recv()) replayed.push_back(m->x);
+    std::this_thread::sleep_for(2ms);
+  }
+  EXPECT_EQ(play.stop(0, 10s), 0);
+  ASSERT_EQ(replayed.size(), static_cast<std::size_t>(kN));
+  for (int i = 0; i < kN; ++i) EXPECT_EQ(replayed[static_cast<std::size_t>(i)], i);
+  for (const auto& f : {log, out_file}) std::remove(f.c_str());
 }
 
 }  // namespace
