@@ -259,6 +259,28 @@ TEST_P(Fleet, TheCliSeesAndReachesTopicsOfAnotherHost) {
     EXPECT_NE(out.find(size), std::string::npos) << out;
     EXPECT_NE(out.find("B/s from"), std::string::npos) << out;
   }
+  // horus record on host 2 records the topic that only host 1 has (found through the fleet
+  // layer); the file reads back with its messages, and a type it lacks is named, not recorded.
+  {
+    const std::string file = "/tmp/horus-fleet-rec-" + std::to_string(::getpid()) + ".mcap";
+    auto [rc, out] = cli(lan, 1, env, {"record", "-o", file, "--topics", "fleet.**", "--duration", "4"});
+    ASSERT_EQ(rc, 0) << out;
+    EXPECT_NE(out.find("+ " + count_topic + " (horus::msg::Pose2D, fleet)"), std::string::npos) << out;
+    EXPECT_NE(out.find("not recording '" + battery_topic + "'"), std::string::npos) << out;
+    auto [irc, info] = cli(lan, 1, env, {"record", "info", "--json", file});
+    ASSERT_EQ(irc, 0) << info;
+    const auto j = nlohmann::json::parse(info.substr(info.find('{')));
+    bool found = false;
+    for (const auto& t : j.at("topics"))
+      if (t.at("topic") == count_topic) {
+        found = true;
+        EXPECT_EQ(t.at("scope"), "fleet") << info;
+        EXPECT_GE(t.at("messages").get<int>(), 60) << "50 Hz for 4 s, less discovery\n" << out << info;
+        EXPECT_NEAR(t.at("rate_hz").get<double>(), 50.0, 10.0) << info;
+      }
+    EXPECT_TRUE(found) << out << info;
+    std::remove(file.c_str());
+  }
   // pub: to the robot's subscriber; a bad field names it; an unknown topic names those that exist.
   {
     auto [rc, out] = cli(lan, 1, env, {"topic", "pub", cmd_topic, "Pose2D", R"({"x": 7, "theta": 0.5})", "--count", "3", "--rate", "10"});
