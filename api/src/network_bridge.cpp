@@ -621,11 +621,18 @@ std::uint32_t network_waiters(const TopicCore& core) noexcept {
   const std::uint64_t token = b.export_token.load(std::memory_order_relaxed);
   const std::uint32_t entry = b.export_entry.load(std::memory_order_relaxed);
   if (token == 0 || entry >= shm::kMaxSubscribers) return all;
-  const auto& e = core.ring.subscriber(entry);
-  const std::uint32_t bridge = e.owner.load(std::memory_order_relaxed) == token
-                                   ? e.waiting.count.load(std::memory_order_relaxed)
-                                   : 0;
-  return all > bridge ? all - bridge : 0;
+  // Every waiter of the ring registers in the doorbell and in its subscriber entry's share
+  // (waitset.cpp), one after the other: the bridge's export thread, woken by the same message
+  // as the caller's, may be between the two. Counting the shares of the other entries leaves
+  // the bridge out without that race.
+  std::uint32_t n = 0;
+  const std::uint32_t hwm = core.ring.header().sub_hwm.load(std::memory_order_acquire);
+  for (std::uint32_t i = 0; i < std::min(hwm, shm::kMaxSubscribers); ++i) {
+    const auto& e = core.ring.subscriber(i);
+    if (i == entry && e.owner.load(std::memory_order_relaxed) == token) continue;
+    n += e.waiting.count.load(std::memory_order_relaxed);
+  }
+  return n;
 }
 
 bool network_holds_bridge(const TopicCore& core) noexcept {
