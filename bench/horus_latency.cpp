@@ -208,8 +208,7 @@ double horus_throughput(const Config& cfg) {
         CmdVel msg = CmdVel::make(1.0f, 0.5f);
         for (std::uint64_t i = 0; i < n; ++i) {
           msg.stamp_nanos = i;
-          while (!pub->try_send(msg)) {
-          }
+          while (!pub->try_send(msg)) hb::spin_pause();
         }
       },
       [&](std::uint64_t n) {
@@ -217,6 +216,8 @@ double horus_throughput(const Config& cfg) {
           if (auto m = sub->recv()) {
             if (m->stamp_nanos != i) std::abort();  // lossless and ordered, or the figure is wrong
             ++i;
+          } else {
+            hb::spin_pause();
           }
         }
       });
@@ -230,8 +231,7 @@ double boost_throughput(const Config& cfg) {
         CmdVel msg = CmdVel::make(1.0f, 0.5f);
         for (std::uint64_t i = 0; i < n; ++i) {
           msg.stamp_nanos = i;
-          while (!q->push(msg)) {
-          }
+          while (!q->push(msg)) hb::spin_pause();
         }
       },
       [&](std::uint64_t n) {
@@ -240,6 +240,8 @@ double boost_throughput(const Config& cfg) {
           if (q->pop(m)) {
             if (m.stamp_nanos != i) std::abort();
             ++i;
+          } else {
+            hb::spin_pause();
           }
         }
       });
