@@ -12,6 +12,11 @@ old=${1:?old build dir}
 new=${2:?new build dir}
 rounds=${3:-5}
 declare -A all
+# The floor's p50: the lowest over its rows (one line, two lines; older builds print one row).
+floor_of() {
+  awk '/^floor:/ {for (i = 2; i <= NF; i++) if ($i ~ /^[0-9]+\.[0-9]+$/) {if (best == "" || $i + 0 < best + 0) best = $i; break}}
+       END {print best}'
+}
 row() {  # build label
   local dir=$1 label=$2
   local l s
@@ -20,9 +25,9 @@ row() {  # build label
   local same boost xt floor_t xp floor_p
   same=$(awk '/^horus Topic send\+recv/ {print $4}' <<<"$l")
   boost=$(awk '/^boost spsc_queue push\+pop/ {print $4}' <<<"$l")
-  floor_t=$(awk '/^floor: cache-line ping-pong/ {print $4}' <<<"$l")
+  floor_t=$(floor_of <<<"$l")
   xt=$(awk '/^horus Topic<CmdVel>/ {print $3}' <<<"$l")
-  floor_p=$(awk '/^floor: cache-line ping-pong between processes/ {print $6}' <<<"$s")
+  floor_p=$(floor_of <<<"$s")
   xp=$(awk '/^horus Topic<CmdVel> \(16 B\)/ {print $5}' <<<"$s")
   printf '%-4s same-thread %6s ns (boost %5s) | cross-thread p50 %6s ns (floor %6s) | cross-process p50 %6s ns (floor %6s)\n' \
     "$label" "$same" "$boost" "$xt" "$floor_t" "$xp" "$floor_p"
