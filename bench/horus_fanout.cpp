@@ -1,0 +1,530 @@
+// horus-fanout: one publisher to many subscriber processes, and many topics in one process.
+//
+//   * fan-out latency: one publisher process sends a 16-byte message (a sequence number and the
+//     TSC at send) every --gap-us to N subscriber processes (N = 1, 2, 4, 8, 16 by default),
+//     each blocked in recv_for; every subscriber records (TSC at receipt - TSC at send) in
+//     shared memory. Printed per N: p50/p99/p99.9 over every (message, subscriber) pair, and
+//     the p50/p99 of "all delivered" (the last subscriber's receipt of each message).
+//   * fan-out throughput: the publisher sends as fast as send_blocking lets it (lossless: it
+//     waits for the slowest subscriber), the subscribers still in recv_for: messages per second
+//     that reached every subscriber.
+//   * many topics: 1, 100 and 1000 topics open in both processes of a CmdVel ping-pong (spins
+//     with pause, as horus-latency-shm), latency measured on one of them; and the memory of a
+//     topic by message size: its segment's size in /dev/shm (virtual and allocated) and the RSS
+//     a process gains per topic opened and used.
+// The TSC is the clock across processes: the tool says when /proc/cpuinfo lacks constant_tsc or
+// nonstop_tsc (then cross-process stamps are not comparable). The machine is shared: --rounds
+// repeats every measurement and the spread is printed.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <dirent.h>
+#include <sched.h>
+#include <sys/mman.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <fstream>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "bench_common.hpp"
+#include "floor.hpp"
+#include "horus/horus.hpp"
+
+namespace bench_msg {
+/// The fan-out message: 16 bytes, as a CmdVel.
+struct Stamp {
+  std::uint64_t seq{};
+  std::uint64_t tsc{};
+};
+HORUS_REFLECT(Stamp, seq, tsc)
+/// A 1 KiB message, for the memory table.
+struct Kilobyte {
+  std::uint64_t seq{};
+  std::array<std::uint8_t, 1016> payload{};
+};
+HORUS_REFLECT(Kilobyte, seq, payload)
+/// A 64 KiB message, for the memory table.
+struct Block64k {
+  std::uint64_t seq{};
+  std::array<std::uint8_t, 65528> payload{};
+};
+HORUS_REFLECT(Block64k, seq, payload)
+}  // namespace bench_msg
+
+namespace {
+
+namespace hb = horus::bench;
+using Clock = std::chrono::steady_clock;
+
+constexpr int kMaxSubs = 64;
+
+// Shared between the publisher and the subscriber processes (MAP_SHARED | MAP_ANONYMOUS).
+struct alignas(128) Slot64 {
+  std::atomic<std::uint64_t> v{0};
+};
+struct Control {
+  Slot64 ready;                      // subscribers that have subscribed
+  Slot64 stop;                       // the publisher is done
+  Slot64 last[kMaxSubs];             // per subscriber: messages received
+  std::uint64_t samples[1];          // [subscriber][message] ticks, allocated after
+};
+
+struct Shared {
+  Control* c = nullptr;
+  std::size_t bytes = 0;
+  std::size_t per_sub = 0;
+  std::uint64_t* at(int sub) const { return c->samples + static_cast<std::size_t>(sub) * per_sub; }
+};
+
+Shared map_control(std::size_t per_sub) {
+  Shared s;
+  s.per_sub = per_sub;
+  s.bytes = sizeof(Control) + kMaxSubs * per_sub * sizeof(std::uint64_t);
+  void* p = ::mmap(nullptr, s.bytes, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+  if (p == MAP_FAILED) throw std::runtime_error("mmap of the control block failed");
+  s.c = new (p) Control{};
+  return s;
+}
+
+void unmap(Shared& s) { ::munmap(s.c, s.bytes); }
+
+void pin_process(int cpu) {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  CPU_SET(cpu, &set);
+  ::sched_setaffinity(0, sizeof(set), &set);
+}
+
+std::string unique(const char* what) {
+  static int n = 0;
+  return fmt::format("bench.fanout.{}.{}.{}", what, ::getpid(), n++);
+}
+
+template <class F>
+pid_t spawn(F&& f) {
+  const pid_t pid = ::fork();
+  if (pid < 0) throw std::runtime_error("fork failed");
+  if (pid == 0) {
+    int rc = 0;
+    try {
+      f();
+    } catch (const std::exception& e) {
+      fmt::print(stderr, "horus-fanout child: {}\n", e.what());
+      rc = 1;
+    }
+    ::_exit(rc);
+  }
+  return pid;
+}
+
+bool wait_all(const std::vector<pid_t>& pids) {
+  bool ok = true;
+  for (pid_t p : pids) {
+    int st = 0;
+    ::waitpid(p, &st, 0);
+    ok = ok && WIFEXITED(st) && WEXITSTATUS(st) == 0;
+  }
+  return ok;
+}
+
+// Waits (sleeping, so that subscribers get the CPUs) until `pred` or the deadline.
+template <class Pred>
+bool sleep_until(Pred pred, std::chrono::milliseconds limit) {
+  const auto end = Clock::now() + limit;
+  while (!pred()) {
+    if (Clock::now() > end) return false;
+    std::this_thread::sleep_for(std::chrono::microseconds(20));
+  }
+  return true;
+}
+
+struct FanoutResult {
+  hb::Percentiles each, all;
+  std::uint64_t missing = 0;  // (message, subscriber) pairs never received
+};
+
+// One publisher (this process) to n subscriber processes blocked in recv_for.
+FanoutResult fanout_latency(int n, std::uint64_t messages, std::chrono::microseconds gap, const hb::TscClock& tsc) {
+  const std::string name = unique("lat");
+  Shared sh = map_control(messages);
+  horus::Topic<bench_msg::Stamp> pub(name);
+  std::vector<pid_t> pids;
+  for (int i = 0; i < n; ++i)
+    pids.push_back(spawn([&, i] {
+      horus::Topic<bench_msg::Stamp> sub(name);
+      (void)sub.recv();  // subscribes: every message from now on is delivered
+      sh.c->ready.v.fetch_add(1, std::memory_order_acq_rel);
+      std::uint64_t* out = sh.at(i);
+      std::uint64_t got = 0;
+      while (got < messages && sh.c->stop.v.load(std::memory_order_acquire) == 0) {
+        auto m = sub.recv_for(std::chrono::milliseconds(200));
+        if (!m) continue;
+        const std::uint64_t now = hb::TscClock::now();
+        if (m->seq < messages) out[m->seq] = now - m->tsc;
+        ++got;
+        sh.c->last[i].v.store(got, std::memory_order_release);
+      }
+    }));
+  if (!sleep_until([&] { return sh.c->ready.v.load(std::memory_order_acquire) == static_cast<std::uint64_t>(n); },
+                   std::chrono::seconds(20)))
+    throw std::runtime_error("subscribers did not start");
+  for (std::uint64_t k = 0; k < messages; ++k) {
+    pub.send({k, hb::TscClock::now()});
+    // The next one once every subscriber has this one (or 100 ms), then the gap: the
+    // subscribers are asleep again when it goes.
+    sleep_until(
+        [&] {
+          for (int i = 0; i < n; ++i)
+            if (sh.c->last[i].v.load(std::memory_order_acquire) <= k) return false;
+          return true;
+        },
+        std::chrono::milliseconds(100));
+    std::this_thread::sleep_for(gap);
+  }
+  sh.c->stop.v.store(1, std::memory_order_release);
+  const bool ok = wait_all(pids);
+  FanoutResult r;
+  std::vector<double> each, all;
+  for (std::uint64_t k = 0; k < messages; ++k) {
+    double worst = 0;
+    bool complete = true;
+    for (int i = 0; i < n; ++i) {
+      const std::uint64_t t = sh.at(i)[k];
+      if (t == 0) {
+        ++r.missing;
+        complete = false;
+        continue;
+      }
+      const double ns = tsc.to_ns(t);
+      each.push_back(ns);
+      worst = std::max(worst, ns);
+    }
+    if (complete) all.push_back(worst);
+  }
+  if (!ok) r.missing += 1;  // a child failed: never report a clean result
+  r.each = hb::percentiles(each);
+  r.all = hb::percentiles(all);
+  unmap(sh);
+  return r;
+}
+
+// Lossless fan-out throughput: send_blocking to n subscribers in recv_for.
+double fanout_throughput(int n, std::uint64_t messages) {
+  const std::string name = unique("tput");
+  Shared sh = map_control(0);
+  horus::Topic<bench_msg::Stamp> pub(name);
+  std::vector<pid_t> pids;
+  for (int i = 0; i < n; ++i)
+    pids.push_back(spawn([&, i] {
+      horus::Topic<bench_msg::Stamp> sub(name);
+      (void)sub.recv();
+      sh.c->ready.v.fetch_add(1, std::memory_order_acq_rel);
+      std::uint64_t got = 0;
+      while (got < messages) {
+        auto m = sub.recv_for(std::chrono::seconds(5));
+        if (!m) throw std::runtime_error(fmt::format("subscriber {}: nothing for 5 s after {}", i, got));
+        if (m->seq != got) throw std::runtime_error(fmt::format("subscriber {}: got {} for {}", i, m->seq, got));
+        ++got;
+      }
+      sh.c->last[i].v.store(got, std::memory_order_release);
+    }));
+  if (!sleep_until([&] { return sh.c->ready.v.load(std::memory_order_acquire) == static_cast<std::uint64_t>(n); },
+                   std::chrono::seconds(20)))
+    throw std::runtime_error("subscribers did not start");
+  const auto t0 = Clock::now();
+  for (std::uint64_t k = 0; k < messages; ++k) {
+    auto r = pub.send_blocking({k, 0}, std::chrono::seconds(5));
+    if (!r) throw std::runtime_error("send_blocking: " + r.error().message());
+  }
+  sleep_until(
+      [&] {
+        for (int i = 0; i < n; ++i)
+          if (sh.c->last[i].v.load(std::memory_order_acquire) < messages) return false;
+        return true;
+      },
+      std::chrono::seconds(30));
+  const double secs = std::chrono::duration<double>(Clock::now() - t0).count();
+  const bool ok = wait_all(pids);
+  unmap(sh);
+  if (!ok) throw std::runtime_error("a throughput subscriber failed");
+  return static_cast<double>(messages) / secs;
+}
+
+// A CmdVel-sized ping-pong between two pinned processes with `topics` topics open in each
+// (and each used once), measured on the last one opened.
+std::vector<double> many_topics_latency(int topics, std::uint64_t rounds, const std::vector<int>& cpus,
+                                        const hb::TscClock& tsc) {
+  const std::string base = unique("many");
+  Shared sh = map_control(0);
+  auto open_all = [&](std::vector<horus::Topic<bench_msg::Stamp>>& v) {
+    v.reserve(static_cast<std::size_t>(topics));
+    for (int i = 0; i < topics - 1; ++i) {
+      v.emplace_back(fmt::format("{}.{}", base, i));
+      v.back().send({0, 0});
+      (void)v.back().recv();
+    }
+  };
+  const std::string ping = base + ".ping", pong = base + ".pong";
+  const pid_t child = spawn([&] {
+    pin_process(cpus[1]);
+    std::vector<horus::Topic<bench_msg::Stamp>> others;
+    open_all(others);
+    horus::Topic<bench_msg::Stamp> in(ping), out(pong);
+    (void)in.recv();
+    sh.c->ready.v.store(1, std::memory_order_release);
+    for (std::uint64_t k = 0; k < rounds;) {
+      if (auto m = in.recv()) {
+        out.send(*m);
+        ++k;
+      } else {
+        hb::spin_pause();
+      }
+    }
+  });
+  pin_process(cpus[0]);
+  std::vector<horus::Topic<bench_msg::Stamp>> others;
+  open_all(others);
+  horus::Topic<bench_msg::Stamp> out(ping), in(pong);
+  (void)in.recv();
+  while (sh.c->ready.v.load(std::memory_order_acquire) == 0) hb::spin_pause();
+  std::vector<double> v;
+  v.reserve(rounds);
+  for (std::uint64_t k = 0; k < rounds; ++k) {
+    const auto t0 = hb::TscClock::now();
+    out.send({k, t0});
+    for (;;) {
+      if (auto m = in.recv()) {
+        if (m->seq == k) break;
+      } else {
+        hb::spin_pause();
+      }
+    }
+    v.push_back(tsc.to_ns(hb::TscClock::now() - t0) / 2.0);
+  }
+  wait_all({child});
+  unmap(sh);
+  return v;
+}
+
+long rss_kib() {
+  std::ifstream in("/proc/self/statm");
+  long size = 0, resident = 0;
+  in >> size >> resident;
+  return resident * (::sysconf(_SC_PAGESIZE) / 1024);
+}
+
+// The /dev/shm file of a topic: size (virtual) and allocated bytes.
+std::pair<std::uint64_t, std::uint64_t> segment_bytes(const std::string& topic) {
+  std::pair<std::uint64_t, std::uint64_t> r{0, 0};
+  DIR* d = ::opendir("/dev/shm");
+  if (d == nullptr) return r;
+  const std::string suffix = "." + topic;
+  while (dirent* e = ::readdir(d)) {
+    const std::string n = e->d_name;
+    if (n.rfind("horus.", 0) != 0 || n.size() < suffix.size() ||
+        n.compare(n.size() - suffix.size(), suffix.size(), suffix) != 0)
+      continue;
+    struct stat st {};
+    if (::stat(("/dev/shm/" + n).c_str(), &st) == 0) {
+      r.first += static_cast<std::uint64_t>(st.st_size);
+      r.second += static_cast<std::uint64_t>(st.st_blocks) * 512;
+    }
+  }
+  ::closedir(d);
+  return r;
+}
+
+struct MemoryRow {
+  std::string type;
+  std::size_t bytes;
+  std::uint64_t segment, allocated;
+  double rss_per_topic_kib;
+};
+
+// Opens `count` topics of T (each sent to and received from once), in a child process so that
+// its RSS starts clean; reports the segment of one and the RSS gained per topic.
+template <class T>
+MemoryRow memory_of(const char* type, int count) {
+  Shared sh = map_control(0);
+  const std::string base = unique("mem");
+  const pid_t child = spawn([&] {
+    std::vector<horus::Topic<T>> v;
+    v.reserve(static_cast<std::size_t>(count));
+    auto msg = std::make_unique<T>();
+    const long before = rss_kib();
+    for (int i = 0; i < count; ++i) {
+      v.emplace_back(fmt::format("{}.{}", base, i));
+      v.back().send(*msg);
+      (void)v.back().recv();
+    }
+    const long after = rss_kib();
+    const auto seg = segment_bytes(base + ".0");
+    sh.c->last[0].v.store(seg.first, std::memory_order_relaxed);
+    sh.c->last[1].v.store(seg.second, std::memory_order_relaxed);
+    sh.c->last[2].v.store(static_cast<std::uint64_t>(std::max(0L, after - before)), std::memory_order_relaxed);
+    sh.c->ready.v.store(1, std::memory_order_release);
+  });
+  const bool ok = wait_all({child});
+  MemoryRow r{type, sizeof(T), sh.c->last[0].v.load(), sh.c->last[1].v.load(),
+              static_cast<double>(sh.c->last[2].v.load()) / count};
+  unmap(sh);
+  if (!ok) throw std::runtime_error("the memory probe failed");
+  return r;
+}
+
+bool tsc_is_invariant() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("flags", 0) == 0)
+      return line.find(" constant_tsc") != std::string::npos && line.find(" nonstop_tsc") != std::string::npos;
+  return false;
+}
+
+void raise_fd_limit() {
+  rlimit r{};
+  if (::getrlimit(RLIMIT_NOFILE, &r) == 0 && r.rlim_cur < r.rlim_max) {
+    r.rlim_cur = r.rlim_max;
+    ::setrlimit(RLIMIT_NOFILE, &r);
+  }
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+// "median (min-max)" of the rounds, with `digits` decimals.
+std::string spread(const std::vector<double>& v, int digits = 0) {
+  if (v.empty()) return "-";
+  const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
+  if (v.size() == 1) return fmt::format("{:.{}f}", v[0], digits);
+  return fmt::format("{:.{}f} ({:.{}f}-{:.{}f})", median(v), digits, *lo, digits, *hi, digits);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::vector<int> subs{1, 2, 4, 8, 16};
+  std::vector<int> topic_counts{1, 100, 1000};
+  std::uint64_t messages = 2000, tput_messages = 200000, pingpong_rounds = 20000;
+  int rounds = 3, gap_us = 200;
+  std::vector<int> cpus{0, 1};
+  bool quick = false;
+  std::string json_path;
+  CLI::App app{"horus fan-out: one publisher to N subscriber processes, and many topics in one process"};
+  app.add_option("--subscribers", subs, "subscriber counts")->check(CLI::Range(1, kMaxSubs));
+  app.add_option("--topics", topic_counts, "topic counts for the many-topics ping-pong")->check(CLI::Range(1, 5000));
+  app.add_option("--messages", messages, "messages per fan-out latency measurement");
+  app.add_option("--throughput", tput_messages, "messages per fan-out throughput measurement");
+  app.add_option("--rounds", rounds, "repeats of every measurement (medians and spread)")->check(CLI::Range(1, 50));
+  app.add_option("--gap-us", gap_us, "pause between fan-out messages (subscribers fall asleep)");
+  app.add_option("--cpus", cpus, "the two CPUs of the ping-pong")->expected(2);
+  app.add_option("--json", json_path, "also write the figures as JSON");
+  app.add_flag("--quick", quick, "a short smoke run");
+  CLI11_PARSE(app, argc, argv);
+  if (quick) {
+    subs = {1, 4};
+    topic_counts = {1, 100};
+    messages = 100;
+    tput_messages = 5000;
+    pingpong_rounds = 2000;
+    rounds = 1;
+  }
+  raise_fd_limit();
+  const hb::TscClock tsc;
+  nlohmann::json j;
+  fmt::print("horus fan-out and scale, shared memory ({} CPUs, {} round{} of each measurement)\n", hb::cpu_count(),
+             rounds, rounds == 1 ? "" : "s");
+  if (!tsc_is_invariant())
+    fmt::print("warning: /proc/cpuinfo lacks constant_tsc/nonstop_tsc: cross-process TSC stamps may not compare\n");
+
+  fmt::print("\n1 publisher -> N subscriber processes blocked in recv_for, a 16 B message every {} us\n", gap_us);
+  fmt::print("{:>4} {:>22} {:>22} {:>22} {:>22} {:>22}\n", "N", "p50 ns", "p99 ns", "p99.9 ns", "all delivered p50",
+             "all delivered p99");
+  std::vector<double> p50_by_n;
+  for (int n : subs) {
+    std::vector<double> p50, p99, p999, a50, a99;
+    std::uint64_t missing = 0;
+    for (int r = 0; r < rounds; ++r) {
+      const auto res = fanout_latency(n, messages, std::chrono::microseconds(gap_us), tsc);
+      p50.push_back(res.each.p50);
+      p99.push_back(res.each.p99);
+      p999.push_back(res.each.p999);
+      a50.push_back(res.all.p50);
+      a99.push_back(res.all.p99);
+      missing += res.missing;
+    }
+    p50_by_n.push_back(median(p50));
+    fmt::print("{:>4} {:>22} {:>22} {:>22} {:>22} {:>22}{}\n", n, spread(p50), spread(p99), spread(p999), spread(a50),
+               spread(a99), missing != 0 ? fmt::format("  ({} not received)", missing) : "");
+    j["fanout_latency"].push_back({{"subscribers", n}, {"p50_ns", p50}, {"p99_ns", p99}, {"p999_ns", p999},
+                                   {"all_p50_ns", a50}, {"all_p99_ns", a99}, {"missing", missing}});
+  }
+
+  fmt::print("\nlossless fan-out throughput (send_blocking; subscribers in recv_for), 16 B messages\n");
+  fmt::print("{:>4} {:>30}\n", "N", "M msg/s to every subscriber");
+  for (int n : subs) {
+    std::vector<double> t;
+    for (int r = 0; r < rounds; ++r) t.push_back(fanout_throughput(n, tput_messages) / 1e6);
+    fmt::print("{:>4} {:>30}\n", n, spread(t, 2));
+    j["fanout_throughput"].push_back({{"subscribers", n}, {"msgs_per_s_millions", t}});
+  }
+
+  fmt::print("\nmany topics open in both processes, CmdVel-sized ping-pong on one (RTT/2, spins with pause)\n");
+  fmt::print("{:>7} {:>22} {:>22}\n", "topics", "p50 ns", "p99 ns");
+  std::vector<double> many_p50;
+  for (int t : topic_counts) {
+    std::vector<double> p50, p99;
+    for (int r = 0; r < rounds; ++r) {
+      auto v = many_topics_latency(t, pingpong_rounds, cpus, tsc);
+      const auto p = hb::percentiles(v);
+      p50.push_back(p.p50);
+      p99.push_back(p.p99);
+    }
+    many_p50.push_back(median(p50));
+    fmt::print("{:>7} {:>22} {:>22}\n", t, spread(p50, 1), spread(p99, 1));
+    j["many_topics"].push_back({{"topics", t}, {"p50_ns", p50}, {"p99_ns", p99}});
+  }
+
+  fmt::print("\nmemory of a topic (default capacity), by message size\n");
+  fmt::print("{:<10} {:>8} {:>16} {:>16} {:>22}\n", "message", "bytes", "segment (size)", "allocated",
+             "RSS per topic (KiB)");
+  const int mem_topics = quick ? 10 : 100;
+  for (const auto& row : {memory_of<bench_msg::Stamp>("16 B", mem_topics),
+                          memory_of<bench_msg::Kilobyte>("1 KiB", mem_topics),
+                          memory_of<bench_msg::Block64k>("64 KiB", std::max(2, mem_topics / 10))}) {
+    fmt::print("{:<10} {:>8} {:>16} {:>16} {:>22.1f}\n", row.type, row.bytes, row.segment, row.allocated,
+               row.rss_per_topic_kib);
+    j["memory"].push_back({{"message", row.type}, {"bytes", row.bytes}, {"segment_bytes", row.segment},
+                           {"allocated_bytes", row.allocated}, {"rss_per_topic_kib", row.rss_per_topic_kib}});
+  }
+
+  fmt::print("\nreference: HORUS (Rust) publishes 198 / 236 / 276 ns for 2 / 4 / 8 subscribers on an i7-10750H\n");
+  if (p50_by_n.size() >= 2) {
+    const double ratio = p50_by_n.back() / p50_by_n.front();
+    fmt::print("targets: p50 with {} subscribers <= 2x one subscriber: {:.2f}x {}", subs.back(), ratio,
+               ratio <= 2.0 ? "met" : "MISSED");
+  }
+  if (many_p50.size() >= 2) {
+    const double ratio = many_p50.back() / many_p50.front();
+    fmt::print(" | {} topics open do not slow one (p50 <= 1.1x of 1 topic): {:.2f}x {}", topic_counts.back(), ratio,
+               ratio <= 1.1 ? "met" : "MISSED");
+  }
+  fmt::print("\n");
+  if (!json_path.empty()) std::ofstream(json_path) << j.dump(2) << "\n";
+  return 0;
+}
