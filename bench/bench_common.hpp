@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdint>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace horus::bench {
@@ -62,6 +63,19 @@ inline Percentiles percentiles(std::vector<double>& ns) {
   for (double v : ns) sum += v;
   p.mean = sum / static_cast<double>(ns.size());
   return p;
+}
+
+/// The distribution as (quantile, value) points for a CDF plot: every percent, then 99.5, 99.9
+/// and 99.99 (samples sorted, as percentiles() leaves them).
+inline std::vector<std::pair<double, double>> cdf_points(const std::vector<double>& sorted) {
+  std::vector<std::pair<double, double>> out;
+  if (sorted.empty()) return out;
+  auto at = [&](double q) {
+    return sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(q * static_cast<double>(sorted.size())))];
+  };
+  for (int i = 0; i < 100; ++i) out.emplace_back(i / 100.0, at(i / 100.0));
+  for (double q : {0.995, 0.999, 0.9999}) out.emplace_back(q, at(q));
+  return out;
 }
 
 }  // namespace horus::bench

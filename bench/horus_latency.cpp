@@ -47,6 +47,7 @@ struct Row {
   std::string unit;
   double ratio = 0;
   std::string ratio_to;
+  std::vector<std::pair<double, double>> cdf;  // latency rows: (quantile, ns)
 };
 
 struct Config {
@@ -252,7 +253,7 @@ double boost_throughput(const Config& cfg) {
 Row latency_row(const std::string& name, std::vector<double> samples, double ratio_to_floor) {
   const auto p = hb::percentiles(samples);
   return Row{"cross_thread_one_way", name, p.p50, p.p99, p.p999, p.p50, "ns", ratio_to_floor,
-             "true floor p50 (median of per-block ratios)"};
+             "true floor p50 (median of per-block ratios)", hb::cdf_points(samples)};
 }
 
 void write_json(const std::string& path, const std::vector<Row>& rows) {
@@ -260,7 +261,7 @@ void write_json(const std::string& path, const std::vector<Row>& rows) {
   for (const auto& r : rows)
     j.push_back({{"section", r.section}, {"name", r.name}, {"p50_ns", r.p50}, {"p99_ns", r.p99},
                  {"p999_ns", r.p999}, {"value", r.value}, {"unit", r.unit}, {"ratio", r.ratio},
-                 {"ratio_to", r.ratio_to}});
+                 {"ratio_to", r.ratio_to}, {"cdf", r.cdf}});
   std::ofstream(path) << j.dump(2) << "\n";
 }
 
@@ -320,8 +321,8 @@ int main(int argc, char** argv) {
     auto v = st_ratios;
     return hb::percentiles(v).p50;
   }();
-  rows.push_back({"same_thread", "horus Topic send+recv", 0, 0, 0, st_horus, "ns/op", st_ratio, "boost"});
-  rows.push_back({"same_thread", "boost spsc_queue push+pop", 0, 0, 0, st_boost, "ns/op", 1.0, "boost"});
+  rows.push_back({"same_thread", "horus Topic send+recv", 0, 0, 0, st_horus, "ns/op", st_ratio, "boost", {}});
+  rows.push_back({"same_thread", "boost spsc_queue push+pop", 0, 0, 0, st_boost, "ns/op", 1.0, "boost", {}});
 
   // The machine is shared and noisy: measure in interleaved blocks so that a noisy moment
   // hits the floor, horus and the baseline alike, then pool each one's samples.
@@ -357,8 +358,8 @@ int main(int argc, char** argv) {
 
   const double tp_horus = horus_throughput(cfg);
   const double tp_boost = boost_throughput(cfg);
-  rows.push_back({"throughput", "horus Topic try_send/recv", 0, 0, 0, tp_horus, "msg/s", tp_horus / tp_boost, "boost"});
-  rows.push_back({"throughput", "boost spsc_queue push/pop", 0, 0, 0, tp_boost, "msg/s", 1.0, "boost"});
+  rows.push_back({"throughput", "horus Topic try_send/recv", 0, 0, 0, tp_horus, "msg/s", tp_horus / tp_boost, "boost", {}});
+  rows.push_back({"throughput", "boost spsc_queue push/pop", 0, 0, 0, tp_boost, "msg/s", 1.0, "boost", {}});
 
   fmt::print("horus local path, CmdVel ({} B), CPUs {} and {}, {} round trips{}\n\n", sizeof(CmdVel), cfg.cpu_a,
              cfg.cpu_b, cfg.rounds, quick ? " (quick run)" : "");

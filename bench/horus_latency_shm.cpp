@@ -15,6 +15,7 @@
 // because on a shared VM the floor itself moves from run to run.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include <sched.h>
 #include <sys/mman.h>
@@ -390,13 +391,28 @@ int main(int argc, char** argv) {
              !have_iox ? "not measured"
                        : (median(iox16_ratio) >= 3 && median(iox1k_ratio) >= 3 && img_vs_iox >= 3 ? "met" : "missed"));
   if (!json_path.empty()) {
-    std::ofstream out(json_path);
-    out << fmt::format(
-        "{{\"floor\":{{\"p50\":{},\"p99\":{},\"p999\":{},\"one_line_p50\":{},\"two_lines_p50\":{}}},\"cmdvel\":{{\"p50\":{},\"p99\":{},\"p999\":{},\"ratio\":{}}},"
-        "\"kib\":{{\"p50\":{},\"p99\":{},\"p999\":{},\"ratio\":{}}},\"image\":{{\"p50\":{},\"p99\":{}}},\"image_copy\":{{\"p50\":{}}},"
-        "\"throughput_msgs_per_s\":{}}}\n",
-        pf.p50, pf.p99, pf.p999, pf1.p50, pf2.p50, pc.p50, pc.p99, pc.p999, median(cmd_ratio), pk.p50, pk.p99, pk.p999,
-        median(kb_ratio), pi.p50, pi.p99, pic.p50, rate);
+    // Every row with its percentiles and CDF points (the vectors are sorted by percentiles()).
+    nlohmann::json j;
+    auto row = [&](const char* key, const hb::Percentiles& p, const std::vector<double>& sorted, double ratio) {
+      j[key] = {{"p50", p.p50}, {"p99", p.p99}, {"p999", p.p999}, {"cdf", hb::cdf_points(sorted)}};
+      if (ratio > 0) j[key]["ratio"] = ratio;
+    };
+    row("floor_one_line", pf1, floor1_all, median(one_ratio));
+    row("floor_two_lines", pf2, floor2_all, median(two_ratio));
+    j["floor"] = {{"p50", pf.p50}, {"p99", pf.p99}, {"p999", pf.p999}};
+    row("cmdvel", pc, cmd_all, median(cmd_ratio));
+    row("kib", pk, kb_all, median(kb_ratio));
+    row("image", pi, img, 0);
+    row("image_copy", pic, img_copy, 0);
+    if (have_iox) {
+      auto i16 = hb::percentiles(iox16_all), i1k = hb::percentiles(iox1k_all), iim = hb::percentiles(iox_img);
+      row("iceoryx_16b", i16, iox16_all, 0);
+      row("iceoryx_1kib", i1k, iox1k_all, 0);
+      row("iceoryx_image", iim, iox_img, 0);
+      j["vs_iceoryx"] = {{"cmdvel", median(iox16_ratio)}, {"kib", median(iox1k_ratio)}, {"image", img_vs_iox}};
+    }
+    j["throughput_msgs_per_s"] = rate;
+    std::ofstream(json_path) << j.dump() << "\n";
   }
   return 0;
 }

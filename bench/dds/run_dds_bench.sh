@@ -10,6 +10,7 @@
 # fleet topic goes publisher -> shared memory -> this host's bridge -> the network -> the other
 # host's bridge -> shared memory -> subscriber: the full fleet path against the raw library.
 #
+# HORUS_BENCH_RESULTS=FILE appends every RESULT line (with suite= and setting=) to FILE.
 # Prints one table per setting: one-way latency (RTT/2) p50 / p99 / p99.9 in microseconds, the
 # median over rounds (raw and horus alternate), and horus p50 / raw p50; then throughput
 # (messages and MB per second a sink receives from a source sending back to back, reliable).
@@ -123,6 +124,10 @@ run_setting() {
     done
   done
   echo "$results" | python3 "$here/dds_table.py" "$setting"
+  # scripts/bench.sh collects the raw lines (HORUS_BENCH_RESULTS: a file to append them to).
+  if [ -n "${HORUS_BENCH_RESULTS:-}" ]; then
+    grep -E '^(RESULT|FAILED)' <<<"$results" | sed "s/^\(RESULT\|FAILED\) /\1 suite=dds setting=$setting /" >>"$HORUS_BENCH_RESULTS" || true
+  fi
 }
 
 echo "horus DDS latency (one-way = RTT/2), $rounds round(s), domain $domain, $(nproc) CPUs"

@@ -6,6 +6,7 @@
 #
 #   bench/lcm/run_lcm_bench.sh [--quick] [--local-only] [--rounds N] [--build-dir DIR] [--tuned-malloc]
 #
+# HORUS_BENCH_RESULTS=FILE appends every RESULT line (with suite= and setting=) to FILE.
 # Each side has its own HORUS_NAMESPACE (its own shared memory, as on two hosts), so horus's
 # fleet topic goes publisher -> shared memory -> this host's bridge -> the network -> the other
 # host's bridge -> shared memory -> subscriber: the full fleet path against the raw library.
@@ -207,6 +208,10 @@ run_setting() {
     for impl in "${impls[@]}"; do tput "$setting" "$impl" "$type"; done
   done
   python3 "$here/lcm_table.py" "$setting" <"$results"
+  # scripts/bench.sh collects the raw lines (HORUS_BENCH_RESULTS: a file to append them to).
+  if [ -n "${HORUS_BENCH_RESULTS:-}" ]; then
+    grep -E '^(RESULT|FAILED)' "$results" | sed "s/^\(RESULT\|FAILED\) /\1 suite=lcm setting=$setting /" >>"$HORUS_BENCH_RESULTS" || true
+  fi
 }
 
 echo "horus LCM benchmark (one-way = RTT/2), $rounds round(s), $(nproc) CPUs, kernel $(uname -r)"
