@@ -51,6 +51,30 @@ def table(title, header, rows):
         md.append("| " + " | ".join(str(c) for c in r) + " |")
 
 
+# The hypervisor places the two vCPUs on one physical core or on two, and moves them between
+# runs: the floor is then 25-45 ns or 100-250 ns, and a ratio to it means different things.
+# Rounds are grouped by where their true floor says the CPUs were.
+SHARED_CORE_FLOOR_NS = 80.0
+
+
+def placement(key, rounds, third_label):
+    """rounds: (true floor p50, horus CmdVel ratio to it, a third figure) per round."""
+    groups = {"separate cores": [], "one shared core": []}
+    for floor, ratio, third in rounds:
+        groups["one shared core" if floor < SHARED_CORE_FLOOR_NS else "separate cores"].append((floor, ratio, third))
+    rows = []
+    summary.setdefault("placement", {})[key] = {}
+    for name, g in groups.items():
+        if not g:
+            continue
+        rows.append([name, len(g), spread([x[0] for x in g]), spread([x[1] for x in g], 2) + "x",
+                     spread([x[2] for x in g], 2)])
+        summary["placement"][key][name] = {"rounds": len(g), "floor_p50_ns": stats([x[0] for x in g]),
+                                           "cmdvel_ratio": stats([x[1] for x in g]), "third": stats([x[2] for x in g])}
+    table(f"{key}: rounds by where the two CPUs were (true floor < {SHARED_CORE_FLOOR_NS:.0f} ns: one core)",
+          ["placement", "rounds", "true floor p50 ns", "horus CmdVel p50 / floor", third_label], rows)
+
+
 def load_rounds(prefix):
     files = sorted(glob.glob(os.path.join(out_dir, f"{prefix}.*.json")))
     rounds = []
@@ -90,6 +114,9 @@ if local:
         rows.append([name] + cells)
     table(f"local path, CmdVel (horus-latency-local), {len(local)} rounds: median (min-max)",
           ["measurement", "p50 / value", "p99", "p99.9", "ratio (median of rounds)"], rows)
+    placement("local", [(min(by_name(r)["floor: one line"]["p50_ns"], by_name(r)["floor: two lines 256 B apart"]["p50_ns"]),
+                         by_name(r)["horus Topic<CmdVel>"]["ratio"], by_name(r)["horus Topic try_send/recv"]["ratio"])
+                        for r in local], "horus / boost throughput")
 
 # -- between processes (shared memory) --------------------------------------------------------
 shm = load_rounds("shm")
@@ -120,6 +147,8 @@ if shm:
         summary["shm"]["vs_iceoryx"] = {k: stats([v[k] for v in vs]) for k in ("cmdvel", "kib", "image")}
     table(f"between processes, shared memory (horus-latency-shm), {len(shm)} rounds: ns, median (min-max)",
           ["one-way (RTT/2)", "p50", "p99", "p99.9", "p50 / true floor"], rows)
+    placement("shm", [(min(r["floor_one_line"]["p50"], r["floor_two_lines"]["p50"]), r["cmdvel"]["ratio"],
+                       r.get("throughput_msgs_per_s", 0) / 1e6) for r in shm], "throughput M msg/s")
 
 # -- fan-out and scale -------------------------------------------------------------------------
 fanout = None
@@ -193,7 +222,7 @@ if net:
             table(f"network latency p50 (one-way, us), {where}: median (min-max) over rounds",
                   ["suite", "library", "type", "raw", "horus", "horus/raw"], lat_rows)
         if tput_rows:
-            table(f"network throughput, reliable, back to back, {where}",
+            table(f"network throughput, reliable, back to back (one run of each; the scripts measure throughput once), {where}",
                   ["suite", "library", "type", "raw msg/s", "horus msg/s", "raw MB/s", "horus MB/s", "horus/raw"], tput_rows)
     failed = [r for r in net if r["failed"]]
     if failed:
