@@ -303,6 +303,7 @@ class NetworkBridge final : public net::Listener {
     spec.type_name = core_.type_name;
     spec.type_hash = core_.type_hash;
     spec.qos = qos_;
+    spec.max_message_bytes = core_.pool ? core_.pool.slot_bytes() : core_.ring.header().payload_size;
     auto endpoint = transport_->open(spec, *this);
     if (!endpoint) {
       port_->leave();  // recorded: the next holder adopts them

@@ -261,6 +261,18 @@ bool setup(Endpoints& ep, std::uint32_t domain, fd::TypeSupport type, const std:
   wq.data_sharing().off();
   wq.representation().m_value = {fd::XCDR_DATA_REPRESENTATION};
   wq.publish_mode().kind = fd::SYNCHRONOUS_PUBLISH_MODE;
+  // BENCH_KEEP_ALL=1: the QoS of horus's reliable fleet topics (KEEP_ALL within 16 samples, a
+  // 100 ms heartbeat): a writer whose history is full waits for acknowledgements.
+  const bool keep_all = std::getenv("BENCH_KEEP_ALL") != nullptr && std::string(std::getenv("BENCH_KEEP_ALL")) == "1";
+  // BENCH_KEEP_ALL_DEPTH=N: that many samples instead of 16.
+  const int keep_all_depth = std::getenv("BENCH_KEEP_ALL_DEPTH") != nullptr ? std::atoi(std::getenv("BENCH_KEEP_ALL_DEPTH")) : 16;
+  if (keep_all) {
+    wq.history().kind = fd::KEEP_ALL_HISTORY_QOS;
+    wq.resource_limits().max_instances = 1;
+    wq.resource_limits().max_samples_per_instance = keep_all_depth;
+    wq.resource_limits().max_samples = keep_all_depth;
+    wq.reliable_writer_qos().times.heartbeatPeriod = Duration_t(0, 100000000u);
+  }
 
   fd::DataReaderQos rq = sub->get_default_datareader_qos();
   rq.reliability().kind = fd::RELIABLE_RELIABILITY_QOS;
@@ -268,6 +280,12 @@ bool setup(Endpoints& ep, std::uint32_t domain, fd::TypeSupport type, const std:
   rq.durability().kind = fd::VOLATILE_DURABILITY_QOS;
   rq.history().kind = fd::KEEP_LAST_HISTORY_QOS;
   rq.history().depth = 16;
+  if (keep_all) {
+    rq.history().kind = fd::KEEP_ALL_HISTORY_QOS;
+    rq.resource_limits().max_instances = 1;
+    rq.resource_limits().max_samples_per_instance = 4096;  // horus's reader buffer (kReaderSamples)
+    rq.resource_limits().max_samples = 4096;
+  }
   rq.data_sharing().off();
   rq.type_consistency().representation.m_value = {fd::XCDR_DATA_REPRESENTATION};
 

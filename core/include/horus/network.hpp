@@ -71,6 +71,9 @@ struct EndpointSpec {
   std::string type_name;   // the wire type name ("horus::msg::Pose2D")
   std::uint64_t type_hash = 0;
   Qos qos;
+  /// The largest message of the topic in bytes (its ring slot, or its pool slot for large
+  /// data); 0 when unknown. A backend sizes its buffers of unacknowledged samples by it.
+  std::uint64_t max_message_bytes = 0;
 };
 
 /// A sample that arrived: the serialized body (for DDS: the XCDR1 bytes after the 4-byte
