@@ -20,7 +20,6 @@
 #include <nlohmann/json.hpp>
 
 #include <dirent.h>
-#include <sched.h>
 #include <sys/mman.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
@@ -40,6 +39,7 @@
 #include <vector>
 
 #include "bench_common.hpp"
+#include "dds/bench_types.hpp"  // the 1 KiB message
 #include "floor.hpp"
 #include "horus/horus.hpp"
 
@@ -50,12 +50,6 @@ struct Stamp {
   std::uint64_t tsc{};
 };
 HORUS_REFLECT(Stamp, seq, tsc)
-/// A 1 KiB message, for the memory table.
-struct Kilobyte {
-  std::uint64_t seq{};
-  std::array<std::uint8_t, 1016> payload{};
-};
-HORUS_REFLECT(Kilobyte, seq, payload)
 /// A 64 KiB message, for the memory table.
 struct Block64k {
   std::uint64_t seq{};
@@ -79,14 +73,16 @@ struct Control {
   Slot64 ready;                      // subscribers that have subscribed
   Slot64 stop;                       // the publisher is done
   Slot64 last[kMaxSubs];             // per subscriber: messages received
-  std::uint64_t samples[1];          // [subscriber][message] ticks, allocated after
-};
+};                                   // then the samples: [subscriber][message] ticks
 
 struct Shared {
   Control* c = nullptr;
   std::size_t bytes = 0;
   std::size_t per_sub = 0;
-  std::uint64_t* at(int sub) const { return c->samples + static_cast<std::size_t>(sub) * per_sub; }
+  std::uint64_t* at(int sub) const {
+    return reinterpret_cast<std::uint64_t*>(reinterpret_cast<char*>(c) + sizeof(Control)) +
+           static_cast<std::size_t>(sub) * per_sub;
+  }
 };
 
 Shared map_control(std::size_t per_sub) {
@@ -100,13 +96,6 @@ Shared map_control(std::size_t per_sub) {
 }
 
 void unmap(Shared& s) { ::munmap(s.c, s.bytes); }
-
-void pin_process(int cpu) {
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  CPU_SET(cpu, &set);
-  ::sched_setaffinity(0, sizeof(set), &set);
-}
 
 std::string unique(const char* what) {
   static int n = 0;
@@ -140,7 +129,11 @@ bool wait_all(const std::vector<pid_t>& pids) {
   return ok;
 }
 
-// Waits (sleeping, so that subscribers get the CPUs) until `pred` or the deadline.
+// Waits until `pred` holds (true) or the deadline passes (false). `pred` reads counters the
+// subscriber processes write in the shared control block; the publisher polls it every 20 us
+// asleep rather than spinning or blocking on a topic of its own: on 2 vCPUs a spinning
+// publisher would take a CPU from the subscribers it measures, and an acknowledgement topic
+// would add wake-ups of its own to the figures.
 template <class Pred>
 bool sleep_until(Pred pred, std::chrono::milliseconds limit) {
   const auto end = Clock::now() + limit;
@@ -183,8 +176,9 @@ FanoutResult fanout_latency(int n, std::uint64_t messages, std::chrono::microsec
     throw std::runtime_error("subscribers did not start");
   for (std::uint64_t k = 0; k < messages; ++k) {
     pub.send({k, hb::TscClock::now()});
-    // The next one once every subscriber has this one (or 100 ms), then the gap: the
-    // subscribers are asleep again when it goes.
+    // The next one once every subscriber has this one (or 100 ms: a pair never received is
+    // counted in `missing`), then the gap (--gap-us, the benchmark's pacing, not a wait for
+    // anything): the subscribers are blocked in recv_for again when the next one goes.
     sleep_until(
         [&] {
           for (int i = 0; i < n; ++i)
@@ -279,7 +273,7 @@ std::vector<double> many_topics_latency(int topics, std::uint64_t rounds, const 
   };
   const std::string ping = base + ".ping", pong = base + ".pong";
   const pid_t child = spawn([&] {
-    pin_process(cpus[1]);
+    hb::pin_to_cpu(cpus[1]);  // the child has one thread
     std::vector<horus::Topic<bench_msg::Stamp>> others;
     open_all(others);
     horus::Topic<bench_msg::Stamp> in(ping), out(pong);
@@ -294,7 +288,7 @@ std::vector<double> many_topics_latency(int topics, std::uint64_t rounds, const 
       }
     }
   });
-  pin_process(cpus[0]);
+  hb::pin_to_cpu(cpus[0]);
   std::vector<horus::Topic<bench_msg::Stamp>> others;
   open_all(others);
   horus::Topic<bench_msg::Stamp> out(ping), in(pong);
@@ -505,7 +499,7 @@ int main(int argc, char** argv) {
              "RSS per topic (KiB)");
   const int mem_topics = quick ? 10 : 100;
   for (const auto& row : {memory_of<bench_msg::Stamp>("16 B", mem_topics),
-                          memory_of<bench_msg::Kilobyte>("1 KiB", mem_topics),
+                          memory_of<horus_bench::Kilobyte>("1 KiB", mem_topics),
                           memory_of<bench_msg::Block64k>("64 KiB", std::max(2, mem_topics / 10))}) {
     fmt::print("{:<10} {:>8} {:>16} {:>16} {:>22.1f}\n", row.type, row.bytes, row.segment, row.allocated,
                row.rss_per_topic_kib);

@@ -17,7 +17,6 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include <sched.h>
 #include <sys/mman.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -33,6 +32,7 @@
 #include <vector>
 
 #include "bench_common.hpp"
+#include "dds/bench_types.hpp"  // the 1 KiB message
 #include "floor.hpp"
 #include "horus/horus.hpp"
 #include "horus/messages.hpp"
@@ -41,15 +41,6 @@
 #endif
 
 namespace hb = horus::bench;
-
-namespace bench_msg {
-/// A 1 KiB message: a sequence number and 1016 bytes of payload.
-struct Kilobyte {
-  std::uint64_t seq{};
-  std::array<std::uint8_t, 1016> payload{};
-};
-HORUS_REFLECT(Kilobyte, seq, payload)
-}  // namespace bench_msg
 
 namespace {
 
@@ -70,18 +61,11 @@ Shared* map_shared() {
   return new (p) Shared{};
 }
 
-void pin_process(int cpu) {
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  CPU_SET(cpu, &set);
-  ::sched_setaffinity(0, sizeof(set), &set);
-}
-
 template <class F>
 pid_t spawn(int cpu, F&& f) {
   const pid_t pid = ::fork();
   if (pid == 0) {
-    pin_process(cpu);
+    hb::pin_to_cpu(cpu);  // the child has one thread
     f();
     ::_exit(0);
   }
@@ -312,14 +296,14 @@ int main(int argc, char** argv) {
           return m;
         },
         [](const horus::msg::CmdVel& m) { return m.stamp_nanos; });
-    auto k = topic_rounds<bench_msg::Kilobyte>(
+    auto k = topic_rounds<horus_bench::Kilobyte>(
         per_block, child_cpu, tsc,
         [](std::uint64_t i) {
-          bench_msg::Kilobyte m;
+          horus_bench::Kilobyte m;
           m.seq = i;
           return m;
         },
-        [](const bench_msg::Kilobyte& m) { return m.seq; });
+        [](const horus_bench::Kilobyte& m) { return m.seq; });
     auto i16 = iox_block(16, per_block);
     auto i1k = iox_block(1024, per_block);
     const double fb = std::min(p50(f1), p50(f2));  // the true floor of this block

@@ -43,6 +43,7 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -263,9 +264,11 @@ bool setup(Endpoints& ep, std::uint32_t domain, fd::TypeSupport type, const std:
   wq.publish_mode().kind = fd::SYNCHRONOUS_PUBLISH_MODE;
   // BENCH_KEEP_ALL=1: the QoS of horus's reliable fleet topics (KEEP_ALL within 16 samples, a
   // 100 ms heartbeat): a writer whose history is full waits for acknowledgements.
-  const bool keep_all = std::getenv("BENCH_KEEP_ALL") != nullptr && std::string(std::getenv("BENCH_KEEP_ALL")) == "1";
   // BENCH_KEEP_ALL_DEPTH=N: that many samples instead of 16.
-  const int keep_all_depth = std::getenv("BENCH_KEEP_ALL_DEPTH") != nullptr ? std::atoi(std::getenv("BENCH_KEEP_ALL_DEPTH")) : 16;
+  const char* keep_all_env = std::getenv("BENCH_KEEP_ALL");
+  const char* depth_env = std::getenv("BENCH_KEEP_ALL_DEPTH");
+  const bool keep_all = keep_all_env != nullptr && std::string_view(keep_all_env) == "1";
+  const int keep_all_depth = depth_env != nullptr ? std::max(1, std::atoi(depth_env)) : 16;
   if (keep_all) {
     wq.history().kind = fd::KEEP_ALL_HISTORY_QOS;
     wq.resource_limits().max_instances = 1;
