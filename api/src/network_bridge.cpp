@@ -9,6 +9,12 @@
 // decodes each sample into the bridge's lane. DDS does not deliver a participant's own samples
 // back; LCM does, so an echo ledger (hashes of what we sent, for 2 s) drops them.
 //
+// Receiving. While no handle of the host reads the topic (its processes only publish), the
+// holder tells the endpoint to stop receiving (Endpoint::set_receiving): LCM, which brings a
+// process's own datagrams back, then costs the publishing host nothing for its own traffic. A
+// handle that subscribes rings the ring's doorbell (Ring::add_subscriber), which wakes the
+// bridge thread at once to resume.
+//
 // Takeover. Non-holders sleep on a pidfd of the holder (or 50 ms, for a holder that closes the
 // topic without exiting) and claim the bridge when it is gone. The successor adopts the
 // entry and the lane its predecessor recorded in the segment (the reaper leaves them), so it
@@ -37,8 +43,8 @@
 
 #include "horus/detail/fleet_presence.hpp"
 #include "horus/detail/topic_core.hpp"
-#include "horus/detail/waiting.hpp"
 #include "horus/log.hpp"
+#include "horus/shm/doorbell.hpp"
 #include "horus/shm/seqlock_slot.hpp"
 
 namespace horus::detail {
@@ -48,6 +54,7 @@ using Clock = std::chrono::steady_clock;
 constexpr auto kWatchPeriod = std::chrono::milliseconds(50);  // a non-holder looks at the claim
 constexpr auto kMatchWait = std::chrono::seconds(1);          // a successor waits for the readers
 constexpr auto kImportWait = std::chrono::milliseconds(100);  // a reliable import holds samples for room
+constexpr auto kEchoTtl = std::chrono::seconds(2);            // how long our own sample may take to come back
 
 std::atomic<int> g_network_pid{0};  // the process that created this process's transports
 
@@ -100,7 +107,7 @@ class EchoLedger {
 
  private:
   void expire(Clock::time_point now) {
-    while (!order_.empty() && now - order_.front().first > std::chrono::seconds(2)) {
+    while (!order_.empty() && now - order_.front().first > kEchoTtl) {
       if (auto it = count_.find(order_.front().second); it != count_.end() && --it->second == 0) count_.erase(it);
       order_.pop_front();
     }
@@ -190,6 +197,8 @@ class NetworkBridge final : public net::Listener {
   std::unique_ptr<BridgePort> port_;           // the holder's lane and entry; outlives the endpoint
   std::unique_ptr<net::Endpoint> endpoint_;    // the holder's only; reset first: no callback after that
   bool holder_ = false;                        // the bridge thread's (and start()'s) view
+  bool receiving_ = true;                      // what the endpoint was told (bridge thread, start())
+  Clock::time_point paused_at_{};              // when it was told to stop receiving
   std::atomic<bool> endpoint_ready_{false};    // endpoint_ is set (user threads may ask it for counts)
   std::mutex endpoint_mutex_;                  // endpoint_ set or reset, against the import pump
   bool loopback_ = false;                      // the transport delivers our own samples back (LCM)
@@ -237,6 +246,9 @@ class NetworkBridge final : public net::Listener {
     if (!held_.exchange(true, std::memory_order_acq_rel)) import_pump().add(this);
     return 0;
   }
+
+  // Whether the transport holds samples back (set by room(), cleared by pump_held()).
+  bool holding() const noexcept { return held_.load(std::memory_order_acquire); }
 
   // The import pump's thread: takes what the transport held once there is room (room() above
   // decides); false when nothing is held any more.
@@ -304,6 +316,8 @@ class NetworkBridge final : public net::Listener {
     spec.type_hash = core_.type_hash;
     spec.qos = qos_;
     spec.max_message_bytes = core_.pool ? core_.pool.slot_bytes() : core_.ring.header().payload_size;
+    receiving_ = host_subscribers() != 0;
+    spec.receive = receiving_;
     auto endpoint = transport_->open(spec, *this);
     if (!endpoint) {
       port_->leave();  // recorded: the next holder adopts them
@@ -325,6 +339,34 @@ class NetworkBridge final : public net::Listener {
     }
     publish_matches();
     return {};
+  }
+
+  // The host's subscribing handles, the holder's own entry left out.
+  std::uint32_t host_subscribers() const noexcept {
+    const std::uint32_t n = core_.ring.subscriber_count();
+    return n - (n != 0 && port_ && port_->has_entry() ? 1u : 0u);
+  }
+
+  // Stops or resumes receiving as the host's subscribers come and go (bridge thread).
+  void update_receiving() noexcept {
+    const bool want = host_subscribers() != 0;
+    if (want == receiving_ || !endpoint_) return;
+    receiving_ = want;
+    if (!want) paused_at_ = Clock::now();
+    endpoint_->set_receiving(want);
+  }
+
+  // Sleeps until the host's publishers wrote a message to export, a subscriber appeared on a
+  // topic that does not receive, or `deadline`.
+  void wait_for_work(Clock::time_point deadline) noexcept {
+    const shm::WaitItem item{&core_.ring.doorbell(), &core_.ring.subscriber(port_->entry()).waiting,
+                             [](const void* c) noexcept {
+                               const auto& b = *static_cast<const NetworkBridge*>(c);
+                               return b.core_.ring.has_unread(b.port_->entry(), b.port_->entry_token()) ||
+                                      (!b.receiving_ && b.host_subscribers() != 0);
+                             },
+                             this};
+    shm::wait_any({&item, 1}, deadline);
   }
 
   void publish_matches() noexcept {
@@ -351,11 +393,12 @@ class NetworkBridge final : public net::Listener {
     struct Context {
       NetworkBridge* self;
       const void* msg;
-    } ctx{this, msg};
+      bool echo;  // our sample may come back: note it in the ledger
+    } ctx{this, msg, loopback_ && (receiving_ || Clock::now() - paused_at_ < kEchoTtl)};
     const net::BodyWriter writer{[](void* c, std::span<std::byte> body) {
                                    const auto& x = *static_cast<const Context*>(c);
                                    x.self->ops_.encode(x.self->format_, x.msg, body);
-                                   if (x.self->loopback_) x.self->ledger_.add(body_hash(body));
+                                   if (x.echo) x.self->ledger_.add(body_hash(body));
                                  },
                                  &ctx};
     state().inflight.store(1, std::memory_order_relaxed);
@@ -424,12 +467,13 @@ class NetworkBridge final : public net::Listener {
                    info_.name, takeover ? " (it took over from a process that is gone)" : "");
       }
       export_pending();
+      update_receiving();
       const auto now = Clock::now();
       if (now >= next_match) {
         publish_matches();
         next_match = now + kWatchPeriod;
       }
-      wait_for_unread(core_, port_->entry(), port_->entry_token(), now + kWatchPeriod);
+      wait_for_work(now + kWatchPeriod);
     }
     if (holder_) export_pending();  // what the host's publishers sent before the topic closed
     if (pidfd >= 0) ::close(pidfd);
@@ -501,7 +545,9 @@ void ImportPump::run() {
       lock.lock();
       current_ = nullptr;
       done_.notify_all();
-      if (!still) std::erase(held_, b);
+      // Nothing held when it returned; but a transport thread that held a sample since then
+      // found b still listed and did not add it again: keep it for the next pass.
+      if (!still && !b->holding()) std::erase(held_, b);
     }
     lock.unlock();
     std::this_thread::sleep_for(std::chrono::microseconds(200));

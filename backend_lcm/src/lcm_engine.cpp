@@ -1,6 +1,7 @@
-// The instance of the LCM transport: an lcm_t and one receive thread (Engine::run) that polls
-// {the lcm fd, an eventfd that stops it} and calls lcm_handle(), which runs the handlers of one
-// message in that thread. Every listener call is made by that thread while it holds
+// The instance of the LCM transport: the lcm_t that publishes, the one that receives (the same
+// one except for udpm, where it exists while an endpoint receives) and one receive
+// thread (Engine::run) that polls {the receiving lcm fd, an eventfd that wakes or stops it} and
+// calls lcm_handle(), which runs the handlers of one message in that thread. Every listener call is made by that thread while it holds
 // Engine::handle_mutex_, through the endpoint's gate (horus/transport/endpoint_gate.hpp).
 //
 // Subscribing and unsubscribing. liblcm 1.3.1 cannot unsubscribe safely while another thread is
@@ -18,7 +19,9 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <algorithm>
 #include <cstring>
+#include <iterator>
 #include <optional>
 #include <span>
 #include <string>
@@ -110,29 +113,92 @@ class Engine::HandleLock {
 };
 
 Engine::~Engine() {
-  lcm_destroy(lcm_);  // unsubscribes what is left, stops LCM's own threads
+  // lcm_destroy unsubscribes what is left and stops LCM's own threads.
+  if (recv_ != nullptr && recv_ != pub_) lcm_destroy(recv_);
+  lcm_destroy(pub_);
   ::close(event_fd_);
 }
 
 bool Engine::on_receive_thread() const noexcept { return tl_receive_engine == this; }
 
-void Engine::request_stop() noexcept {
-  stop_.store(true, std::memory_order_release);
+void Engine::poke() noexcept {
   const std::uint64_t one = 1;
   while (::write(event_fd_, &one, sizeof one) < 0 && errno == EINTR) {
   }
 }
 
-Result<void> Engine::subscribe(const std::shared_ptr<Subscription>& sub, const std::string& channel) {
-  const std::string pattern = regex_escape(channel);
+void Engine::request_stop() noexcept {
+  stop_.store(true, std::memory_order_release);
+  poke();
+}
+
+Result<void> Engine::start_receiving_now() {
+  std::lock_guard lock(handle_mutex_);
+  auto lcm = receiver_locked();
+  if (!lcm) return std::unexpected(std::move(lcm.error()));
+  return {};
+}
+
+Result<lcm_t*> Engine::receiver_locked() {
+  if (recv_ != nullptr) return recv_;
+  // udpm: LCM's receive socket is created by lcm_get_fileno(); the sockets on its port that
+  // appear meanwhile are ours (creations of receive sockets are serialized by this lock).
+  static std::mutex socket_creation;
+  std::unique_lock<std::mutex> sockets;
+  std::vector<std::uint64_t> before;
+  lcm_t* lcm = pub_;
+  if (info_.provider == Provider::Udpm) {
+    sockets = std::unique_lock(socket_creation);
+    before = udp_sockets_on_port(info_.port);
+    lcm = lcm_create(url_.c_str());
+    if (lcm == nullptr)
+      return fail(Errc::Io, "LCM could not start a receiving instance for URL '" + url_ +
+                                "' (liblcm printed the reason on stderr)" + provider_hint(url_, info_));
+  }
+  const int fd = lcm_get_fileno(lcm);
+  if (fd < 0) {
+    if (lcm != pub_) lcm_destroy(lcm);
+    std::string what = "LCM could not start the receive side for URL '" + url_ + "' (liblcm printed the reason on stderr";
+    if (info_.provider == Provider::Udpm) what += "; its self test, a message sent to itself, did not come back";
+    return fail(Errc::Io, what + ")" + provider_hint(url_, info_));
+  }
+  if (info_.provider == Provider::Udpm) {
+    std::vector<std::uint64_t> added;
+    const std::vector<std::uint64_t> after = udp_sockets_on_port(info_.port);
+    std::set_difference(after.begin(), after.end(), before.begin(), before.end(), std::back_inserter(added));
+    if (added.size() == 1) {
+      if (const auto drops = socket_drops(added[0], udp_table_)) {
+        drop_inode_ = added[0];
+        last_drops_ = *drops;
+      }
+    }
+  }
+  recv_ = lcm;
+  lcm_fd_.store(fd, std::memory_order_release);
+  poke();  // the receive thread polls the new descriptor from now on
+  return recv_;
+}
+
+Result<void> Engine::lcm_subscribe_locked(Subscription& sub, const std::string& channel) {
+  auto lcm = receiver_locked();
+  if (!lcm) return fail(lcm.error().code(), sub.label() + ": " + lcm.error().message());
+  lcm_subscription_t* handle = lcm_subscribe(*lcm, regex_escape(channel).c_str(), &on_message, &sub);
+  if (handle == nullptr)
+    return fail(Errc::Io, sub.label() + ": liblcm refused the subscription (it printed the reason on stderr)");
+  lcm_subscription_set_queue_capacity(handle, 0);  // unlimited (never silent): kMaxQueueAgeUs bounds it
+  sub.handle = handle;
+  return {};
+}
+
+Result<void> Engine::subscribe(const std::shared_ptr<Subscription>& sub, const std::string& channel, bool receive) {
   if (info_.provider == Provider::Udpm) sub->max_queue_age_us = kMaxQueueAgeUs;
   HandleLock lock(*this);
   subs_.reserve(subs_.size() + 1);  // so that push_back below cannot throw after subscribing
-  lcm_subscription_t* handle = lcm_subscribe(lcm_, pattern.c_str(), &on_message, sub.get());
-  if (handle == nullptr)
-    return fail(Errc::Io, sub->label() + ": liblcm refused the subscription (it printed the reason on stderr)");
-  lcm_subscription_set_queue_capacity(handle, 0);  // unlimited (never silent): kMaxQueueAgeUs bounds it
-  sub->handle = handle;
+  if (receive) {
+    if (auto ok = lcm_subscribe_locked(*sub, channel); !ok) return ok;
+  } else {
+    sub->paused.store(true, std::memory_order_release);
+  }
   subs_.push_back(sub);
   return {};
 }
@@ -145,14 +211,8 @@ void Engine::set_receiving(const std::shared_ptr<Subscription>& sub, const std::
     std::erase(deferred_, sub);  // an unsubscribe still waiting for lcm_handle to return
     if (sub->handle != nullptr) return;
     try {
-      lcm_subscription_t* handle = lcm_subscribe(lcm_, regex_escape(channel).c_str(), &on_message, sub.get());
-      if (handle == nullptr) {
-        sub->report(sub->label() + ": liblcm refused to subscribe again (it printed the reason on stderr); "
-                                   "nothing more arrives on this channel");
-        return;
-      }
-      lcm_subscription_set_queue_capacity(handle, 0);
-      sub->handle = handle;
+      if (auto ok = lcm_subscribe_locked(*sub, channel); !ok)
+        sub->report(ok.error().message() + "; nothing arrives on this channel until it is resumed again");
     } catch (...) {
     }
     return;
@@ -165,8 +225,9 @@ void Engine::set_receiving(const std::shared_ptr<Subscription>& sub, const std::
     }
     return;
   }
-  lcm_unsubscribe(lcm_, sub->handle);
+  lcm_unsubscribe(recv_, sub->handle);
   sub->handle = nullptr;
+  stop_receiving_if_idle_locked();
 }
 
 void Engine::unsubscribe(const std::shared_ptr<Subscription>& sub) noexcept {
@@ -182,8 +243,9 @@ void Engine::unsubscribe(const std::shared_ptr<Subscription>& sub) noexcept {
     } catch (...) {  // no memory: LCM allows unsubscribing from a handler (the gate stops it)
     }
   }
-  lcm_unsubscribe(lcm_, sub->handle);
+  lcm_unsubscribe(recv_, sub->handle);
   sub->handle = nullptr;
+  stop_receiving_if_idle_locked();
 }
 
 std::unique_lock<std::mutex> Engine::lock_for_dispatch() {
@@ -195,10 +257,25 @@ std::unique_lock<std::mutex> Engine::lock_for_dispatch() {
 // Called with handle_mutex_ held, outside lcm_handle.
 void Engine::run_deferred_locked() noexcept {
   for (const auto& sub : deferred_) {
-    if (sub->handle != nullptr) lcm_unsubscribe(lcm_, sub->handle);
+    if (sub->handle != nullptr) lcm_unsubscribe(recv_, sub->handle);
     sub->handle = nullptr;
   }
   deferred_.clear();
+  stop_receiving_if_idle_locked();
+}
+
+// udpm: once no endpoint receives, the receiving instance goes (its socket would keep getting
+// the group's datagrams, this process's own included). Called with handle_mutex_ held, outside
+// lcm_handle.
+void Engine::stop_receiving_if_idle_locked() noexcept {
+  if (info_.provider != Provider::Udpm || recv_ == nullptr || !deferred_.empty()) return;
+  for (const auto& sub : subs_)
+    if (sub->handle != nullptr) return;
+  lcm_fd_.store(-1, std::memory_order_release);
+  poke();  // the receive thread stops polling the descriptor (it checks it again under the lock)
+  lcm_t* const lcm = std::exchange(recv_, nullptr);
+  drop_inode_ = 0;
+  lcm_destroy(lcm);
 }
 
 // Called with handle_mutex_ held. Listener code may open or close endpoints meanwhile.
@@ -216,11 +293,13 @@ void Engine::report_all_locked(const std::function<std::string()>& make_message)
 
 void Engine::loop() noexcept {
   tl_receive_engine = this;
-  bool lcm_open = lcm_fd_ >= 0;
+  bool lcm_open = true;  // false once lcm_handle failed: do not spin on a descriptor that stays readable
   last_drop_check_ = std::chrono::steady_clock::now();
   while (!stop_.load(std::memory_order_acquire)) {
-    pollfd fds[2] = {{event_fd_, POLLIN, 0}, {lcm_fd_, POLLIN, 0}};
-    const int n = ::poll(fds, lcm_open ? 2 : 1, kPollTimeoutMs);
+    const int lcm_fd = lcm_fd_.load(std::memory_order_acquire);  // -1 until an endpoint receives
+    const bool poll_lcm = lcm_open && lcm_fd >= 0;
+    pollfd fds[2] = {{event_fd_, POLLIN, 0}, {lcm_fd, POLLIN, 0}};
+    const int n = ::poll(fds, poll_lcm ? 2 : 1, kPollTimeoutMs);
     if (n < 0 && errno != EINTR) {
       const int err = errno;
       std::unique_lock lock = lock_for_dispatch();
@@ -235,11 +314,13 @@ void Engine::loop() noexcept {
       [[maybe_unused]] const ssize_t r = ::read(event_fd_, &value, sizeof value);
     }
     if (stop_.load(std::memory_order_acquire)) break;
-    if (n > 0 && lcm_open && (fds[1].revents & (POLLIN | POLLHUP | POLLERR)) != 0) {
+    if (n > 0 && poll_lcm && (fds[1].revents & (POLLIN | POLLHUP | POLLERR)) != 0) {
       std::unique_lock lock = lock_for_dispatch();
-      const int rc = lcm_handle(lcm_);  // dispatches one message; the fd said one is queued
+      // The instance may have gone (nobody receives any more) while we polled its descriptor.
+      if (recv_ == nullptr || lcm_fd_.load(std::memory_order_relaxed) != lcm_fd) continue;
+      const int rc = lcm_handle(recv_);  // dispatches one message; the fd said one is queued
       if (rc != 0) {
-        lcm_open = false;  // do not spin on a descriptor that stays readable
+        lcm_open = false;
         // A log read to its end (file://, mode r) is not an error.
         if (!(info_.provider == Provider::File && info_.file_read))
           report_all_locked([&] {
@@ -260,10 +341,12 @@ void Engine::loop() noexcept {
 
 // Reads the kernel's drops counter of the LCM receive socket; reports increases.
 void Engine::account_drops() noexcept {
-  if (drop_inode_ == 0) return;
   const auto now = std::chrono::steady_clock::now();
   if (now - last_drop_check_ < kDropCheckPeriod) return;
   last_drop_check_ = now;
+  if (lcm_fd_.load(std::memory_order_relaxed) < 0) return;  // nothing receives
+  std::unique_lock lock = lock_for_dispatch();  // the socket changes with the receiving instance
+  if (drop_inode_ == 0) return;
   std::optional<std::uint32_t> drops;
   try {
     drops = socket_drops(drop_inode_, udp_table_);
@@ -274,7 +357,6 @@ void Engine::account_drops() noexcept {
   const std::uint32_t delta = *drops - last_drops_;  // the counter is 32-bit and wraps
   last_drops_ = *drops;
   if (delta == 0) return;
-  std::unique_lock lock = lock_for_dispatch();
   std::vector<std::shared_ptr<Subscription>> subs;
   try {
     subs = subs_;

@@ -2,7 +2,8 @@
 //   lcm_url.cpp        URL parsing and the environment (check_url, url_from_environment),
 //                      channel names (check_channel, channel_name)
 //   lcm_drops.cpp      kernel drop counting: this process's UDP sockets in /proc/self/net/udp
-//   lcm_engine.cpp     the instance: an lcm_t and its receive thread (Engine), subscriptions
+//   lcm_engine.cpp     the instance: the publishing and receiving lcm_t and the receive thread
+//                      (Engine), subscriptions
 //   lcm_transport.cpp  the endpoint, the transport, the per-URL cache, registration
 #pragma once
 
@@ -39,6 +40,8 @@ struct UrlInfo {
 
 /// Checks `url` and says what it is (Errc::Config naming the problem otherwise).
 Result<UrlInfo> parse_url(std::string_view url);
+/// What to check when LCM cannot start `url` (empty when there is nothing to add).
+std::string provider_hint(const std::string& url, const UrlInfo& info);
 /// A decimal number 0..max, digits only.
 std::optional<std::uint64_t> parse_decimal(std::string_view s, std::uint64_t max) noexcept;
 
@@ -93,8 +96,12 @@ struct Subscription : std::enable_shared_from_this<Subscription> {
 /// engine last: the transport, or the receive thread when it was detached).
 class Engine {
  public:
-  Engine(std::string url, const UrlInfo& info, lcm_t* lcm, int event_fd, int lcm_fd) noexcept
-      : url_(std::move(url)), info_(info), lcm_(lcm), event_fd_(event_fd), lcm_fd_(lcm_fd) {}
+  /// `pub`: the instance that publishes. Memq, file and tcpq receive through it too (a memq
+  /// instance is its own bus, a log file is opened once); udpm receives through a second
+  /// instance that exists while an endpoint receives (receiver_locked), so a process that
+  /// only publishes has no receive socket and never sees its own datagrams.
+  Engine(std::string url, const UrlInfo& info, lcm_t* pub, int event_fd) noexcept
+      : url_(std::move(url)), info_(info), pub_(pub), event_fd_(event_fd) {}
   Engine(const Engine&) = delete;
   Engine& operator=(const Engine&) = delete;
   ~Engine();
@@ -103,20 +110,20 @@ class Engine {
   const UrlInfo& info() const noexcept { return info_; }
   bool on_receive_thread() const noexcept;
 
-  /// Drop accounting: the LCM receive socket's inode and its drops counter at creation.
-  void set_drop_socket(std::uint64_t inode, std::uint32_t drops) noexcept {
-    drop_inode_ = inode;
-    last_drops_ = drops;
-  }
+  /// Memq, file and tcpq: receives through the publishing instance from the start (udpm
+  /// starts when an endpoint first receives). Called once, before the receive thread starts.
+  Result<void> start_receiving_now();
 
   static void run(std::shared_ptr<Engine> self) { self->loop(); }
   void request_stop() noexcept;
+  void poke() noexcept;  // wakes the receive thread
 
   int publish(const char* channel, const void* data, unsigned size) noexcept {
-    return lcm_publish(lcm_, channel, data, size);  // internally locked in every provider
+    return lcm_publish(pub_, channel, data, size);  // internally locked in every provider
   }
 
-  Result<void> subscribe(const std::shared_ptr<Subscription>& sub, const std::string& channel);
+  /// Registers an endpoint's subscription; `receive` false: it starts paused (set_receiving).
+  Result<void> subscribe(const std::shared_ptr<Subscription>& sub, const std::string& channel, bool receive);
   /// Stops or resumes the LCM subscription of an open endpoint (Endpoint::set_receiving): while
   /// it is off, LCM's reader drops the channel's datagrams before queueing them.
   void set_receiving(const std::shared_ptr<Subscription>& sub, const std::string& channel, bool on) noexcept;
@@ -126,17 +133,24 @@ class Engine {
  private:
   class HandleLock;
 
+  /// The receiving instance, created (udpm) and announced to the receive thread on first use.
+  /// Called with handle_mutex_ held.
+  Result<lcm_t*> receiver_locked();
+  /// lcm_subscribe on the receiving instance. Called with handle_mutex_ held.
+  Result<void> lcm_subscribe_locked(Subscription& sub, const std::string& channel);
   std::unique_lock<std::mutex> lock_for_dispatch();
   void run_deferred_locked() noexcept;
+  void stop_receiving_if_idle_locked() noexcept;
   void report_all_locked(const std::function<std::string()>& make_message) noexcept;
   void loop() noexcept;
   void account_drops() noexcept;
 
   const std::string url_;
   const UrlInfo info_;
-  lcm_t* const lcm_;
+  lcm_t* const pub_;
   const int event_fd_;
-  const int lcm_fd_;
+  lcm_t* recv_ = nullptr;        // the receiving instance, while one receives; guarded by handle_mutex_
+  std::atomic<int> lcm_fd_{-1};  // recv_'s descriptor (-1: none), published after recv_
   std::atomic<bool> stop_{false};
 
   std::mutex handle_mutex_;  // held by the receive thread around lcm_handle and listener calls
@@ -145,11 +159,11 @@ class Engine {
   std::vector<std::shared_ptr<Subscription>> subs_;      // open endpoints; guarded by handle_mutex_
   std::vector<std::shared_ptr<Subscription>> deferred_;  // to unsubscribe; guarded by handle_mutex_
 
-  // Receive thread only (set before it starts).
+  // The receive socket's drop accounting (set with recv_); guarded by handle_mutex_.
   std::uint64_t drop_inode_ = 0;
   std::uint32_t last_drops_ = 0;
-  std::chrono::steady_clock::time_point last_drop_check_{};
   std::string udp_table_;
+  std::chrono::steady_clock::time_point last_drop_check_{};  // receive thread only
 };
 
 }  // namespace horus::lcm::detail

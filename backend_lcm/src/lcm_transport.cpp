@@ -125,7 +125,7 @@ class LcmTransport final : public net::Transport, public std::enable_shared_from
     auto channel = check_channel(spec.wire_topic);
     if (!channel) return fail(Errc::InvalidName, label + ": " + channel.error().message());
     auto sub = std::make_shared<Subscription>(listener, std::move(label));
-    if (auto done = engine_->subscribe(sub, *channel); !done) return std::unexpected(std::move(done.error()));
+    if (auto done = engine_->subscribe(sub, *channel, spec.receive); !done) return std::unexpected(std::move(done.error()));
     try {
       return std::unique_ptr<net::Endpoint>(
           std::make_unique<LcmEndpoint>(shared_from_this(), engine_, std::move(*channel), sub));
@@ -141,40 +141,12 @@ class LcmTransport final : public net::Transport, public std::enable_shared_from
   std::thread thread_;
 };
 
-std::string provider_hint(const std::string& url, const UrlInfo& info) {
-  switch (info.provider) {
-    case Provider::Udpm:
-      return "; for udpm the usual cause is a host with no multicast route: add one with "
-             "`ip route add 224.0.0.0/4 dev <interface>` (or `dev lo` for one host)";
-    case Provider::File:
-      return info.file_read ? "; check that the log file exists, is readable and holds at least one event"
-                            : "; check that the log file's directory exists and is writable";
-    case Provider::Tcpq:
-      return "; check that an LCM TCP queue server listens at " +
-             (url.size() > 7 ? url.substr(7) : std::string("127.0.0.1:7700"));
-    case Provider::Memq: break;
-  }
-  return "";
-}
-
 Result<std::shared_ptr<LcmTransport>> LcmTransport::create(net::CacheTicket ticket, const std::string& url,
                                                            const UrlInfo& info) {
-  // The LCM receive socket is created by lcm_get_fileno(); the sockets on its port that appear
-  // meanwhile are ours (creations are serialized by the cache's lock).
-  std::vector<std::uint64_t> before;
-  if (info.provider == Provider::Udpm) before = udp_sockets_on_port(info.port);
-
-  lcm_t* lcm = lcm_create(url.c_str());
+  lcm_t* lcm = lcm_create(url.c_str());  // udpm: the send socket only (receiving starts later)
   if (lcm == nullptr)
     return fail(Errc::Io, "LCM could not start provider for URL '" + url + "' (liblcm printed the reason on stderr)" +
                               provider_hint(url, info));
-  const int lcm_fd = lcm_get_fileno(lcm);
-  if (lcm_fd < 0) {
-    lcm_destroy(lcm);
-    std::string what = "LCM could not start the receive side for URL '" + url + "' (liblcm printed the reason on stderr";
-    if (info.provider == Provider::Udpm) what += "; its self test, a message sent to itself, did not come back";
-    return fail(Errc::Io, what + ")" + provider_hint(url, info));
-  }
   const int event_fd = ::eventfd(0, EFD_CLOEXEC | EFD_NONBLOCK);
   if (event_fd < 0) {
     const int err = errno;
@@ -183,22 +155,16 @@ Result<std::shared_ptr<LcmTransport>> LcmTransport::create(net::CacheTicket tick
   }
   std::shared_ptr<Engine> engine;
   try {
-    engine = std::make_shared<Engine>(url, info, lcm, event_fd, lcm_fd);
+    engine = std::make_shared<Engine>(url, info, lcm, event_fd);
   } catch (...) {
     lcm_destroy(lcm);
     ::close(event_fd);
     throw;
   }
-
-  if (info.provider == Provider::Udpm) {
-    std::vector<std::uint64_t> added;
-    const std::vector<std::uint64_t> after = udp_sockets_on_port(info.port);
-    std::set_difference(after.begin(), after.end(), before.begin(), before.end(), std::back_inserter(added));
-    if (added.size() == 1) {
-      std::string table;
-      if (const auto drops = socket_drops(added[0], table)) engine->set_drop_socket(added[0], *drops);
-    }
-  }
+  // memq, file and tcpq receive through the publishing instance: start it now, as before any
+  // endpoint (a log that cannot be read is an error of the transport).
+  if (info.provider != Provider::Udpm)
+    if (auto ok = engine->start_receiving_now(); !ok) return std::unexpected(std::move(ok.error()));
 
   auto t = std::make_shared<LcmTransport>(Private{}, std::move(ticket), engine);
   try {

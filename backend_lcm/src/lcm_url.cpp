@@ -1,6 +1,7 @@
 // LCM URLs and channel names for the LCM transport: check_url (what liblcm's lcm_create would
 // only complain about on stderr), url_from_environment (HORUS_LCM_URL, LCM_DEFAULT_URL),
-// check_channel and channel_name. Nothing here touches the network.
+// check_channel and channel_name, provider_hint (what to check when LCM cannot start). Nothing here
+// touches the network.
 #include <algorithm>
 #include <array>
 #include <charconv>
@@ -223,6 +224,22 @@ Result<UrlInfo> parse_url(std::string_view url) {
     return info;
   }
   return fail(Errc::Config, url_error(url, "unknown scheme '" + std::string(scheme) + "'", kSchemesExpected));
+}
+
+std::string provider_hint(const std::string& url, const UrlInfo& info) {
+  switch (info.provider) {
+    case Provider::Udpm:
+      return "; for udpm the usual cause is a host with no multicast route: add one with "
+             "`ip route add 224.0.0.0/4 dev <interface>` (or `dev lo` for one host)";
+    case Provider::File:
+      return info.file_read ? "; check that the log file exists, is readable and holds at least one event"
+                            : "; check that the log file's directory exists and is writable";
+    case Provider::Tcpq:
+      return "; check that an LCM TCP queue server listens at " +
+             (url.size() > 7 ? url.substr(7) : std::string("127.0.0.1:7700"));
+    case Provider::Memq: break;
+  }
+  return "";
 }
 
 }  // namespace detail

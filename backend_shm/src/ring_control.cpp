@@ -49,6 +49,9 @@ std::optional<std::uint32_t> Ring::add_subscriber(std::uint64_t token) const noe
       e.cursor[l].store(lanes_[l].head.load(std::memory_order_acquire), std::memory_order_relaxed);
     e.state.store(SubscriberEntry::kActive, std::memory_order_release);
     raise_to(hdr_->sub_hwm, i + 1);
+    // A fleet topic's bridge that stopped receiving (nobody read here) sleeps on the doorbell
+    // and resumes when it sees a subscriber: ring it (a no-op when nobody waits).
+    ring_doorbell(hdr_->doorbell);
     return i;
   }
   return std::nullopt;

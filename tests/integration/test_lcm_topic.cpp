@@ -234,9 +234,11 @@ TEST_F(LcmTopic, DatagramsTheKernelDropsShowInDroppedCount) {
   o.capacity = 32;
   auto t = horus::Topic<horus::msg::Image>::open(name, o);
   ASSERT_TRUE(t) << t.error().message();
+  auto pub = horus::Topic<horus::msg::Image>::open(name, o);  // t stays the subscriber
+  ASSERT_TRUE(pub) << pub.error().message();
   horus::msg::Image img(1080, 1920, horus::msg::ImageEncoding::Rgb8);
   constexpr int kSent = 30;
-  for (int i = 0; i < kSent; ++i) t->send(img);
+  for (int i = 0; i < kSent; ++i) pub->send(img);
   int received = 0;
   horus_test::Deadline deadline(20s);
   auto quiet_since = std::chrono::steady_clock::now();

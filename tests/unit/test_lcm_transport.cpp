@@ -159,13 +159,26 @@ std::string udpm_url(int offset, std::string_view options = "ttl=0") {
   return "udpm://239.255.76.67:" + std::to_string(port) + "?" + std::string(options);
 }
 
+/// Whether udpm can receive here: an endpoint that receives starts LCM's receive side (its
+/// self test needs a multicast route); the reason when it cannot.
+std::optional<std::string> udpm_unavailable(Transport& t) {
+  struct Quiet final : horus::net::Listener {
+    void on_sample(const horus::net::Sample&) override {}
+    void on_error(std::string_view) override {}
+  } quiet;
+  auto probe = t.open(spec("horus/test/probe"), quiet);
+  if (!probe && probe.error() == Errc::Io) return probe.error().message();
+  return std::nullopt;
+}
+
 /// The transport of `url`, or a skip when liblcm cannot start udpm here (no multicast route).
 #define ASSIGN_UDPM_OR_SKIP(var, url)                                                                      \
   auto var##_result = horus::lcm::lcm_transport(url);                                                      \
   if (!var##_result && var##_result.error() == Errc::Io)                                                   \
     GTEST_SKIP() << "udpm is not available on this host (" << var##_result.error().message() << ")";       \
   ASSERT_TRUE(var##_result) << var##_result.error().message();                                             \
-  std::shared_ptr<Transport> var = *var##_result
+  std::shared_ptr<Transport> var = *var##_result;                                                          \
+  if (const auto why = udpm_unavailable(*var)) GTEST_SKIP() << "udpm is not available on this host (" << *why << ")"
 
 std::unique_ptr<Endpoint> open_endpoint(Transport& transport, const std::string& channel_name, horus::net::Listener& listener) {
   auto endpoint = transport.open(spec(channel_name), listener);
@@ -698,6 +711,73 @@ TEST(LcmUdpm, LoopbackRoundTripAndOwnSamples) {
   for (const Collector* l : {&la, &lb}) {
     for (const auto& got : l->samples()) EXPECT_TRUE(got == small || got == fragmented) << got.size();
   }
+}
+
+/// UDP sockets of this process bound to `port` (from /proc/self/net/udp).
+int udp_sockets_on(int port) {
+  std::FILE* f = std::fopen("/proc/self/net/udp", "r");
+  if (f == nullptr) return -1;
+  char line[512];
+  int n = 0;
+  char want[8];
+  std::snprintf(want, sizeof want, ":%04X ", port);
+  while (std::fgets(line, sizeof line, f) != nullptr) {
+    // "  sl  local_address rem_address ...": the local address is the second column
+    const char* local = std::strchr(line, ':');
+    if (local == nullptr) continue;
+    local = std::strchr(local + 1, ':');  // the port after the local address
+    if (local != nullptr && std::strncmp(local, want, 6) == 0) ++n;
+  }
+  std::fclose(f);
+  return n;
+}
+
+// The LCM issue's note: a process that only publishes must not receive its own traffic. An
+// endpoint opened with receive = false publishes through an instance with no receive socket;
+// set_receiving(true) starts one (its own samples come back, as udpm loops them); false, with
+// no other endpoint receiving, closes it again.
+TEST(LcmUdpm, AnEndpointThatOnlyPublishesHasNoReceiveSocket) {
+  if (::access("/proc/self/net/udp", R_OK) != 0) GTEST_SKIP() << "/proc/self/net/udp is not readable";
+  const int port = 40000 + static_cast<int>((::getpid() * 13 + 7) % 20000);
+  const std::string url = "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0";
+  auto made = horus::lcm::lcm_transport(url);
+  ASSERT_TRUE(made) << made.error().message();
+  std::shared_ptr<Transport> t = *made;
+  Collector l;
+  EndpointSpec publish_only = spec(channel("pubonly"));
+  publish_only.receive = false;
+  auto opened = t->open(publish_only, l);
+  ASSERT_TRUE(opened) << opened.error().message();
+  auto e = std::move(*opened);
+  for (int i = 0; i < 20; ++i) ASSERT_TRUE(send(*e, bytes_of("mine")));
+  EXPECT_EQ(udp_sockets_on(port), 0) << "a publish-only LCM instance opened a socket on the multicast port";
+  std::this_thread::sleep_for(100ms);
+  EXPECT_EQ(l.count(), 0u);
+
+  e->set_receiving(true);  // starts the receive side (the self test runs now)
+  if (udp_sockets_on(port) == 0) GTEST_SKIP() << "udpm cannot receive on this host (no multicast route)";
+  EXPECT_EQ(udp_sockets_on(port), 1);
+  bool back = false;
+  for (int attempt = 0; attempt < 20 && !back; ++attempt) {
+    ASSERT_TRUE(send(*e, bytes_of("again")));
+    back = l.wait_for_count(1, 200ms);
+  }
+  EXPECT_TRUE(back) << "after set_receiving(true) the endpoint's own samples did not come back over udpm ttl=0";
+
+  e->set_receiving(false);  // nothing receives any more: the receive socket goes
+  EXPECT_EQ(udp_sockets_on(port), 0) << "the receive socket stayed after the last endpoint stopped receiving";
+  const std::size_t before = l.count();
+  for (int i = 0; i < 20; ++i) ASSERT_TRUE(send(*e, bytes_of("paused")));
+  std::this_thread::sleep_for(200ms);
+  EXPECT_EQ(l.count(), before) << "samples were delivered to an endpoint that stopped receiving";
+
+  e->set_receiving(true);  // and comes back
+  bool again = false;
+  for (int attempt = 0; attempt < 20 && !again; ++attempt) {
+    ASSERT_TRUE(send(*e, bytes_of("resumed")));
+    again = l.wait_for_count(before + 1, 200ms);
+  }
+  EXPECT_TRUE(again) << "after receiving was resumed nothing came back";
 }
 
 TEST(LcmUdpm, ThreeMegabyteMessageArrivesWhole) {

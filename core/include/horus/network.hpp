@@ -74,6 +74,10 @@ struct EndpointSpec {
   /// The largest message of the topic in bytes (its ring slot, or its pool slot for large
   /// data); 0 when unknown. A backend sizes its buffers of unacknowledged samples by it.
   std::uint64_t max_message_bytes = 0;
+  /// Whether the endpoint receives from the start; false: it only sends until
+  /// set_receiving(true) (a host whose handles only publish). Like set_receiving, a hint:
+  /// a backend that gains nothing by not receiving (DDS) ignores it.
+  bool receive = true;
 };
 
 /// A sample that arrived: the serialized body (for DDS: the XCDR1 bytes after the 4-byte
@@ -118,8 +122,8 @@ class Endpoint {
   virtual ~Endpoint() = default;
   /// Sends one sample of `body_size` bytes, filled in place by `writer`. Thread-safe.
   virtual Result<void> write(std::size_t body_size, const BodyWriter& writer) = 0;
-  /// A hint from the topic: `false` when no handle of this process reads the topic any more
-  /// (they all only publish), `true` when one does again. A backend that delivers this
+  /// A hint from the topic's bridge: `false` when no handle of the host reads the topic any
+  /// more (they all only publish), `true` when one does again. A backend that delivers this
   /// process's own samples back (LCM) stops receiving the channel meanwhile, so its own
   /// traffic costs it nothing. Thread-safe; never called from a listener callback.
   virtual void set_receiving(bool on) noexcept { (void)on; }

@@ -1,8 +1,11 @@
 // The LCM transport: the byte-level backend of horus::net (horus/network.hpp) over Debian's
 // liblcm 1.3.1 (C API). This header includes no LCM header.
 //
-// One transport per LCM URL and process (an lcm_t and one receive thread), shared by every
-// topic that uses that URL and released when the last one closes. An endpoint publishes to and
+// One transport per LCM URL and process (an lcm_t that publishes, one receive thread), shared
+// by every topic that uses that URL and released when the last one closes. For udpm, receiving
+// goes through a second lcm_t that exists while an endpoint receives (EndpointSpec::receive,
+// set_receiving): a process whose endpoints only publish has no receive socket, so its own
+// datagrams never reach it (LCM's loopback would bring every one back to the publisher). An endpoint publishes to and
 // subscribes to one LCM channel: the sample body is the whole LCM payload (lcm-gen's encoding,
 // with its 8-byte fingerprint first), big-endian, so samples arrive with little_endian = false.
 //

@@ -107,7 +107,8 @@ class Ring {
   /// Claims a free lane for a publisher; returns its index, or nothing when all are taken.
   std::optional<std::uint32_t> claim_lane(std::uint64_t token) const noexcept;
   void release_lane(std::uint32_t lane, std::uint64_t token) const noexcept;
-  /// Claims a subscriber entry whose cursors start at the lanes' current heads.
+  /// Claims a subscriber entry whose cursors start at the lanes' current heads, and rings the
+  /// doorbell (a paused fleet bridge resumes receiving when it sees a subscriber).
   std::optional<std::uint32_t> add_subscriber(std::uint64_t token) const noexcept;
   void remove_subscriber(std::uint32_t entry, std::uint64_t token) const noexcept;
   /// Hands lane `lane` / active subscriber entry `entry` from owner `from` to `to` (a fleet
