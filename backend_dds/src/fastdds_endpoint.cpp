@@ -56,12 +56,21 @@ void Core::post_error(std::string message) {
   drain();
 }
 
+void Core::post_lost(std::int32_t count) {
+  if (count <= 0) return;
+  {
+    std::lock_guard lk(queue_mu_);
+    lost_ += static_cast<std::uint64_t>(count);
+  }
+  drain();
+}
+
 void Core::drain() {
   if (t_app_call > 0) {
     bool has_errors;
     {
       std::lock_guard lk(queue_mu_);
-      has_errors = !errors_.empty();
+      has_errors = !errors_.empty() || lost_ != 0;
     }
     if (has_errors) dispatcher_.post(shared_from_this());
     return;  // no remote sample arrives on an application thread; the filter keeps our own out
@@ -82,11 +91,14 @@ void Core::deliver_sample(net::EndpointGate::Calls& calls, const RawReadSample& 
 // Inside the gate.
 void Core::deliver(net::EndpointGate::Calls& calls) {
   std::vector<std::string> errors;
+  std::uint64_t lost = 0;
   {
     std::lock_guard lk(queue_mu_);
     errors.swap(errors_);
+    lost = std::exchange(lost_, 0);
   }
   for (const auto& e : errors) calls.error(e);
+  if (lost != 0) calls.lost(lost);
   fd::DataReader* reader = reader_.load(std::memory_order_acquire);
   if (reader == nullptr) return;
   fd::LoanableSequence<RawReadSample> data;
@@ -253,7 +265,7 @@ Result<void> FastddsEndpoint::create(fd::Topic* topic, fd::ContentFilteredTopic*
   reader_ = transport_->subscriber()->create_datareader(
       filtered, rq, &reader_listener_,
       fd::StatusMask::data_available() << fd::StatusMask::subscription_matched()
-                                       << fd::StatusMask::requested_incompatible_qos());
+                                       << fd::StatusMask::requested_incompatible_qos() << fd::StatusMask::sample_lost());
   if (reader_ == nullptr)
     return fail(Errc::Io, core_->topic_label() + ": Fast DDS could not create the DataReader (QoS " +
                               describe(q) + ")");

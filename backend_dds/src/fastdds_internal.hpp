@@ -139,6 +139,9 @@ class Core : public std::enable_shared_from_this<Core> {
   /// Stops every later listener call; waits for one in progress on another thread.
   void close();
   void post_error(std::string message);
+  /// Samples of remote writers the reader will never get (Fast DDS's SAMPLE_LOST: a KEEP_LAST
+  /// writer overwrote them before our reader acknowledged): added to the topic's lost count.
+  void post_lost(std::int32_t count);
   /// Delivers queued errors and available samples, unless another thread is doing so (it then
   /// picks this up) or this is an application thread (the dispatcher then does it).
   void drain();
@@ -159,6 +162,7 @@ class Core : public std::enable_shared_from_this<Core> {
 
   std::mutex queue_mu_;
   std::vector<std::string> errors_;  // waiting for delivery (queue_mu_)
+  std::uint64_t lost_ = 0;           // samples lost, waiting for delivery (queue_mu_)
 
   mutable std::mutex matched_mu_;
   std::set<rtps::GUID_t> remote_writers_, remote_readers_;
@@ -175,6 +179,7 @@ class ReaderListener final : public fd::DataReaderListener {
   void on_requested_incompatible_qos(fd::DataReader*, const fd::RequestedIncompatibleQosStatus& s) override {
     core_.on_incompatible(true, s);
   }
+  void on_sample_lost(fd::DataReader*, const fd::SampleLostStatus& s) override { core_.post_lost(s.total_count_change); }
 
  private:
   Core& core_;
