@@ -9,6 +9,9 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
 #include <cstdlib>
 #include <string>
 #include <thread>
@@ -141,6 +144,57 @@ TEST_F(LcmTopic, ReceivingStopsWhileHandlesOnlyPublishAndResumes) {
   auto again = horus::Topic<horus::msg::Pose2D>::open(name, on(Backend::Lcm));
   ASSERT_TRUE(again) << again.error().message();
   EXPECT_TRUE(wait_for(*again, 4.0));
+}
+
+// UDP sockets of this process bound to `port` (/proc/self/net/udp: "sl: local:port remote...").
+int udp_sockets_on(int port) {
+  std::FILE* f = std::fopen("/proc/self/net/udp", "r");
+  if (f == nullptr) return -1;
+  char line[512], want[8];
+  std::snprintf(want, sizeof want, ":%04X ", port);
+  int n = 0;
+  while (std::fgets(line, sizeof line, f) != nullptr) {
+    const char* colon = std::strchr(line, ':');
+    if (colon != nullptr) colon = std::strchr(colon + 1, ':');
+    if (colon != nullptr && std::strncmp(colon, want, 6) == 0) ++n;
+  }
+  std::fclose(f);
+  return n;
+}
+
+// The LCM issue's note, at the topic level: a process whose handles only publish keeps no LCM
+// receive socket (udpm would bring each of its own datagrams back to it), and one appears when
+// a handle of the process subscribes. With the fleet layer off: when on, every process with a
+// fleet topic listens to the other hosts' heartbeats (LCM's reader then drops the process's own
+// data datagrams on arrival, as nothing of the process subscribes to their channel).
+TEST_F(LcmTopic, AProcessThatOnlyPublishesHasNoReceiveSocket) {
+  if (::access("/proc/self/net/udp", R_OK) != 0) GTEST_SKIP() << "/proc/self/net/udp is not readable";
+  const char* dir = std::getenv("TMPDIR");
+  const std::string config =
+      std::string(dir != nullptr ? dir : "/tmp") + "/horus_lcm_fleet_off_" + std::to_string(::getpid()) + ".yaml";
+  std::ofstream(config) << "fleet:\n  announce: false\n";
+  ::setenv("HORUS_CONFIG", config.c_str(), 1);
+  const int port = 20000 + (::getpid() * 7 + 3) % 20000;
+  ::setenv("HORUS_LCM_URL", test_url(3).c_str(), 1);
+  const std::string name = horus_test::unique_name("pubonly");
+  auto pub = horus::Topic<horus::msg::Pose2D>::open(name, on(Backend::Lcm));
+  ASSERT_TRUE(pub) << pub.error().message();
+  pub->send(horus::msg::Pose2D{1.0, 0.0, 0.0, 1});  // a pure publisher now
+  horus_test::Deadline gone(5s);
+  while (!gone.expired() && udp_sockets_on(port) != 0) {
+    pub->send(horus::msg::Pose2D{1.0, 0.0, 0.0, 1});
+    std::this_thread::sleep_for(5ms);
+  }
+  EXPECT_EQ(udp_sockets_on(port), 0) << "a process whose handles only publish still has an LCM receive socket";
+
+  // A subscriber wakes the bridge, which starts receiving (LCM's self test runs then).
+  auto sub = horus::Topic<horus::msg::Pose2D>::open(name, on(Backend::Lcm));
+  ASSERT_TRUE(sub) << sub.error().message();
+  horus_test::Deadline back(10s);
+  while (!back.expired() && udp_sockets_on(port) != 1) std::this_thread::sleep_for(5ms);
+  EXPECT_EQ(udp_sockets_on(port), 1) << "the process did not start receiving when a handle subscribed";
+  ::unsetenv("HORUS_CONFIG");
+  std::remove(config.c_str());
 }
 
 TEST_F(LcmTopic, InProcessUrlMemqWorks) {
