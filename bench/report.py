@@ -161,10 +161,16 @@ if fanout:
     summary["fanout"] = fanout
     rows = []
     for r in fanout.get("fanout_latency", []):
-        rows.append([r["subscribers"], spread(r["p50_ns"], 0), spread(r["p99_ns"], 0), spread(r["all_p50_ns"], 0),
-                     spread(r["all_p99_ns"], 0), r["missing"]])
-    table("fan-out, 1 publisher -> N processes blocked in recv_for (horus-fanout): ns, median (min-max)",
-          ["N", "p50", "p99", "all delivered p50", "all delivered p99", "not received"], rows)
+        rows.append([r["subscribers"], "horus", spread(r["p50_ns"], 0), spread(r["p99_ns"], 0),
+                     spread(r["all_p50_ns"], 0), spread(r["all_p99_ns"], 0), r["missing"], ""])
+        if "futex_p50_ns" in r:
+            rows.append([r["subscribers"], "raw futex", spread(r["futex_p50_ns"], 0), spread(r["futex_p99_ns"], 0),
+                         spread(r["futex_all_p50_ns"], 0), spread(r["futex_all_p99_ns"], 0), r["futex_missing"],
+                         spread(r["all_p50_over_futex"], 2) + "x"])
+    table("fan-out, 1 publisher -> N processes blocked in recv_for (horus-fanout), beside the machine's floor "
+          "(N processes in FUTEX_WAIT on one word, one FUTEX_WAKE): ns, median (min-max)",
+          ["N", "", "p50", "p99", "all delivered p50", "all delivered p99", "not received",
+           "all delivered p50 horus / futex"], rows)
     rows = [[r["subscribers"], spread(r["msgs_per_s_millions"], 2)] for r in fanout.get("fanout_throughput", [])]
     table("fan-out throughput, lossless (send_blocking)", ["N", "M msg/s to every subscriber"], rows)
     rows = [[r["topics"], spread(r["p50_ns"]), spread(r["p99_ns"])] for r in fanout.get("many_topics", [])]
@@ -287,6 +293,9 @@ if fanout and fanout.get("fanout_latency"):
     ax.plot(n, [statistics.median(r["p50_ns"]) / 1000 for r in fl], "o-", label="horus p50 (each subscriber)")
     ax.plot(n, [statistics.median(r["p99_ns"]) / 1000 for r in fl], "s--", label="horus p99")
     ax.plot(n, [statistics.median(r["all_p50_ns"]) / 1000 for r in fl], "^-", label="horus p50, all delivered")
+    if all("futex_all_p50_ns" in r for r in fl):
+        ax.plot(n, [statistics.median(r["futex_all_p50_ns"]) / 1000 for r in fl], "v:",
+                label="raw futex wake of N sleepers, p50 all delivered (the floor)")
     ax.plot([2, 4, 8], [0.198, 0.236, 0.276], "kx:", label="HORUS (Rust), published, spinning, i7-10750H")
     ax.set_xscale("log", base=2)
     ax.set_yscale("log")
