@@ -5,7 +5,8 @@ tables (median and min-max over rounds), writes summary.json and summary.md, and
     python3 bench/report.py bench/results
 
 Inputs (each optional): local.<round>.json (horus-latency-local --json), shm.<round>.json
-(horus-latency-shm --json), fanout.json (horus-fanout --json), network.txt (RESULT lines of
+(horus-latency-shm --json), fanout.json (horus-fanout --json), net_wakeups.txt (bench/net_wakeups.sh),
+network.txt (RESULT lines of
 bench/dds/run_dds_bench.sh and bench/lcm/run_lcm_bench.sh with HORUS_BENCH_RESULTS).
 """
 import glob
@@ -233,6 +234,15 @@ if net:
     failed = [r for r in net if r["failed"]]
     if failed:
         print(f"\n{len(failed)} network runs FAILED: " + "; ".join(f'{r.get("suite")}/{r.get("setting")}/{r.get("impl")}/{r.get("type")}' for r in failed))
+
+# bench/net_wakeups.sh: context switches per round trip, horus against the raw libraries
+wakeups_path = os.path.join(out_dir, "net_wakeups.txt")
+if os.path.exists(wakeups_path):
+    with open(wakeups_path) as fh:
+        text = fh.read().rstrip()
+    print("\n" + text)
+    md.append("\n**where the network latency goes (bench/net_wakeups.sh)**\n\n```\n" + text + "\n```")
+    summary["net_wakeups"] = text
 
 with open(os.path.join(out_dir, "summary.json"), "w") as fh:
     json.dump(summary, fh, indent=1)

@@ -10,8 +10,9 @@
 # subscriber processes, many topics, memory), network (bench/dds and bench/lcm: horus against
 # the raw Cyclone DDS, Fast DDS and LCM programs, on loopback and between two namespace hosts;
 # the namespace part needs root). Every tool's own output goes to DIR/bench.log.
-# --quick: one short round of each (a smoke run). Plots need python3-matplotlib, which this
-# script installs with apt-get when it is missing and it runs as root.
+# --quick: one short round of each (a smoke run). Plots need python3-matplotlib and the network
+# part's context-switch count (bench/net_wakeups.sh) perf (linux-perf), which this script
+# installs with apt-get when they are missing and it runs as root.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 rounds=5
@@ -42,20 +43,26 @@ want() { [[ " $only " == *" $1 "* ]]; }
 # Debian's Python sees Debian's python3-matplotlib (a python3 earlier in PATH may not).
 py=python3
 [ -x /usr/bin/python3 ] && py=/usr/bin/python3
+# A Debian package, when this runs as root and it is missing: apt_install PACKAGE WHAT-FOR
+apt_install() {
+  [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null || return 1
+  echo "bench.sh: installing $1 for $2"
+  apt-get install -y -q "$1" >/dev/null 2>&1 ||
+    (apt-get update -q >/dev/null 2>&1 && apt-get install -y -q "$1" >/dev/null 2>&1)
+}
 if ! "$py" -c 'import matplotlib' 2>/dev/null; then
-  if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
-    echo "bench.sh: installing python3-matplotlib for the plots"
-    (apt-get install -y -q python3-matplotlib >/dev/null 2>&1 ||
-     (apt-get update -q >/dev/null 2>&1 && apt-get install -y -q python3-matplotlib >/dev/null 2>&1)) ||
-      echo "bench.sh: python3-matplotlib could not be installed: the tables are printed, the plots skipped"
-  fi
+  apt_install python3-matplotlib "the plots" ||
+    echo "bench.sh: python3-matplotlib is not installed: the tables are printed, the plots skipped"
+fi
+if want network && ! command -v perf >/dev/null 2>&1; then
+  apt_install linux-perf "the context-switch count of the network benchmark" || true
 fi
 
 bin=build/default/bench
 if [ "$build" = 1 ]; then
   cmake --preset default >/dev/null
   targets=(horus_latency_local horus_latency_shm horus_fanout)
-  want network && targets+=(horus_dds_pingpong)
+  want network && targets+=(horus_dds_pingpong horus_wake_latency)
   cmake --build --preset default -j "$(nproc)" --target "${targets[@]}"
   # The raw baselines exist when their generators were found at configure time.
   if want network; then
@@ -66,7 +73,7 @@ if [ "$build" = 1 ]; then
 fi
 
 mkdir -p "$out"
-rm -f "$out"/local.*.json "$out"/shm.*.json "$out"/fanout.json "$out"/network.txt "$out"/*.png "$out"/summary.*
+rm -f "$out"/local.*.json "$out"/shm.*.json "$out"/fanout.json "$out"/network.txt "$out"/net_wakeups.txt "$out"/*.png "$out"/summary.*
 log="$out/bench.log"
 : >"$log"
 q=()
@@ -96,6 +103,15 @@ if want network; then
   step "LCM: horus against raw LCM, $rounds rounds"
   HORUS_BENCH_RESULTS="$out/network.txt" bench/lcm/run_lcm_bench.sh "${q[@]}" --rounds "$rounds" >>"$log" 2>&1 ||
     echo "bench.sh: the LCM benchmark failed (see $log)"
+  if command -v perf >/dev/null 2>&1; then
+    step "where the network latency goes: context switches per round trip (bench/net_wakeups.sh)"
+    n_rt=10000
+    [ "$quick" = 1 ] && n_rt=1000
+    bench/net_wakeups.sh --n "$n_rt" >"$out/net_wakeups.txt" 2>>"$log" ||
+      { echo "bench.sh: net_wakeups.sh failed (see $log)"; rm -f "$out/net_wakeups.txt"; }
+  else
+    echo "bench.sh: perf is not installed: the context-switch count (bench/net_wakeups.sh) is skipped"
+  fi
 fi
 step "report"
 echo "horus benchmark suite: $rounds round(s), $(nproc) CPUs, $(uname -r), $(date -u +%Y-%m-%dT%H:%MZ)" | tee "$out/run.txt"

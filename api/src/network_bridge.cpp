@@ -223,7 +223,20 @@ class NetworkBridge final : public net::Listener {
   // --- the listener (the transport's threads) ---------------------------------
   void on_sample(const net::Sample& sample) override {
     if (loopback_ && ledger_.consume(body_hash(sample.body))) return;  // our own, back
-    if (port_->deliver(format_, sample)) state().imported.fetch_add(1, std::memory_order_relaxed);
+    if (!port_->deliver(format_, sample)) return;
+    state().imported.fetch_add(1, std::memory_order_relaxed);
+    // The import wakes the host's handles, not the export thread (it skips these messages);
+    // once they fill half the ring, wake it to pass over them, so that its cursor never falls
+    // a ring behind (that would count as losses nobody had).
+    if (import_lag() > core_.ring.capacity() / 2) core_.ring.wake_waiters(shm::Doorbell::kArmedBridge);
+  }
+  // Messages of the import lane the export thread has not passed over yet.
+  std::uint64_t import_lag() const noexcept {
+    const std::uint32_t lane = port_->lane();
+    if (lane >= shm::kMaxPublishers || !port_->has_entry()) return 0;
+    const std::uint64_t head = core_.ring.lane(lane).head.load(std::memory_order_acquire);
+    const std::uint64_t seen = core_.ring.subscriber(port_->entry()).cursor[lane].load(std::memory_order_relaxed);
+    return head > seen ? head - seen : 0;
   }
   // Reliable topics on a transport that holds samples (DDS): the transport takes no more than
   // the host's subscribers have room for, and the rest waits in its reader, whose flow control
@@ -359,13 +372,16 @@ class NetworkBridge final : public net::Listener {
   // Sleeps until the host's publishers wrote a message to export, a subscriber appeared on a
   // topic that does not receive, or `deadline`.
   void wait_for_work(Clock::time_point deadline) noexcept {
+    // As a bridge (doorbell.hpp): what the import writes does not wake this thread.
     const shm::WaitItem item{&core_.ring.doorbell(), &core_.ring.subscriber(port_->entry()).waiting,
                              [](const void* c) noexcept {
                                const auto& b = *static_cast<const NetworkBridge*>(c);
-                               return b.core_.ring.has_unread(b.port_->entry(), b.port_->entry_token()) ||
+                               return b.core_.ring.has_unread_except(b.port_->entry(), b.port_->entry_token(),
+                                                                     b.port_->lane()) ||
+                                      b.import_lag() > b.core_.ring.capacity() / 2 ||
                                       (!b.receiving_ && b.host_subscribers() != 0);
                              },
-                             this};
+                             this, shm::Doorbell::kArmedBridge};
     shm::wait_any({&item, 1}, deadline);
   }
 

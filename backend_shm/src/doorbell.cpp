@@ -24,11 +24,17 @@ timespec to_timespec(Clock::time_point t) noexcept {
 
 std::atomic<bool> g_no_waitv{false};  // the kernel said ENOSYS once
 
+// The bitset a waiter of class `armed` sleeps with: readers wake for every ring, a bridge's
+// export thread only for rings that name its class.
+std::uint32_t wait_bitset(std::uint32_t armed) noexcept {
+  return armed == Doorbell::kArmedReader ? FUTEX_BITSET_MATCH_ANY : armed;
+}
+
 // Sleeps on one word while it holds `val`, until `until` (max: no deadline).
-void sleep_one(Doorbell& b, std::uint32_t val, Clock::time_point until) noexcept {
+void sleep_one(Doorbell& b, std::uint32_t val, Clock::time_point until, std::uint32_t armed) noexcept {
   const timespec ts = to_timespec(until);
   ::syscall(SYS_futex, &b.word, FUTEX_WAIT_BITSET | private_flag(b), val,
-            until == Clock::time_point::max() ? nullptr : &ts, nullptr, FUTEX_BITSET_MATCH_ANY);
+            until == Clock::time_point::max() ? nullptr : &ts, nullptr, wait_bitset(armed));
 }
 
 // Sleeps on several words at once; false when the kernel has no futex_waitv.
@@ -47,12 +53,12 @@ bool any_ready(std::span<const WaitItem> items) noexcept {
   return std::any_of(items.begin(), items.end(), [](const WaitItem& it) { return it.ready(it.ctx); });
 }
 
-// Sets the armed bit (unless set) and returns the word's value with it.
-std::uint32_t arm(Doorbell& b) noexcept {
+// Sets the armed bit of class `armed` (unless set) and returns the word's value with it.
+std::uint32_t arm(Doorbell& b, std::uint32_t armed) noexcept {
   std::uint32_t w = b.word.load(std::memory_order_acquire);
-  while ((w & 1u) == 0 && !b.word.compare_exchange_weak(w, w | 1u, std::memory_order_seq_cst)) {
+  while ((w & armed) == 0 && !b.word.compare_exchange_weak(w, w | armed, std::memory_order_seq_cst)) {
   }
-  return w | 1u;
+  return w | armed;
 }
 
 // Takes one registration back: from the entry's share when it still holds it (the reaper or
@@ -68,7 +74,7 @@ void unregister(const WaitItem& it) noexcept {
 }
 }  // namespace
 
-bool ring_doorbell(Doorbell& bell) noexcept {
+bool ring_doorbell(Doorbell& bell, std::uint32_t classes) noexcept {
   // The publisher stored its message (the lane head) before calling this; a waiter arms the word
   // (a seq_cst read-modify-write) and then looks at the heads. Without a full fence between our
   // head store and this load, both could read the old value (store buffering): we would see the
@@ -80,10 +86,13 @@ bool ring_doorbell(Doorbell& bell) noexcept {
   std::atomic_thread_fence(std::memory_order_seq_cst);
   std::uint32_t w = bell.word.load(std::memory_order_relaxed);
 #endif
-  while ((w & 1u) != 0) {
-    // Disarm and start a new epoch: exactly one publisher makes the syscall.
-    if (bell.word.compare_exchange_weak(w, w + 1, std::memory_order_acq_rel, std::memory_order_relaxed)) {
-      ::syscall(SYS_futex, &bell.word, FUTEX_WAKE | private_flag(bell), INT_MAX, nullptr, nullptr, 0);
+  while ((w & classes) != 0) {
+    // Disarm those classes and start a new epoch: exactly one publisher makes the syscall. A
+    // class left armed stays armed (its sleepers are not woken, the next ring of it finds them).
+    if (bell.word.compare_exchange_weak(w, (w & ~classes) + Doorbell::kEpoch, std::memory_order_acq_rel,
+                                        std::memory_order_relaxed)) {
+      const std::uint32_t bitset = classes == Doorbell::kArmedAll ? FUTEX_BITSET_MATCH_ANY : classes;
+      ::syscall(SYS_futex, &bell.word, FUTEX_WAKE_BITSET | private_flag(bell), INT_MAX, nullptr, nullptr, bitset);
       return true;
     }
   }
@@ -107,7 +116,8 @@ bool wait_any(std::span<const WaitItem> items, Clock::time_point deadline) noexc
   for (;;) {
     for (std::size_t i = 0; i < n; ++i) {
       Doorbell& b = *items[i].bell;
-      v[i] = futex_waitv{arm(b), reinterpret_cast<std::uintptr_t>(&b.word),
+      // Several items wait as readers (futex_waitv has no bitset: any ring wakes it).
+      v[i] = futex_waitv{arm(b, n == 1 ? items[i].armed : Doorbell::kArmedReader), reinterpret_cast<std::uintptr_t>(&b.word),
                          static_cast<std::uint32_t>(FUTEX_32 | private_flag(b)), 0};
     }
     // Armed: any publisher from now on rings. Look once more before sleeping (the fence pairs
@@ -125,11 +135,11 @@ bool wait_any(std::span<const WaitItem> items, Clock::time_point deadline) noexc
     if (first) until = std::min(deadline, now + kFirstSlice);
     first = false;
     if (n == 1) {
-      sleep_one(*items[0].bell, static_cast<std::uint32_t>(v[0].val), until);
+      sleep_one(*items[0].bell, static_cast<std::uint32_t>(v[0].val), until, items[0].armed);
     } else if (g_no_waitv.load(std::memory_order_relaxed) || !sleep_many(v, n, until)) {
       // No futex_waitv: sleep on the first item, looking at the others every millisecond.
       sleep_one(*items[0].bell, static_cast<std::uint32_t>(v[0].val),
-                std::min(until, Clock::now() + std::chrono::milliseconds(1)));
+                std::min(until, Clock::now() + std::chrono::milliseconds(1)), Doorbell::kArmedReader);
     }
   }
   for (std::size_t i = 0; i < n; ++i) unregister(items[i]);

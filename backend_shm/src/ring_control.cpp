@@ -86,7 +86,7 @@ bool Ring::adopt_subscriber(std::uint32_t entry, std::uint64_t from, std::uint64
   return true;
 }
 
-bool Ring::wake_waiters() const noexcept { return ring_doorbell(hdr_->doorbell); }
+bool Ring::wake_waiters(std::uint32_t classes) const noexcept { return ring_doorbell(hdr_->doorbell, classes); }
 
 std::uint32_t Ring::reap_dead_waiters() const noexcept {
   std::uint32_t reaped = 0;
@@ -105,13 +105,18 @@ std::uint32_t Ring::reap_dead_waiters() const noexcept {
 }
 
 bool Ring::has_unread(std::uint32_t entry, std::uint64_t token) const noexcept {
+  return has_unread_except(entry, token, kMaxPublishers);
+}
+
+bool Ring::has_unread_except(std::uint32_t entry, std::uint64_t token, std::uint32_t skip) const noexcept {
   const auto& e = subs_[entry];
   if (e.state.load(std::memory_order_acquire) != SubscriberEntry::kActive ||
       e.owner.load(std::memory_order_relaxed) != token)
     return false;
   const std::uint32_t lanes = hdr_->lane_hwm.load(std::memory_order_acquire);
   for (std::uint32_t l = 0; l < lanes; ++l)
-    if (lanes_[l].head.load(std::memory_order_acquire) > e.cursor[l].load(std::memory_order_relaxed)) return true;
+    if (l != skip && lanes_[l].head.load(std::memory_order_acquire) > e.cursor[l].load(std::memory_order_relaxed))
+      return true;
   return false;
 }
 

@@ -21,7 +21,9 @@ class TypedBridgePort final : public BridgePort {
   // Non-owning: the core owns the bridge, which destroys its port before the ring goes.
   explicit TypedBridgePort(TopicCore& core)
       : import_(std::shared_ptr<TopicCore>(std::shared_ptr<void>(), &core)),
-        export_(std::shared_ptr<TopicCore>(std::shared_ptr<void>(), &core)) {}
+        export_(std::shared_ptr<TopicCore>(std::shared_ptr<void>(), &core)) {
+    import_.writer().wake_readers_only();  // the export thread skips the import's messages
+  }
 
   bool take_lane(std::uint32_t lane, std::uint64_t from) override {
     return from != 0 ? import_.writer().adopt(lane, from) : import_.ensure_lane();

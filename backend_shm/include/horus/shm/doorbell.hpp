@@ -6,11 +6,16 @@
 //            waiters); its low half is the owner's: a ring keeps its latest-lane hint there
 //            (ring_layout.hpp), so a publisher checks both with the one relaxed load it makes
 //            after every send. No waiter and no lane change, the common case, costs that load.
-//   word     the futex word. Its low bit is "armed": a waiter sets it just before it sleeps,
-//            and the first publisher that finds it set clears it (compare-exchange, the epoch
-//            goes up) and makes the one FUTEX_WAKE. Later publishers find it clear and make no
-//            syscall until a waiter has looked at the ring again and re-armed it, so a waiter
-//            that is busy draining messages costs its publishers nothing.
+//   word     the futex word. Its low bits are "armed": a waiter sets its bit just before it
+//            sleeps, and the first publisher that finds it set clears it (compare-exchange, the
+//            epoch in the bits above goes up) and makes the one FUTEX_WAKE. Later publishers
+//            find it clear and make no syscall until a waiter has looked at the ring again and
+//            re-armed it, so a waiter that is busy draining messages costs its publishers nothing.
+//            Two classes of waiters, one bit each: handles (kArmedReader) and the export thread
+//            of a fleet topic's bridge (kArmedBridge), which sleeps in FUTEX_WAIT_BITSET with its
+//            own bit. The bridge's import, writing what came from the network, rings the handles
+//            only (it would wake the export thread for a message the bridge skips: its own); every
+//            other publisher rings both.
 //
 // The waiting side (wait_any): register in the waiters, arm each word, look at the ring(s)
 // again, then sleep in FUTEX_WAIT (one doorbell) or futex_waitv (several), with an absolute
@@ -53,8 +58,10 @@ namespace horus::shm {
 struct Doorbell {
   /// One waiter in `state` (the high half).
   static constexpr std::uint64_t kWaiter = std::uint64_t{1} << 32;
+  /// The armed bits of `word`, by class of waiter, and its epoch's unit.
+  static constexpr std::uint32_t kArmedReader = 1, kArmedBridge = 2, kArmedAll = 3, kEpoch = 4;
   std::atomic<std::uint64_t> state{0};  // high half: waiters; low half: the owner's (see above)
-  std::atomic<std::uint32_t> word{0};   // the futex word; low bit: armed
+  std::atomic<std::uint32_t> word{0};   // the futex word; low bits: armed (kArmed*)
   std::uint32_t process_private = 0;    // 1: memory of one process only (FUTEX_PRIVATE_FLAG)
 
   std::uint32_t waiters() const noexcept {
@@ -76,10 +83,10 @@ inline constexpr std::uint32_t kStaleCheck = 4096;
 /// A waiter's first sleep after it registered is at most this long (see the race above).
 inline constexpr std::chrono::milliseconds kFirstSlice{10};
 
-/// The publisher's side, after a send found waiters: clears the armed bit and wakes every
-/// sleeper; false (and nothing done) when nobody is armed. Async-signal-safe (atomics and one
-/// syscall).
-bool ring_doorbell(Doorbell& bell) noexcept;
+/// The publisher's side, after a send found waiters: clears the armed bits of `classes`
+/// (Doorbell::kArmed*) and wakes the sleepers of those classes; false (and nothing done) when
+/// none of them is armed. Async-signal-safe (atomics and one syscall).
+bool ring_doorbell(Doorbell& bell, std::uint32_t classes = Doorbell::kArmedAll) noexcept;
 
 /// One thing a waiter waits for: a doorbell, an optional per-entry share of its count (a
 /// subscriber entry's; null for a Trigger), and the test that ends the wait.
@@ -88,6 +95,9 @@ struct WaitItem {
   WaitShare* share = nullptr;
   bool (*ready)(const void* ctx) noexcept = nullptr;
   const void* ctx = nullptr;
+  /// The waiter's class: Doorbell::kArmedBridge only for a bridge's export thread, waiting on
+  /// this one item (wait_any with several items waits as a reader).
+  std::uint32_t armed = Doorbell::kArmedReader;
 };
 
 /// The largest number of items one wait_any call sleeps on (the kernel's futex_waitv limit).

@@ -135,12 +135,14 @@ class Ring {
   Doorbell& doorbell() const noexcept { return hdr_->doorbell; }
   /// A send found waiters: wakes them if they may be asleep (RingWriter's slow path); false
   /// when nobody was armed.
-  bool wake_waiters() const noexcept;
+  bool wake_waiters(std::uint32_t classes = Doorbell::kArmedAll) const noexcept;
   /// Takes back the doorbell registrations of waiters whose process is gone; returns how many.
   std::uint32_t reap_dead_waiters() const noexcept;
   /// True when subscriber `entry`, still owned by `token`, has a message it has not read (a
   /// lane head past its published cursor); false once the entry has another owner.
   bool has_unread(std::uint32_t entry, std::uint64_t token) const noexcept;
+  /// The same, lane `skip` left out (a bridge's export: not what its own import wrote).
+  bool has_unread_except(std::uint32_t entry, std::uint64_t token, std::uint32_t skip) const noexcept;
 
  private:
   explicit Ring(std::byte* base) noexcept;

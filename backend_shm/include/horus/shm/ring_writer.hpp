@@ -43,6 +43,7 @@ class RingWriter {
       claim_head_ = o.claim_head_;
       sent_before_ = o.sent_before_;
       stride_ = o.stride_;
+      wake_classes_ = o.wake_classes_;
       o.lane_ = kNoLane;
       o.slots_ = nullptr;
     }
@@ -51,6 +52,9 @@ class RingWriter {
   ~RingWriter() { release(); }
 
   bool has_lane() const noexcept { return slots_ != nullptr; }
+  /// A fleet bridge's import writes what came from the network: its sends wake the handles
+  /// blocked on the topic, not the bridge's own export thread (doorbell.hpp).
+  void wake_readers_only() noexcept { wake_classes_ = Doorbell::kArmedReader; }
   /// The token this writer claims its lane with.
   std::uint64_t token() const noexcept { return token_; }
   /// The lane this writer owns (when has_lane()).
@@ -189,7 +193,7 @@ class RingWriter {
   // Waiters registered: wake them if armed; a count that stays registered and unarmed for
   // kStaleCheck sends may be a waiter that died (doorbell.hpp).
   void wake() noexcept {
-    if (ring_.wake_waiters() || ++unarmed_ < kStaleCheck) return;
+    if (ring_.wake_waiters(wake_classes_) || ++unarmed_ < kStaleCheck) return;
     unarmed_ = 0;
     ring_.reap_dead_waiters();
   }
@@ -204,6 +208,7 @@ class RingWriter {
   std::uint64_t space_limit_ = 0;  // head values below this are known to have space
   std::uint64_t claim_head_ = 0;   // head when the lane was claimed
   std::uint32_t unarmed_ = 0;      // sends that found waiters but nobody armed (wake())
+  std::uint32_t wake_classes_ = Doorbell::kArmedAll;  // the waiters a send wakes (doorbell.hpp)
   std::uint64_t sent_before_ = 0;  // messages sent through lanes released earlier
   Ring ring_;
   std::uint64_t token_ = 0;
