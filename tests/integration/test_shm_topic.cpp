@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <cstdlib>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "horus/msg/geometry.hpp"
+#include "horus/shm/doorbell.hpp"
 #include "horus/shm/shm_segment.hpp"
 #include "horus/topic.hpp"
 #include "process_support.hpp"
@@ -282,6 +284,42 @@ bool eventually(P pred, std::chrono::milliseconds limit) {
     std::this_thread::sleep_for(std::chrono::microseconds(100));
   }
   return true;
+}
+
+// The two classes of waiters: a ring for handles only (what a fleet bridge imports) leaves a
+// bridge's export thread asleep, a ring for all wakes it; a handle wakes for either.
+TEST(Doorbell, AHandlesOnlyRingLeavesTheBridgeClassAsleepAndAFullRingWakesIt) {
+  using horus::shm::Doorbell;
+  using namespace std::chrono_literals;
+  for (const std::uint32_t armed : {Doorbell::kArmedBridge, Doorbell::kArmedReader}) {
+    Doorbell bell;
+    bell.process_private = 1;
+    std::atomic<bool> flag{false}, done{false};
+    const horus::shm::WaitItem item{
+        &bell, nullptr, [](const void* c) noexcept { return static_cast<const std::atomic<bool>*>(c)->load(); },
+        &flag, armed};
+    bool ready = false;
+    std::thread waiter([&] {
+      ready = horus::shm::wait_any({&item, 1}, std::chrono::steady_clock::now() + 5s);
+      done = true;
+    });
+    // Asleep past its first slice (kFirstSlice, 10 ms), armed with its class's bit.
+    ASSERT_TRUE(eventually([&] { return (bell.word.load() & armed) != 0; }, 2000ms));
+    std::this_thread::sleep_for(50ms);
+    flag = true;
+    const bool rang = horus::shm::ring_doorbell(bell, Doorbell::kArmedReader);
+    if (armed == Doorbell::kArmedBridge) {
+      EXPECT_FALSE(rang) << "a handles-only ring found the bridge class armed";
+      std::this_thread::sleep_for(200ms);
+      EXPECT_FALSE(done.load()) << "a handles-only ring woke a waiter of the bridge class";
+      EXPECT_TRUE(horus::shm::ring_doorbell(bell)) << "the bridge class was not armed any more";
+    } else {
+      EXPECT_TRUE(rang);
+    }
+    EXPECT_TRUE(eventually([&] { return done.load(); }, 2000ms)) << "the waiter was not woken";
+    waiter.join();
+    EXPECT_TRUE(ready);
+  }
 }
 
 TEST_F(ShmTopic, AProcessBlockedInRecvForIsWokenByEachOfAHundredSendsExactly) {
