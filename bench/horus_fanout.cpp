@@ -45,6 +45,9 @@
 #include "bench_common.hpp"
 #include "dds/bench_types.hpp"  // the 1 KiB message
 #include "floor.hpp"
+#ifdef HORUS_BENCH_ICEORYX
+#include "iox_baseline.hpp"
+#endif
 #include "horus/horus.hpp"
 
 namespace bench_msg {
@@ -155,6 +158,9 @@ struct FanoutResult {
   std::uint64_t missing = 0;  // (message, subscriber) pairs never received
 };
 
+template <class TickOf>
+FanoutResult summarize(int n, std::uint64_t messages, TickOf&& tick_of, bool ok, const hb::TscClock& tsc);
+
 // One publisher (this process) to n subscriber processes: `subscriber(i, sh)` runs in child i
 // (it counts itself in sh.c->ready once it receives, writes each message's latency in ticks to
 // sh.at(i)[seq] and its count to sh.c->last[i]); `send(k)` sends message k.
@@ -182,13 +188,20 @@ FanoutResult run_fanout(int n, std::uint64_t messages, std::chrono::microseconds
   }
   sh.c->stop.v.store(1, std::memory_order_release);
   const bool ok = wait_all(pids);
+  return summarize(n, messages, [&](int i, std::uint64_t k) { return sh.at(i)[k]; }, ok, tsc);
+}
+
+// Percentiles of every (message, subscriber) pair and of "all delivered"; tick_of(i, k): TSC
+// ticks from send to receipt of message k by subscriber i, 0 when never received.
+template <class TickOf>
+FanoutResult summarize(int n, std::uint64_t messages, TickOf&& tick_of, bool ok, const hb::TscClock& tsc) {
   FanoutResult r;
   std::vector<double> each, all;
   for (std::uint64_t k = 0; k < messages; ++k) {
     double worst = 0;
     bool complete = true;
     for (int i = 0; i < n; ++i) {
-      const std::uint64_t t = sh.at(i)[k];
+      const std::uint64_t t = tick_of(i, k);
       if (t == 0) {
         ++r.missing;
         complete = false;
@@ -470,12 +483,15 @@ std::string spread(const std::vector<double>& v, int digits = 0) {
 }  // namespace
 
 int main(int argc, char** argv) {
+#ifdef HORUS_BENCH_ICEORYX
+  if (auto rc = hb::iox::child_main(argc, argv)) return *rc;  // the iceoryx fan-out helpers
+#endif
   std::vector<int> subs{1, 2, 4, 8, 16};
   std::vector<int> topic_counts{1, 100, 1000};
   std::uint64_t messages = 2000, tput_messages = 200000, pingpong_rounds = 20000;
   int rounds = 3, gap_us = 200;
   std::vector<int> cpus{0, 1};
-  bool quick = false;
+  bool quick = false, no_iceoryx = false;
   std::string json_path;
   CLI::App app{"horus fan-out: one publisher to N subscriber processes, and many topics in one process"};
   app.add_option("--subscribers", subs, "subscriber counts")->check(CLI::Range(1, kMaxSubs));
@@ -486,7 +502,8 @@ int main(int argc, char** argv) {
   app.add_option("--gap-us", gap_us, "pause between fan-out messages (subscribers fall asleep)");
   app.add_option("--cpus", cpus, "the two CPUs of the ping-pong")->expected(2);
   app.add_option("--json", json_path, "also write the figures as JSON");
-  app.add_flag("--quick", quick, "a short smoke run");
+  app.add_flag("--quick", quick, "a short smoke run (without iceoryx)");
+  app.add_flag("--no-iceoryx", no_iceoryx, "leave out the iceoryx 2.0 fan-out");
   CLI11_PARSE(app, argc, argv);
   if (quick) {
     subs = {1, 4};
@@ -498,6 +515,19 @@ int main(int argc, char** argv) {
   }
   raise_fd_limit();
   const hb::TscClock tsc;
+  // iceoryx 2.0 beside horus: a private RouDi for the run, helpers re-executed from this binary.
+  std::string iox_why = "not built (iceoryx_posh not found by CMake)";
+  bool iox = false;
+  std::string self_exe;
+#ifdef HORUS_BENCH_ICEORYX
+  if (quick || no_iceoryx) iox_why = quick ? "left out of --quick" : "skipped (--no-iceoryx)";
+  const std::optional<hb::iox::Roudi> roudi =
+      quick || no_iceoryx ? std::nullopt : hb::iox::Roudi::start(&iox_why);  // stopped when main returns
+  iox = roudi.has_value();
+  char self_buf[4096];
+  const ssize_t self_len = ::readlink("/proc/self/exe", self_buf, sizeof(self_buf) - 1);
+  self_exe = self_len > 0 ? std::string(self_buf, static_cast<std::size_t>(self_len)) : argv[0];
+#endif
   nlohmann::json j;
   fmt::print("horus fan-out and scale, shared memory ({} CPUs, {} round{} of each measurement)\n", hb::cpu_count(),
              rounds, rounds == 1 ? "" : "s");
@@ -522,20 +552,36 @@ int main(int argc, char** argv) {
         a99.push_back(res.all.p99);
         missing += res.missing;
       }
-    } horus_rows, futex_rows;
-    std::vector<double> ratio;
-    for (int r = 0; r < rounds; ++r) {  // alternating: both see the same machine
+    } horus_rows, futex_rows, iox_rows;
+    std::vector<double> ratio, iox_ratio;
+    for (int r = 0; r < rounds; ++r) {  // alternating: all see the same machine
       horus_rows.add(fanout_latency(n, messages, std::chrono::microseconds(gap_us), tsc));
       futex_rows.add(fanout_latency_futex(n, messages, std::chrono::microseconds(gap_us), tsc));
       ratio.push_back(horus_rows.a50.back() / futex_rows.a50.back());
+#ifdef HORUS_BENCH_ICEORYX
+      if (iox) {
+        const auto ticks = hb::iox::fanout(n, messages, static_cast<std::uint64_t>(gap_us), self_exe, &iox_why);
+        if (ticks.empty()) {
+          iox = false;  // said once below, with the reason
+        } else {
+          iox_rows.add(summarize(n, messages, [&](int i, std::uint64_t k) { return ticks[static_cast<std::size_t>(i)][k]; },
+                                 true, tsc));
+          iox_ratio.push_back(iox_rows.a50.back() / horus_rows.a50.back());
+        }
+      }
+#endif
     }
     p50_by_n.push_back(median(horus_rows.p50));
     ratio_by_n.push_back(median(ratio));
-    for (const auto* rows : {&horus_rows, &futex_rows})
-      fmt::print("{:>4} {:<10} {:>22} {:>22} {:>22} {:>22} {:>22}{}\n", n, rows == &horus_rows ? "horus" : "raw futex",
+    for (const auto* rows : {&horus_rows, &futex_rows, &iox_rows}) {
+      if (rows->p50.empty()) continue;
+      fmt::print("{:>4} {:<10} {:>22} {:>22} {:>22} {:>22} {:>22}{}\n", n,
+                 rows == &horus_rows ? "horus" : rows == &futex_rows ? "raw futex" : "iceoryx",
                  spread(rows->p50), spread(rows->p99), spread(rows->p999), spread(rows->a50), spread(rows->a99),
                  rows->missing != 0 ? fmt::format("  ({} not received)", rows->missing) : "");
-    fmt::print("{:>4} {:<10} all delivered p50 horus / raw futex: {}\n", n, "", spread(ratio, 2));
+    }
+    fmt::print("{:>4} {:<10} all delivered p50 horus / raw futex: {}{}\n", n, "", spread(ratio, 2),
+               iox_ratio.empty() ? "" : ", iceoryx / horus: " + spread(iox_ratio, 2));
     j["fanout_latency"].push_back({{"subscribers", n},
                                    {"p50_ns", horus_rows.p50},
                                    {"p99_ns", horus_rows.p99},
@@ -549,7 +595,18 @@ int main(int argc, char** argv) {
                                    {"futex_all_p99_ns", futex_rows.a99},
                                    {"futex_missing", futex_rows.missing},
                                    {"all_p50_over_futex", ratio}});
+    if (!iox_rows.p50.empty()) {
+      auto& row = j["fanout_latency"].back();
+      row["iox_p50_ns"] = iox_rows.p50;
+      row["iox_p99_ns"] = iox_rows.p99;
+      row["iox_all_p50_ns"] = iox_rows.a50;
+      row["iox_all_p99_ns"] = iox_rows.a99;
+      row["iox_missing"] = iox_rows.missing;
+      row["iox_all_p50_over_horus"] = iox_ratio;
+    }
   }
+  if (!iox) fmt::print("iceoryx 2.0: {}\n", iox_why);
+  else fmt::print("iceoryx 2.0: subscribers blocked in a WaitSet (HAS_DATA), 16-byte loaned samples, a private RouDi\n");
 
   fmt::print("\nlossless fan-out throughput (send_blocking; subscribers in recv_for), 16 B messages\n");
   fmt::print("{:>4} {:>30}\n", "N", "M msg/s to every subscriber");

@@ -10,17 +10,20 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <new>
 #include <thread>
 
 #include "iceoryx_hoofs/log/logmanager.hpp"
 #include "iceoryx_posh/popo/untyped_publisher.hpp"
 #include "iceoryx_posh/popo/untyped_subscriber.hpp"
+#include "iceoryx_posh/popo/wait_set.hpp"
 #include "iceoryx_posh/runtime/posh_runtime.hpp"
 
 extern char** environ;
@@ -129,7 +132,133 @@ bool send(::iox::popo::UntypedPublisher& pub, std::size_t bytes, std::uint64_t s
   return true;
 }
 
+// The fan-out's shared file (mapped by the tool and every helper): counters, then the ticks.
+constexpr int kFanMax = 64;
+struct FanControl {
+  std::atomic<std::uint64_t> ready{0};  // subscribers connected
+  std::atomic<std::uint64_t> stop{0};   // the publisher is done
+  std::atomic<std::uint64_t> got[kFanMax];  // per subscriber: samples received
+};
+std::size_t fan_bytes(std::uint64_t messages) {
+  return sizeof(FanControl) + static_cast<std::size_t>(kFanMax) * messages * sizeof(std::uint64_t);
+}
+FanControl* fan_map(const char* path, std::uint64_t messages) {
+  const int fd = ::open(path, O_RDWR | O_CLOEXEC);
+  if (fd < 0) return nullptr;
+  void* p = ::mmap(nullptr, fan_bytes(messages), PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+  ::close(fd);
+  return p == MAP_FAILED ? nullptr : static_cast<FanControl*>(p);
+}
+std::uint64_t* fan_ticks(FanControl* c, int sub, std::uint64_t messages) {
+  return reinterpret_cast<std::uint64_t*>(c + 1) + static_cast<std::size_t>(sub) * messages;
+}
+
+int fan_sub_main(const char* path, int idx, std::uint64_t messages) {
+  FanControl* c = fan_map(path, messages);
+  if (c == nullptr || idx < 0 || idx >= kFanMax) return 2;
+  init_runtime("fansub");
+  ::iox::popo::SubscriberOptions o;
+  o.queueCapacity = 16;
+  ::iox::popo::UntypedSubscriber sub(service("fan", 16), o);
+  const auto deadline = Clock::now() + 20s;
+  while (sub.getSubscriptionState() != ::iox::SubscribeState::SUBSCRIBED) {
+    if (Clock::now() > deadline) return std::fputs("iox-fan-sub: not subscribed in 20 s\n", stderr), 3;
+    std::this_thread::sleep_for(1ms);
+  }
+  ::iox::popo::WaitSet<> waitset;
+  if (waitset.attachState(sub, ::iox::popo::SubscriberState::HAS_DATA).has_error()) return 4;
+  c->ready.fetch_add(1, std::memory_order_acq_rel);
+  std::uint64_t* out = fan_ticks(c, idx, messages);
+  std::uint64_t got = 0;
+  while (got < messages && c->stop.load(std::memory_order_acquire) == 0) {
+    (void)waitset.timedWait(::iox::units::Duration::fromMilliseconds(200));
+    for (auto r = sub.take(); !r.has_error(); r = sub.take()) {
+      const std::uint64_t now = TscClock::now();
+      std::uint64_t m[2];
+      std::memcpy(m, r.value(), sizeof m);
+      sub.release(r.value());
+      if (m[0] < messages) out[m[0]] = now - m[1];
+      c->got[idx].store(++got, std::memory_order_release);
+    }
+  }
+  waitset.detachState(sub, ::iox::popo::SubscriberState::HAS_DATA);
+  return 0;
+}
+
+int fan_pub_main(const char* path, int n, std::uint64_t messages, std::uint64_t gap_us) {
+  FanControl* c = fan_map(path, messages);
+  if (c == nullptr || n <= 0 || n > kFanMax) return 2;
+  init_runtime("fanpub");
+  ::iox::popo::UntypedPublisher pub(service("fan", 16));
+  const auto deadline = Clock::now() + 30s;
+  while (c->ready.load(std::memory_order_acquire) < static_cast<std::uint64_t>(n) || !pub.hasSubscribers()) {
+    if (Clock::now() > deadline) return std::fputs("iox-fan-pub: subscribers did not connect in 30 s\n", stderr), 3;
+    std::this_thread::sleep_for(1ms);
+  }
+  // As horus-fanout's publisher: the next sample once every subscriber has this one (or 100 ms),
+  // polling asleep every 20 us, then the gap.
+  for (std::uint64_t k = 0; k < messages; ++k) {
+    auto l = pub.loan(16);
+    if (l.has_error()) return std::fputs("iox-fan-pub: loan failed\n", stderr), 4;
+    const std::uint64_t m[2] = {k, TscClock::now()};
+    std::memcpy(l.value(), m, sizeof m);
+    pub.publish(l.value());
+    const auto until = Clock::now() + 100ms;
+    for (int i = 0; i < n && Clock::now() < until;) {
+      if (c->got[i].load(std::memory_order_acquire) > k) ++i;
+      else std::this_thread::sleep_for(20us);
+    }
+    std::this_thread::sleep_for(std::chrono::microseconds(gap_us));
+  }
+  c->stop.store(1, std::memory_order_release);
+  return 0;
+}
+
 }  // namespace
+
+std::vector<std::vector<std::uint64_t>> fanout(int n, std::uint64_t messages, std::uint64_t gap_us,
+                                               const std::string& self_exe, std::string* why) {
+  using Ticks = std::vector<std::vector<std::uint64_t>>;
+  if (n <= 0 || n > kFanMax || messages == 0) return set_why(why, "1..64 subscribers, messages > 0"), Ticks{};
+  char path[] = "/dev/shm/horus-iox-fan-XXXXXX";
+  const int fd = ::mkstemp(path);
+  if (fd < 0) return set_why(why, "mkstemp in /dev/shm failed"), Ticks{};
+  const bool sized = ::ftruncate(fd, static_cast<off_t>(fan_bytes(messages))) == 0;
+  ::close(fd);
+  FanControl* c = sized ? fan_map(path, messages) : nullptr;
+  if (c == nullptr) {
+    ::unlink(path);
+    return set_why(why, "cannot map the fan-out file"), Ticks{};
+  }
+  new (c) FanControl{};
+  const std::string m = std::to_string(messages);
+  std::vector<pid_t> subs;
+  int err = 0;
+  for (int i = 0; i < n && err == 0; ++i) {
+    const pid_t p = spawn({self_exe, "--iox-fan-sub", path, std::to_string(i), m}, nullptr, &err);
+    if (p > 0) subs.push_back(p);
+  }
+  const pid_t pub =
+      err == 0 ? spawn({self_exe, "--iox-fan-pub", path, std::to_string(n), m, std::to_string(gap_us)}, nullptr, &err)
+               : -1;
+  const auto limit = Clock::now() + 40s + std::chrono::microseconds((gap_us + 2000) * messages);
+  const int pub_status = pub > 0 ? reap(pub, limit) : -1;
+  c->stop.store(1, std::memory_order_release);  // subscribers leave within 200 ms
+  bool subs_ok = true;
+  for (pid_t p : subs) subs_ok = reap(p, Clock::now() + 5s) == 0 && subs_ok;
+  Ticks out;
+  if (pub > 0 && pub_status == 0 && subs_ok && static_cast<int>(subs.size()) == n) {
+    for (int i = 0; i < n; ++i) out.emplace_back(fan_ticks(c, i, messages), fan_ticks(c, i, messages) + messages);
+  } else {
+    set_why(why, pub <= 0 || static_cast<int>(subs.size()) != n
+                     ? "posix_spawn(" + self_exe + "): " + std::strerror(err)
+                     : "iceoryx fan-out failed: publisher " + describe(pub_status) +
+                           (subs_ok ? "" : ", a subscriber failed"));
+  }
+  ::munmap(c, fan_bytes(messages));
+  ::unlink(path);
+  return out;
+}
 
 std::optional<Roudi> Roudi::start(std::string* why) {
   char tmpl[] = "/tmp/horus-iox-XXXXXX";
@@ -235,6 +364,11 @@ int ping_main(std::size_t bytes, std::uint64_t rounds, int out_fd) {
 std::optional<int> child_main(int argc, char** argv) {
   if (argc < 4) return std::nullopt;
   const std::string mode = argv[1];
+  if (mode == "--iox-fan-sub" && argc >= 5)
+    return fan_sub_main(argv[2], std::atoi(argv[3]), std::strtoull(argv[4], nullptr, 10));
+  if (mode == "--iox-fan-pub" && argc >= 6)
+    return fan_pub_main(argv[2], std::atoi(argv[3]), std::strtoull(argv[4], nullptr, 10),
+                        std::strtoull(argv[5], nullptr, 10));
   const auto bytes = std::strtoull(argv[2], nullptr, 10), rounds = std::strtoull(argv[3], nullptr, 10);
   if (mode == "--iox-pong") return pong_main(bytes, rounds);
   if (mode == "--iox-ping" && argc >= 5) return ping_main(bytes, rounds, std::atoi(argv[4]));

@@ -39,8 +39,16 @@ class Roudi {
 int pong_main(std::size_t payload_bytes, std::uint64_t rounds);
 int ping_main(std::size_t payload_bytes, std::uint64_t rounds, int out_fd);
 
-/// Call first thing in main(): runs a helper when argv[1] is --iox-ping / --iox-pong.
+/// Call first thing in main(): runs a helper when argv[1] is --iox-ping, --iox-pong,
+/// --iox-fan-sub or --iox-fan-pub.
 std::optional<int> child_main(int argc, char** argv);
+
+/// Fan-out through RouDi's shared memory: one publisher helper to n subscriber helpers, each
+/// blocked in an iceoryx WaitSet (HAS_DATA), a 16-byte sample (sequence, TSC at send) every
+/// `gap` once every subscriber has the previous one. ticks[sub][message]: TSC ticks from send
+/// to receipt (0: never received). Empty on failure (why says what failed).
+std::vector<std::vector<std::uint64_t>> fanout(int n, std::uint64_t messages, std::uint64_t gap_us,
+                                               const std::string& self_exe, std::string* why = nullptr);
 
 /// One-way latencies (RTT/2, ns) of `rounds` ping-pongs of payload_bytes through RouDi's
 /// shared memory (zero-copy: only the 8-byte sequence number is written). Empty on failure.

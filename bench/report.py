@@ -167,11 +167,15 @@ if fanout:
         if "futex_p50_ns" in r:
             rows.append([r["subscribers"], "raw futex", spread(r["futex_p50_ns"], 0), spread(r["futex_p99_ns"], 0),
                          spread(r["futex_all_p50_ns"], 0), spread(r["futex_all_p99_ns"], 0), r["futex_missing"],
-                         spread(r["all_p50_over_futex"], 2) + "x"])
+                         "horus / futex " + spread(r["all_p50_over_futex"], 2) + "x"])
+        if "iox_p50_ns" in r:
+            rows.append([r["subscribers"], "iceoryx 2.0", spread(r["iox_p50_ns"], 0), spread(r["iox_p99_ns"], 0),
+                         spread(r["iox_all_p50_ns"], 0), spread(r["iox_all_p99_ns"], 0), r["iox_missing"],
+                         "iceoryx / horus " + spread(r["iox_all_p50_over_horus"], 2) + "x"])
     table("fan-out, 1 publisher -> N processes blocked in recv_for (horus-fanout), beside the machine's floor "
-          "(N processes in FUTEX_WAIT on one word, one FUTEX_WAKE): ns, median (min-max)",
+          "(N processes in FUTEX_WAIT on one word, one FUTEX_WAKE) and iceoryx 2.0 (WaitSet): ns, median (min-max)",
           ["N", "", "p50", "p99", "all delivered p50", "all delivered p99", "not received",
-           "all delivered p50 horus / futex"], rows)
+           "all delivered p50 ratio"], rows)
     rows = [[r["subscribers"], spread(r["msgs_per_s_millions"], 2)] for r in fanout.get("fanout_throughput", [])]
     table("fan-out throughput, lossless (send_blocking)", ["N", "M msg/s to every subscriber"], rows)
     rows = [[r["topics"], spread(r["p50_ns"]), spread(r["p99_ns"])] for r in fanout.get("many_topics", [])]
@@ -306,6 +310,9 @@ if fanout and fanout.get("fanout_latency"):
     if all("futex_all_p50_ns" in r for r in fl):
         ax.plot(n, [statistics.median(r["futex_all_p50_ns"]) / 1000 for r in fl], "v:",
                 label="raw futex wake of N sleepers, p50 all delivered (the floor)")
+    if all("iox_all_p50_ns" in r for r in fl):
+        ax.plot(n, [statistics.median(r["iox_all_p50_ns"]) / 1000 for r in fl], "D-.",
+                label="iceoryx 2.0 (WaitSet), p50 all delivered")
     ax.plot([2, 4, 8], [0.198, 0.236, 0.276], "kx:", label="HORUS (Rust), published, spinning, i7-10750H")
     ax.set_xscale("log", base=2)
     ax.set_yscale("log")
