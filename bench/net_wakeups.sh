@@ -56,7 +56,7 @@ for impl in raw-cyclone horus-cyclonedds raw-fastdds horus-fastdds raw-lcm horus
   pkill -f "pingpong pong $domain cmdvel" 2>/dev/null || true
   sleep 0.3
   res="$(grep RESULT "$tmp/ping.out" || true)"
-  sw="$(grep context-switches "$tmp/stat" | cut -d, -f1)"
+  sw="$(grep context-switches "$tmp/stat" 2>/dev/null | cut -d, -f1 || true)"
   if [ -z "$res" ] || [ -z "$sw" ]; then echo "$impl: FAILED $(head -c 200 "$tmp/ping.out")"; continue; fi
   p50="$(sed -n 's/.*p50_ns=\([0-9.]*\).*/\1/p' <<<"$res")"
   p99="$(sed -n 's/.*p99_ns=\([0-9.]*\).*/\1/p' <<<"$res")"
@@ -66,4 +66,4 @@ for impl in raw-cyclone horus-cyclonedds raw-fastdds horus-fastdds raw-lcm horus
 done
 echo
 echo "one cross-process wake-up on this machine (horus-wake-latency, raw futex ping-pong, one-way):"
-"$bin/horus-wake-latency" --rounds 3 2>&1 | grep -iE "futex|rounds" | head -6
+"$bin/horus-wake-latency" --rounds 3 2>&1 | grep -iE "futex ping-pong|all rounds" || true
