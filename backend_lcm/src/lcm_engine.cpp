@@ -174,6 +174,7 @@ Result<lcm_t*> Engine::receiver_locked() {
     }
   }
   recv_ = lcm;
+  recv_gen_.fetch_add(1, std::memory_order_acq_rel);
   lcm_fd_.store(fd, std::memory_order_release);
   poke();  // the receive thread polls the new descriptor from now on
   return recv_;
@@ -183,8 +184,10 @@ Result<void> Engine::lcm_subscribe_locked(Subscription& sub, const std::string& 
   auto lcm = receiver_locked();
   if (!lcm) return fail(lcm.error().code(), sub.label() + ": " + lcm.error().message());
   lcm_subscription_t* handle = lcm_subscribe(*lcm, regex_escape(channel).c_str(), &on_message, &sub);
-  if (handle == nullptr)
+  if (handle == nullptr) {
+    stop_receiving_if_idle_locked();  // an instance created for nothing goes again
     return fail(Errc::Io, sub.label() + ": liblcm refused the subscription (it printed the reason on stderr)");
+  }
   lcm_subscription_set_queue_capacity(handle, 0);  // unlimited (never silent): kMaxQueueAgeUs bounds it
   sub.handle = handle;
   return {};
@@ -268,10 +271,13 @@ void Engine::run_deferred_locked() noexcept {
 // the group's datagrams, this process's own included). Called with handle_mutex_ held, outside
 // lcm_handle.
 void Engine::stop_receiving_if_idle_locked() noexcept {
-  if (info_.provider != Provider::Udpm || recv_ == nullptr || !deferred_.empty()) return;
+  // Never inside lcm_handle (a handler of this very instance is running): the receive thread
+  // calls this again once lcm_handle has returned (run_deferred_locked).
+  if (info_.provider != Provider::Udpm || recv_ == nullptr || !deferred_.empty() || in_handle_) return;
   for (const auto& sub : subs_)
     if (sub->handle != nullptr) return;
   lcm_fd_.store(-1, std::memory_order_release);
+  recv_gen_.fetch_add(1, std::memory_order_acq_rel);
   poke();  // the receive thread stops polling the descriptor (it checks it again under the lock)
   lcm_t* const lcm = std::exchange(recv_, nullptr);
   drop_inode_ = 0;
@@ -294,9 +300,17 @@ void Engine::report_all_locked(const std::function<std::string()>& make_message)
 void Engine::loop() noexcept {
   tl_receive_engine = this;
   bool lcm_open = true;  // false once lcm_handle failed: do not spin on a descriptor that stays readable
+  std::uint64_t open_gen = 0;  // the receiving instance lcm_open is about
   last_drop_check_ = std::chrono::steady_clock::now();
   while (!stop_.load(std::memory_order_acquire)) {
-    const int lcm_fd = lcm_fd_.load(std::memory_order_acquire);  // -1 until an endpoint receives
+    // The instance (its generation) first, then its descriptor: a descriptor number can come
+    // back for the next instance, the generation cannot.
+    const std::uint64_t gen = recv_gen_.load(std::memory_order_acquire);
+    const int lcm_fd = lcm_fd_.load(std::memory_order_acquire);  // -1 while no endpoint receives
+    if (gen != open_gen) {
+      open_gen = gen;
+      lcm_open = true;  // a new instance
+    }
     const bool poll_lcm = lcm_open && lcm_fd >= 0;
     pollfd fds[2] = {{event_fd_, POLLIN, 0}, {lcm_fd, POLLIN, 0}};
     const int n = ::poll(fds, poll_lcm ? 2 : 1, kPollTimeoutMs);
@@ -317,8 +331,10 @@ void Engine::loop() noexcept {
     if (n > 0 && poll_lcm && (fds[1].revents & (POLLIN | POLLHUP | POLLERR)) != 0) {
       std::unique_lock lock = lock_for_dispatch();
       // The instance may have gone (nobody receives any more) while we polled its descriptor.
-      if (recv_ == nullptr || lcm_fd_.load(std::memory_order_relaxed) != lcm_fd) continue;
+      if (recv_ == nullptr || recv_gen_.load(std::memory_order_relaxed) != gen) continue;
+      in_handle_ = true;
       const int rc = lcm_handle(recv_);  // dispatches one message; the fd said one is queued
+      in_handle_ = false;
       if (rc != 0) {
         lcm_open = false;
         // A log read to its end (file://, mode r) is not an error.

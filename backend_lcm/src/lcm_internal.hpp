@@ -151,6 +151,8 @@ class Engine {
   const int event_fd_;
   lcm_t* recv_ = nullptr;        // the receiving instance, while one receives; guarded by handle_mutex_
   std::atomic<int> lcm_fd_{-1};  // recv_'s descriptor (-1: none), published after recv_
+  std::atomic<std::uint64_t> recv_gen_{0};  // +1 for each receiving instance created or destroyed
+  bool in_handle_ = false;       // the receive thread is inside lcm_handle (under handle_mutex_)
   std::atomic<bool> stop_{false};
 
   std::mutex handle_mutex_;  // held by the receive thread around lcm_handle and listener calls
