@@ -245,7 +245,10 @@ int sink(const std::string& type, const std::string& impl, double seconds) {
 
 template <class T>
 int source(const std::string& type, double seconds) {
-  auto out = open<T>("bench." + type + ".tput");
+  // LCM: the raw source runs ahead of the network as far as the kernel's socket buffer lets it;
+  // the horus source gets a deep ring to run ahead of its bridge (DDS: KEEP_LAST 16 on both sides).
+  auto out = no_discovery() ? open<T>("bench." + type + ".tput", std::is_same_v<T, horus::msg::Image> ? 32u : 4096u)
+                            : open<T>("bench." + type + ".tput");
   if (!out) {
     std::fprintf(stderr, "horus-dds-pingpong: %s\n", out.error().message().c_str());
     return 3;
