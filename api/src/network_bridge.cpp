@@ -13,7 +13,7 @@
 // holder tells the endpoint to stop receiving (Endpoint::set_receiving): LCM, which brings a
 // process's own datagrams back, then costs the publishing host nothing for its own traffic. A
 // handle that subscribes rings the ring's doorbell (Ring::add_subscriber), which wakes the
-// bridge thread at once to resume.
+// bridge thread at once to resume; in the holding process the handle's open() resumes it itself.
 //
 // Takeover. Non-holders sleep on a pidfd of the holder (or 50 ms, for a holder that closes the
 // topic without exiting) and claim the bridge when it is gone. The successor adopts the
@@ -197,8 +197,9 @@ class NetworkBridge final : public net::Listener {
   std::unique_ptr<BridgePort> port_;           // the holder's lane and entry; outlives the endpoint
   std::unique_ptr<net::Endpoint> endpoint_;    // the holder's only; reset first: no callback after that
   bool holder_ = false;                        // the bridge thread's (and start()'s) view
-  bool receiving_ = true;                      // what the endpoint was told (bridge thread, start())
-  Clock::time_point paused_at_{};              // when it was told to stop receiving
+  std::mutex receiving_mutex_;                 // update_receiving: the bridge thread, or an opening handle
+  std::atomic<bool> receiving_{true};          // what the endpoint was told
+  std::atomic<std::int64_t> paused_at_ns_{0};  // when it was told to stop receiving (steady clock)
   std::atomic<bool> endpoint_ready_{false};    // endpoint_ is set (user threads may ask it for counts)
   std::mutex endpoint_mutex_;                  // endpoint_ set or reset, against the import pump
   bool loopback_ = false;                      // the transport delivers our own samples back (LCM)
@@ -329,8 +330,8 @@ class NetworkBridge final : public net::Listener {
     spec.type_hash = core_.type_hash;
     spec.qos = qos_;
     spec.max_message_bytes = core_.pool ? core_.pool.slot_bytes() : core_.ring.header().payload_size;
-    receiving_ = host_subscribers() != 0;
-    spec.receive = receiving_;
+    receiving_.store(host_subscribers() != 0, std::memory_order_relaxed);
+    spec.receive = receiving_.load(std::memory_order_relaxed);
     auto endpoint = transport_->open(spec, *this);
     if (!endpoint) {
       port_->leave();  // recorded: the next holder adopts them
@@ -360,12 +361,16 @@ class NetworkBridge final : public net::Listener {
     return n - (n != 0 && port_ && port_->has_entry() ? 1u : 0u);
   }
 
-  // Stops or resumes receiving as the host's subscribers come and go (bridge thread).
+  // Stops or resumes receiving as the host's subscribers come and go: the bridge thread, and a
+  // handle of the holding process that subscribes (its open() returns once the bridge receives;
+  // a handle of another process rings the bridge thread awake, which resumes at once).
   void update_receiving() noexcept {
+    std::lock_guard lock(receiving_mutex_);
+    if (!endpoint_ready_.load(std::memory_order_acquire)) return;
     const bool want = host_subscribers() != 0;
-    if (want == receiving_ || !endpoint_) return;
-    receiving_ = want;
-    if (!want) paused_at_ = Clock::now();
+    if (want == receiving_.load(std::memory_order_relaxed)) return;
+    receiving_.store(want, std::memory_order_relaxed);
+    if (!want) paused_at_ns_.store(Clock::now().time_since_epoch().count(), std::memory_order_relaxed);
     endpoint_->set_receiving(want);
   }
 
@@ -379,7 +384,7 @@ class NetworkBridge final : public net::Listener {
                                return b.core_.ring.has_unread_except(b.port_->entry(), b.port_->entry_token(),
                                                                      b.port_->lane()) ||
                                       b.import_lag() > b.core_.ring.capacity() / 2 ||
-                                      (!b.receiving_ && b.host_subscribers() != 0);
+                                      (!b.receiving_.load(std::memory_order_relaxed) && b.host_subscribers() != 0);
                              },
                              this, shm::Doorbell::kArmedBridge};
     shm::wait_any({&item, 1}, deadline);
@@ -410,7 +415,10 @@ class NetworkBridge final : public net::Listener {
       NetworkBridge* self;
       const void* msg;
       bool echo;  // our sample may come back: note it in the ledger
-    } ctx{this, msg, loopback_ && (receiving_ || Clock::now() - paused_at_ < kEchoTtl)};
+    } ctx{this, msg,
+          loopback_ && (receiving_.load(std::memory_order_relaxed) ||
+                        Clock::now().time_since_epoch().count() - paused_at_ns_.load(std::memory_order_relaxed) <
+                            std::chrono::duration_cast<Clock::duration>(kEchoTtl).count())};
     const net::BodyWriter writer{[](void* c, std::span<std::byte> body) {
                                    const auto& x = *static_cast<const Context*>(c);
                                    x.self->ops_.encode(x.self->format_, x.msg, body);
@@ -532,7 +540,8 @@ class NetworkBridge final : public net::Listener {
       thread_.join();
     }
     {
-      std::lock_guard lock(endpoint_mutex_);  // the import pump is not inside take_held()
+      std::lock_guard receiving(receiving_mutex_);  // no opening handle is inside update_receiving()
+      std::lock_guard lock(endpoint_mutex_);        // the import pump is not inside take_held()
       endpoint_ready_.store(false, std::memory_order_release);
       endpoint_.reset();  // no callback after this
     }
@@ -604,6 +613,7 @@ Result<void> connect_network(TopicCore& core, const WireOps& ops, const net::Qos
                       std::string(net::to_string(have.durability)) +
                       "; cannot open it with another reliability or durability (open it with the same, or "
                       "without either to accept them)");
+    core.net->update_receiving();  // this handle subscribed: a paused bridge of this process resumes now
     return {};
   }
   if (const int owner = g_network_pid.load(); owner != 0 && owner != current_pid())
