@@ -19,6 +19,7 @@ packages=(
   iproute2   # ip netns: the multi-host tests make hosts out of network namespaces
   libzstd-dev liblz4-dev zlib1g-dev   # MCAP recordings: zstd and lz4 chunks, CRC-32 (record/)
   nodejs   # the independent MCAP readers of the recording tests (tests/interop/mcap_js)
+  gnuplot-nox   # horus bench ping --plot: the latency histogram and CDF as PNG
 )
 
 missing=()

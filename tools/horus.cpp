@@ -49,6 +49,7 @@
 #include "horus/json.hpp"
 #include "horus/msg/all.hpp"
 #include "horus/shm/shm_segment.hpp"
+#include "bench_cmd.hpp"
 #include "record_cmd.hpp"
 #include "remote_reader.hpp"
 #include "typed_reader.hpp"
@@ -873,6 +874,43 @@ int main(int argc, char** argv) {
   play->add_option("--topics", play_args.topics, "topic patterns to play (default: all)");
   play->add_option("--remap", play_args.remap, "publish recorded topic OLD into topic NEW (OLD=NEW)");
 
+  horus::tools::BenchArgs bench_args;
+  auto* bench = app.add_subcommand("bench", "measure latency and throughput between hosts (ping/pong) or on this one (local)");
+  bench->require_subcommand(1);
+  auto common_bench = [&](CLI::App* c) {
+    c->add_option("--topic-prefix", bench_args.prefix, "topics PREFIX.control, PREFIX.ping.TYPE, PREFIX.pong.TYPE (default bench)");
+    c->add_option("--backend", bench_args.backend, "inproc, shm or a network backend (default: what HORUS_BACKEND and HORUS_CONFIG choose)");
+    c->add_flag("--spin", bench_args.spin, "poll with pause instead of sleeping in recv_for");
+    c->add_flag("-q,--quiet", bench_args.quiet, "no progress line");
+  };
+  auto payload_bench = [&](CLI::App* c) {
+    c->add_option("--type", bench_args.type, "a standard message type (Pose2D, CmdVel, Imu, Image, ...; default Pose2D)");
+    c->add_option("--size", bench_args.size, "payload bytes: CompressedImage below 64 KiB, Image (the pool) from 64 KiB; with --type, that type's payload");
+  };
+  auto* bench_pong = bench->add_subcommand("pong", "answer pings (run it on the other host)");
+  common_bench(bench_pong);
+  bench_pong->add_flag("--once", bench_args.once, "exit after one ping's run");
+  bench_pong->add_option("--cpu", bench_args.cpu, "pin the echo threads to this CPU");
+  auto* bench_ping = bench->add_subcommand("ping", "measure round trips to a pong: one-way latency, jitter, losses, throughput");
+  common_bench(bench_ping);
+  payload_bench(bench_ping);
+  bench_ping->add_option("--rate", bench_args.rate, "messages per second (default 1000)");
+  bench_ping->add_flag("--flood", bench_args.flood, "send as fast as the window allows");
+  bench_ping->add_option("--window", bench_args.window, "messages in flight with --flood (default: half the ring, at most 256)");
+  bench_ping->add_option("--duration", bench_args.duration, "seconds measured (default 5)");
+  bench_ping->add_option("--count", bench_args.count, "messages measured (instead of --duration)");
+  bench_ping->add_option("--warmup", bench_args.warmup, "seconds before measuring; the pong must answer within them (default 2)");
+  bench_ping->add_option("--timeout", bench_args.timeout, "an echo later than this many seconds counts as lost (default 1)");
+  bench_ping->add_flag("--remote", bench_args.remote, "the pong must be on another host (fail at once if the configuration keeps the topics here)");
+  bench_ping->add_option("--json", bench_args.json, "write the summary as JSON to FILE ('-': stdout)");
+  bench_ping->add_option("--csv", bench_args.csv, "append the summary as a CSV row to FILE (a header first in a new file; '-': stdout)");
+  bench_ping->add_option("--plot", bench_args.plot, "draw the latency histogram and CDF into FILE.png (gnuplot)");
+  auto* bench_local = bench->add_subcommand("local", "in-process and cross-process latency and throughput beside this machine's true floor");
+  payload_bench(bench_local);
+  bench_local->add_option("--duration", bench_args.duration, "seconds per path (default 1)");
+  bench_local->add_option("--window", bench_args.window, "messages in flight in the flood rows (default: half the ring)");
+  bench_local->add_option("--json", bench_args.json, "write the table as JSON to FILE ('-': stdout)");
+
   CLI11_PARSE(app, argc, argv);
   if (*record_info) return horus::tools::cmd_record_info(record_file, json);
   if (*recover) return horus::tools::cmd_record_recover(record_file, recover_out);
@@ -882,6 +920,12 @@ int main(int argc, char** argv) {
   ::signal(SIGTERM, on_signal);
   if (*fleet) return cmd_fleet(lookup.transport, json, once, fleet_wait_ms, duration_s);
   if (*play) return horus::tools::cmd_play(play_args, g_stop);
+  if (*bench_pong) return horus::tools::cmd_bench_pong(bench_args, g_stop);
+  if (*bench_ping) return horus::tools::cmd_bench_ping(bench_args, g_stop);
+  if (*bench_local) {
+    if (bench_local->count("--duration") == 0) bench_args.duration = 1;
+    return horus::tools::cmd_bench_local(bench_args, g_stop);
+  }
 
   auto ns = horus::shm::shm_namespace();
   if (!ns) {

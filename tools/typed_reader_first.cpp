@@ -4,9 +4,7 @@ namespace horus::tools {
 
 namespace {
 detail::Opened open_any(std::string_view type_name, const std::string& name, const std::optional<Backend>& backend,
-                        detail::Want want, std::string& error, std::uint64_t lcm_fingerprint = 0) {
-  detail::Opened out;
-  out.lcm_fingerprint = lcm_fingerprint;
+                        detail::Want want, std::string& error, detail::Opened out = {}) {
   error.clear();
   detail::open_first_half(type_name, name, backend, want, out, error);
   if (!out.known) detail::open_second_half(type_name, name, backend, want, out, error);
@@ -32,7 +30,9 @@ std::unique_ptr<TypedWriter> open_writer(std::string_view type_name, const std::
 std::string standard_type_by_lcm_fingerprint(std::uint64_t fingerprint) {
   if (fingerprint == 0) return {};
   std::string error;
-  return open_any({}, {}, std::nullopt, detail::Want::Name, error, fingerprint).qualified;
+  detail::Opened by_fingerprint;
+  by_fingerprint.lcm_fingerprint = fingerprint;
+  return open_any({}, {}, std::nullopt, detail::Want::Name, error, std::move(by_fingerprint)).qualified;
 }
 
 std::unique_ptr<RecordSource> open_record_source(std::string_view type_name, const std::string& name,
@@ -45,6 +45,24 @@ std::unique_ptr<PlaySink> open_play_sink(std::string_view type_name, const std::
   auto out = open_any(type_name, name, std::nullopt, lcm_encoding ? detail::Want::PlayLcm : detail::Want::PlayCdr, error);
   type_hash = out.hash;
   return std::move(out.sink);
+}
+
+std::string bench_type(const BenchPayload& payload, std::string& error) {
+  detail::Opened in;
+  in.bench_payload = &payload;
+  auto out = open_any(payload.type, {}, std::nullopt, detail::Want::BenchCheck, error, std::move(in));
+  if (!out.known) error = "unknown message type '" + payload.type + "'";
+  return error.empty() ? out.qualified : std::string();
+}
+
+std::unique_ptr<BenchPeer> open_bench_peer(const BenchPayload& payload, const BenchEndpoints& endpoints,
+                                           std::string& error) {
+  detail::Opened in;
+  in.bench_payload = &payload;
+  in.bench_endpoints = &endpoints;
+  auto out = open_any(payload.type, {}, endpoints.backend, detail::Want::Bench, error, std::move(in));
+  if (!out.known) error = "unknown message type '" + payload.type + "'";
+  return std::move(out.bench);
 }
 
 namespace detail {

@@ -6,6 +6,7 @@
 #include "horus/msg/all.hpp"
 #include "horus/topic.hpp"
 #include "horus/wire/xcdr1.hpp"
+#include "bench_peer_impl.hpp"
 #include "typed_reader.hpp"
 
 namespace horus::tools::detail {
@@ -68,6 +69,14 @@ void open_as(msg::TypeList<T...>, std::string_view type_name, const std::string&
     out.qualified = std::string(horus::type_name<M>());
     out.hash = horus::type_hash<M>;
     if (want == Want::Name) return;
+    if (want == Want::BenchCheck) {
+      error = check_bench_size<M>(out.bench_payload->size);
+      return;
+    }
+    if (want == Want::Bench) {
+      out.bench = open_bench_as<M>(*out.bench_payload, *out.bench_endpoints, error);
+      return;
+    }
     TopicOptions options;
     options.backend = backend;
     auto topic = Topic<M>::open(name, options);
