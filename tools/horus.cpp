@@ -14,6 +14,10 @@
 //                                         through the reflection)
 //   horus fleet [--json] [--once]         the fleet's hosts: state, heartbeat age, RTT, processes,
 //                                         topics (live table; --once: one snapshot)
+//   horus bench pong | ping | local       round trips between hosts through ordinary topics
+//                                         (one-way latency, jitter, losses, throughput; JSON,
+//                                         CSV, a plot), and the local paths beside the true
+//                                         floor (bench_cmd.cpp)
 //   horus clean                           remove segments whose processes are all gone
 //   horus config check FILE               validate a configuration file (exit 1 naming the error)
 //   horus config explain NAME [--file F]  which rule, scope, backend and QoS a topic gets, and

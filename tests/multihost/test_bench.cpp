@@ -173,7 +173,7 @@ TEST(BenchOneHost, PingAndPongThroughSharedMemory) {
   auto pong = run_here(env, {"bench", "pong"});
   const std::string json = scratch("shm.json");
   {
-    auto ping = run_here(env, {"bench", "ping", "--flood", "--count", "20000", "--warmup", "3", "--json", json, "-q"});
+    auto ping = run_here(env, {"bench", "ping", "--flood", "--count", "20000", "--warmup", "1", "--json", json, "-q"});
     const int rc = ping.wait(60s);
     const auto out = ping.output();
     ASSERT_EQ(rc, 0) << out << "\npong:\n" << pong.output();
@@ -186,7 +186,7 @@ TEST(BenchOneHost, PingAndPongThroughSharedMemory) {
   {
     // A window smaller than the rings: nothing can be overwritten, so nothing may be lost.
     auto ping = run_here(env, {"bench", "ping", "--size", "4096", "--flood", "--window", "4", "--count", "2000",
-                               "--warmup", "3", "--json", json, "-q"});
+                               "--warmup", "1", "--json", json, "-q"});
     const int rc = ping.wait(60s);
     const auto out = ping.output();
     ASSERT_EQ(rc, 0) << out;
