@@ -41,8 +41,9 @@ one() {  # backend case round ping-args...
   local json="$work/$backend.$case.$round.json" pong_host=2
   [ "$backend" = shm ] && pong_host=1
   # shellcheck disable=SC2046
-  nh_on "$pong_host" env $(env_for "$backend") "$horus" bench pong --once -q >"$work/pong.log" 2>&1 &
+  nh_on "$pong_host" env $(env_for "$backend") timeout 120 "$horus" bench pong --once >"$work/pong.log" 2>&1 &
   local pong=$!
+  for _ in $(seq 200); do grep -q "answering on" "$work/pong.log" 2>/dev/null && break; sleep 0.05; done
   # shellcheck disable=SC2046
   if nh_on 1 env $(env_for "$backend") "$horus" bench ping -q --warmup 3 --json "$json" "$@" \
       >"$work/ping.log" 2>&1; then
@@ -51,6 +52,9 @@ one() {  # backend case round ping-args...
   else
     echo "  $backend $case: FAILED"; cat "$work/ping.log"
   fi
+  # --once ends the pong after the run; a ping that failed before its hello leaves it waiting.
+  for _ in $(seq 100); do kill -0 "$pong" 2>/dev/null || break; sleep 0.05; done
+  kill "$pong" 2>/dev/null || true
   wait "$pong" 2>/dev/null || true
 }
 

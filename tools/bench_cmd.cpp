@@ -16,6 +16,7 @@
 
 #include <sched.h>
 #include <spawn.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -57,14 +58,22 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using Fields = std::map<std::string, std::string>;
 
-std::int64_t now_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
-}
+std::int64_t now_ns() { return bench_now_ns(); }
 
 std::string host_name() {
   char buf[256] = {};
   if (::gethostname(buf, sizeof buf - 1) != 0) return "?";
   return buf;
+}
+
+// What tells two hosts apart for --remote: the hostname, the machine id (robots cloned from one
+// image often share a hostname) and the device of /dev/shm (a namespace host has its own).
+std::string host_identity() {
+  std::string machine;
+  if (std::ifstream f("/etc/machine-id"); f) std::getline(f, machine);
+  struct stat st{};
+  const auto shm_dev = ::stat("/dev/shm", &st) == 0 ? static_cast<unsigned long long>(st.st_dev) : 0ULL;
+  return fmt::format("{}|{}|{}", host_name(), machine, shm_dev);
 }
 
 void pin_to_cpu(int cpu) {
@@ -194,9 +203,10 @@ int run_pong(const BenchArgs& a, const std::optional<Backend>& backend, const st
   auto control = Control::open(a.prefix, backend);
   if (!control) {
     fmt::print(stderr, "horus bench pong: {}\n", control.error().message());
+    if (ready_flag != nullptr) ready_flag->store(true);  // horus bench local's ping then fails with the reason
     return 2;
   }
-  const std::string host = host_name();
+  const std::string host = host_name(), hostid = host_identity();
   const std::string pid = std::to_string(::getpid());
   if (!a.quiet)
     fmt::print("horus bench pong: answering on {} ({}) on host {}, pid {}; Ctrl-C stops\n", control->name(),
@@ -225,7 +235,7 @@ int run_pong(const BenchArgs& a, const std::optional<Backend>& backend, const st
       if (op == "hello") {
         auto it = sessions.find(run);
         if (it != sessions.end()) {  // a repeated hello: answer again
-          control->send({{"op", "ready"}, {"run", run}, {"host", host}, {"pid", pid}});
+          control->send({{"op", "ready"}, {"run", run}, {"host", host}, {"hostid", hostid}, {"pid", pid}});
           continue;
         }
         const std::string ping_topic = get(*f, "ping");
@@ -257,7 +267,7 @@ int run_pong(const BenchArgs& a, const std::optional<Backend>& backend, const st
                      get(*f, "pong"));
         std::fflush(stdout);
         sessions.emplace(run, std::move(s));
-        control->send({{"op", "ready"}, {"run", run}, {"host", host}, {"pid", pid}});
+        control->send({{"op", "ready"}, {"run", run}, {"host", host}, {"hostid", hostid}, {"pid", pid}});
       } else if (op == "start") {
         if (get(*f, "host") != host || get(*f, "pid") != pid) close(run, "the ping chose another pong");
       } else if (op == "bye") {
@@ -284,7 +294,7 @@ struct PingResult {
   std::string type, payload, tag, ping_topic, pong_topic, control_topic, where, backend;
   std::string host, pong_host, pong_pid;
   std::uint64_t message_bytes = 0;
-  std::uint64_t sent = 0, received = 0, lost = 0, reordered = 0, duplicates = 0, refused = 0, dropped = 0;
+  std::uint64_t sent = 0, received = 0, lost = 0, late = 0, reordered = 0, duplicates = 0, refused = 0, dropped = 0;
   double measured_s = 0, warmup_s = 0;
   std::uint32_t window = 0;
   LatencyHistogram one_way;
@@ -298,23 +308,21 @@ class Ledger {
   Ledger() : slots_(kSize) {}
   void sent(std::uint64_t seq, std::int64_t t) {
     auto& s = slots_[seq & (kSize - 1)];
-    if (s.state == kOut) ++expired_;  // overwritten while still out: it is lost
+    if (s.state == kOut) --outstanding_;  // overwritten while still out: it is lost
     s = Slot{seq, t, kOut};
     ++outstanding_;
   }
-  // The send time of seq when it is out (or expired), and marks it received; -1 for a duplicate
-  // or a sequence number this book no longer holds.
-  std::int64_t received(std::uint64_t seq, bool& duplicate) {
+  enum class Echo { OnTime, Late, Duplicate, Unknown };
+  // Marks seq received; `sent_at` is its send time when it came back within the timeout.
+  Echo received(std::uint64_t seq, std::int64_t& sent_at) {
     auto& s = slots_[seq & (kSize - 1)];
-    duplicate = false;
-    if (s.seq != seq || s.state == kNone) return -1;
-    if (s.state == kDone) {
-      duplicate = true;
-      return -1;
-    }
+    if (s.seq != seq || s.state == kNone) return Echo::Unknown;
+    if (s.state == kDone) return Echo::Duplicate;
+    const bool late = s.state == kLate;
     if (s.state == kOut) --outstanding_;
     s.state = kDone;
-    return s.t;
+    sent_at = s.t;
+    return late ? Echo::Late : Echo::OnTime;
   }
   // Messages out longer than `timeout` stop counting against the window.
   void expire(std::uint64_t next_seq, std::int64_t now, std::int64_t timeout) {
@@ -338,7 +346,7 @@ class Ledger {
     State state = kNone;
   };
   std::vector<Slot> slots_;
-  std::uint64_t oldest_ = 0, outstanding_ = 0, expired_ = 0;
+  std::uint64_t oldest_ = 0, outstanding_ = 0;
 };
 
 std::string no_pong_error(const PingResult& r, const std::string& prefix, const Backend& b, const std::string& origin,
@@ -421,6 +429,16 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
   const std::int64_t t0 = now_ns();
   const auto warmup_ns = static_cast<std::int64_t>(a.warmup * 1e9);
 
+  // Whatever happens after the first hello, the pongs that answered hear that the run is over.
+  struct Bye {
+    Control& c;
+    std::string run;
+    ~Bye() {
+      for (int i = 0; i < 3; ++i) c.send({{"op", "bye"}, {"run", run}});
+    }
+  } bye{*control, run};
+  const std::string hostid = host_identity();
+
   // 1. Handshake: hello until a pong is ready.
   std::vector<std::string> refusals;
   std::int64_t last_hello = 0;
@@ -431,7 +449,7 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
       return fail_with(3, no_pong_error(r, a.prefix, choice->backend, choice_origin(*choice), a.remote, refusals));
     if (now - last_hello >= 250'000'000) {
       control->send({{"op", "hello"}, {"run", run}, {"type", r.type}, {"size", std::to_string(a.size)},
-                     {"ping", r.ping_topic}, {"pong", r.pong_topic}, {"host", r.host}, {"pid", pid}});
+                     {"ping", r.ping_topic}, {"pong", r.pong_topic}, {"host", r.host}, {"hostid", hostid}, {"pid", pid}});
       last_hello = now;
     }
     (void)control->wait(std::chrono::milliseconds(50));
@@ -439,7 +457,7 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
       if (get(*f, "run") != run) continue;
       const std::string op = get(*f, "op"), who = fmt::format("{} (pid {})", get(*f, "host"), get(*f, "pid"));
       if (op == "ready") {
-        if (a.remote && get(*f, "host") == r.host) {
+        if (a.remote && get(*f, "hostid") == hostid) {
           const auto x = fmt::format("pong on this host {} ignored (--remote)", who);
           if (std::find(refusals.begin(), refusals.end(), x) == refusals.end()) refusals.push_back(x);
           continue;
@@ -448,22 +466,21 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
           r.pong_host = get(*f, "host");
           r.pong_pid = get(*f, "pid");
         }
-      } else if (op == "busy" || op == "error") {
-        const auto x = op == "busy" ? fmt::format("pong {} is busy with a ping from {}: use another --topic-prefix",
-                                                  who, get(*f, "serving"))
-                                    : fmt::format("pong {} could not open the topics: {}", who, get(*f, "what"));
+      } else if (op == "busy") {
+        // That pong reads the same ping topic for another ping: it would echo our messages too.
+        return fail_with(3, fmt::format("pong {} is serving a ping from {} on {}: its echoes would mix with this "
+                                        "run's; wait for it to end, or use another --topic-prefix on both sides",
+                                        who, get(*f, "serving"), r.ping_topic));
+      } else if (op == "error") {
+        const auto x = fmt::format("pong {} could not open the topics: {}", who, get(*f, "what"));
         if (std::find(refusals.begin(), refusals.end(), x) == refusals.end()) refusals.push_back(x);
       }
     }
   }
-  control->send({{"op", "start"}, {"run", run}, {"host", r.pong_host}, {"pid", r.pong_pid}});
-  struct Bye {
-    Control& c;
-    std::string run;
-    ~Bye() {
-      for (int i = 0; i < 3; ++i) c.send({{"op", "bye"}, {"run", run}});
-    }
-  } bye{*control, run};
+  // The chosen pong; the others close their side (sent three times: LCM may lose one).
+  for (int i = 0; i < 3; ++i)
+    control->send({{"op", "start"}, {"run", run}, {"host", r.pong_host}, {"pid", r.pong_pid}});
+  const std::int64_t handshake_done = now_ns();
 
   // 2. Traffic: warm-up (not measured), then the measurement, then the drain.
   const auto modulus = peer->tag_modulus();
@@ -475,7 +492,8 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
   std::uint64_t seq = 0, measure_from = UINT64_MAX, max_seen = 0, echoes = 0;
   bool seen_any = false;
   std::int64_t next_send = now_ns(), measure_start = 0, send_end = 0, last_progress = 0, last_echo = 0;
-  std::uint64_t interval_sent = 0, interval_received = 0;
+  std::uint64_t interval_sent = 0, interval_received = 0, refused_seq = UINT64_MAX;
+  bool refused_wait = false;
   const std::int64_t warm_end = std::max(t0 + warmup_ns, now_ns() + 200'000'000);
   const bool is_tty = ::isatty(2) != 0;
   enum Phase { kWarm, kMeasure, kDrain } phase = kWarm;
@@ -485,16 +503,19 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
     const std::uint64_t back = (seq - 1 - tag % modulus) % modulus;
     if (seq == 0 || back >= seq) return;
     const std::uint64_t s = seq - 1 - back;
-    bool dup = false;
-    const auto t = ledger->received(s, dup);
+    std::int64_t t = 0;
+    const auto kind = ledger->received(s, t);
     ++echoes;
     last_echo = now;
-    if (s < measure_from) return;  // a warm-up message
-    if (dup) {
+    if (s < measure_from || kind == Ledger::Echo::Unknown) return;  // a warm-up message
+    if (kind == Ledger::Echo::Duplicate) {
       ++r.duplicates;
       return;
     }
-    if (t < 0) return;
+    if (kind == Ledger::Echo::Late) {  // after --timeout: lost, as the help says
+      ++r.late;
+      return;
+    }
     ++r.received;
     ++interval_received;
     if (seen_any && s < max_seen) ++r.reordered;
@@ -513,7 +534,7 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
     }
     if (phase == kWarm && now >= warm_end) {
       if (echoes == 0) {
-        if (now - t0 > warmup_ns + std::max<std::int64_t>(warmup_ns, 2'000'000'000))
+        if (now - handshake_done > std::max<std::int64_t>(warmup_ns, 2'000'000'000))
           return fail_with(3, fmt::format("pong {} (pid {}) answered on {}, but nothing came back on {} within the "
                                           "warm-up ({} sent on {}): the data topics are not connected ({})",
                                           r.pong_host, r.pong_pid, r.control_topic, r.pong_topic, seq, r.ping_topic, r.where));
@@ -547,11 +568,15 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
       ledger->expire(seq, now, timeout_ns);
       while (ledger->outstanding() < max_out && (period == 0 || now >= next_send) &&
              !(phase == kMeasure && a.count > 0 && seq - measure_from >= a.count)) {
-        const auto t_send = now_ns();
-        if (!peer->send(seq)) {
-          ++r.refused;
+        std::int64_t t_send = 0;
+        if (!peer->send(seq, t_send)) {
+          // Counted once per message; then wait for an echo to give a slot back.
+          if (refused_seq != seq) ++r.refused;
+          refused_seq = seq;
+          refused_wait = true;
           break;
         }
+        refused_wait = false;
         ledger->sent(seq, t_send);
         ++seq;
         if (phase == kMeasure) ++interval_sent;
@@ -576,6 +601,7 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
       std::int64_t wait = 100'000'000;
       if (phase != kDrain && period != 0) wait = std::max<std::int64_t>(0, next_send - now_ns());
       if (phase != kDrain && period == 0 && ledger->outstanding() < max_out) wait = 0;
+      if (refused_wait) wait = std::max<std::int64_t>(wait, 1'000'000);
       if (wait > 0) (void)peer->wait(std::chrono::nanoseconds(wait));
       while (auto tag = peer->recv_tag()) on_echo(*tag, now_ns());
     }
@@ -637,6 +663,7 @@ nlohmann::json result_json(const BenchArgs& a, const PingResult& r) {
           {"sent", r.sent},
           {"received", r.received},
           {"lost", r.lost},
+          {"late", r.late},
           {"reordered", r.reordered},
           {"duplicates", r.duplicates},
           {"refused", r.refused},
@@ -721,8 +748,13 @@ bool write_plot(const std::string& file, const PingResult& r, std::string& error
     error = "--plot: no samples to draw";
     return false;
   }
-  const auto dir = std::filesystem::temp_directory_path();
-  const std::string script = (dir / fmt::format("horus_bench_{}.gp", ::getpid())).string();
+  std::string script = (std::filesystem::temp_directory_path() / "horus_bench_XXXXXX.gp").string();
+  const int fd = ::mkstemps(script.data(), 3);
+  if (fd < 0) {
+    error = fmt::format("--plot: cannot create a temporary file for gnuplot's script: {}", std::strerror(errno));
+    return false;
+  }
+  ::close(fd);
   std::string text = fmt::format(
       "set terminal pngcairo size 1000,800 font 'sans,10'\nset output '{}'\nset multiplot layout 2,1 title "
       "\"horus bench ping: {} over {}\\n{} -> {}, {} samples\"\nset logscale x\nset grid\nset xlabel 'one-way "
@@ -780,16 +812,17 @@ void print_result(std::FILE* out, const BenchArgs& a, const PingResult& r) {
              f(h.quantile(0.9)), f(h.quantile(0.99)), f(h.quantile(0.999)), f(h.max()));
   fmt::print(out, "  mean {}   stddev {}   jitter {} (mean change between consecutive messages)\n", format_ns(h.mean()),
              format_ns(h.stddev()), format_ns(h.jitter()));
-  fmt::print(out, "messages: sent {}, received {}, lost {} ({:.3f} %), reordered {}, duplicates {}{}\n", r.sent, r.received,
-             r.lost, r.sent ? 100.0 * static_cast<double>(r.lost) / static_cast<double>(r.sent) : 0.0, r.reordered,
+  fmt::print(out, "messages: sent {}, received {}, lost {} ({:.3f} %{}), reordered {}, duplicates {}{}\n", r.sent,
+             r.received, r.lost, r.sent ? 100.0 * static_cast<double>(r.lost) / static_cast<double>(r.sent) : 0.0,
+             r.late ? fmt::format(", {} of them came back after --timeout", r.late) : std::string(), r.reordered,
              r.duplicates, r.refused ? fmt::format(", refused by the topic {}", r.refused) : std::string());
   fmt::print(out, "throughput: {:.1f} msg/s, {:.3f} MB/s each way ({} bytes per message)\n", msgs_per_s(r), mb_per_s(r),
              r.message_bytes);
   if (r.lost == 0) return;
   // Where losses come from, per backend.
-  fmt::print(out, "lost: {} message(s) did not come back within --timeout {} s; {} of them were counted lost on the way "
-                  "back here (dropped_count of {}; the pong prints its own)\n",
-             r.lost, a.timeout, r.dropped, r.pong_topic);
+  fmt::print(out, "lost: {} message(s) did not come back within --timeout {} s; this side's {} counted {} dropped on "
+                  "the way back over the whole run, warm-up included (dropped_count; the pong prints its own)\n",
+             r.lost, a.timeout, r.pong_topic, r.dropped);
   if (r.backend == "lcm")
     fmt::print(out, "  LCM is best effort over UDP and a {}-byte message is about {} datagram(s): losses are usually a full "
                     "receive buffer;\n  add recv_buf_size=BYTES to the LCM URL on both hosts (the kernel caps it at "
@@ -914,27 +947,28 @@ int cmd_bench_local(const BenchArgs& args, const std::atomic<bool>& stop) {
   const int cpu_b = cpus.size() >= 2 ? cpus[1] : -1;
   const bool pinned = cpu_b >= 0;
   const auto all_cpus = allowed_cpus();
+  std::FILE* out = a.json == "-" ? stderr : stdout;  // the JSON alone on stdout
   a.prefix = fmt::format("{}.local_{}", a.prefix, ::getpid());
   a.quiet = true;
   a.warmup = 0.3;     // traffic before measuring
   a.handshake = 10;   // a child process starting on a loaded machine
 
-  fmt::print("horus bench local on {}: {} CPU(s) allowed{}\n", host_name(), cpus.size(),
+  fmt::print(out, "horus bench local on {}: {} CPU(s) allowed{}\n", host_name(), cpus.size(),
              pinned ? fmt::format(", ping on CPU {}, pong on CPU {}", cpu_a, cpu_b) : std::string(" (not pinned: one CPU)"));
-  std::fflush(stdout);
+  std::fflush(out);
   FloorResult floor;
   if (pinned) {
     floor = measure_floor(cpu_a, cpu_b, 200'000);
-    fmt::print("true floor (cache-line ping-pong with pause, p50 one-way): one line {}, two lines 256 B apart {} -> "
+    fmt::print(out, "true floor (cache-line ping-pong with pause, p50 one-way): one line {}, two lines 256 B apart {} -> "
                "floor {}\n",
                format_ns(static_cast<double>(floor.one_line)), format_ns(static_cast<double>(floor.two_lines)),
                format_ns(static_cast<double>(floor.best())));
   } else {
-    fmt::print("true floor: not measured (it needs two CPUs; this process may use one)\n");
+    fmt::print(out, "true floor: not measured (it needs two CPUs; this process may use one)\n");
   }
-  fmt::print("{:<26} {:>10} {:>10} {:>10} {:>10} {:>14} {:>9}\n", "path", "p50", "p99", "p99.9", "max", "msg/s",
+  fmt::print(out, "{:<26} {:>10} {:>10} {:>10} {:>10} {:>14} {:>9}\n", "path", "p50", "p99", "p99.9", "max", "msg/s",
              "vs floor");
-  std::fflush(stdout);
+  std::fflush(out);
 
   struct Row {
     const char* name;
@@ -965,7 +999,7 @@ int cmd_bench_local(const BenchArgs& args, const std::atomic<bool>& stop) {
       BenchArgs p = r;
       p.cpu = cpu_b;
       pong_thread = std::thread([p, backend, &pong_stop, &pong_ready] { (void)run_pong(p, backend, pong_stop, &pong_ready); });
-      while (!pong_ready.load()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      while (!pong_ready.load() && !stop.load()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     } else {
       std::vector<std::string> cargs = {"/proc/self/exe", "bench", "pong", "--once", "--quiet", "--backend", "shm",
                                         "--topic-prefix", r.prefix, "--cpu", std::to_string(cpu_b)};
@@ -1005,11 +1039,11 @@ int cmd_bench_local(const BenchArgs& args, const std::atomic<bool>& stop) {
     }
     const auto& h = res.one_way;
     const double ratio = floor.best() && !row.flood ? static_cast<double>(h.quantile(0.5)) / static_cast<double>(floor.best()) : 0;
-    fmt::print("{:<26} {:>10} {:>10} {:>10} {:>10} {:>14.0f} {:>9}\n", row.name,
+    fmt::print(out, "{:<26} {:>10} {:>10} {:>10} {:>10} {:>14.0f} {:>9}\n", row.name,
                format_ns(static_cast<double>(h.quantile(0.5))), format_ns(static_cast<double>(h.quantile(0.99))),
                format_ns(static_cast<double>(h.quantile(0.999))), format_ns(static_cast<double>(h.max())),
                msgs_per_s(res), ratio > 0 ? fmt::format("{:.2f}x", ratio) : std::string("-"));
-    std::fflush(stdout);
+    std::fflush(out);
     json_rows.push_back({{"path", row.name},
                          {"type", res.type},
                          {"message_bytes", res.message_bytes},
@@ -1021,7 +1055,7 @@ int cmd_bench_local(const BenchArgs& args, const std::atomic<bool>& stop) {
                          {"msgs_per_s", msgs_per_s(res)},
                          {"vs_floor", ratio}});
   }
-  fmt::print("one-way = round trip / 2 through two topics; spinning: recv() in a loop with pause (as the floor); "
+  fmt::print(out, "one-way = round trip / 2 through two topics; spinning: recv() in a loop with pause (as the floor); "
              "blocking: recv_for (a futex wake-up each way); flood: {} in flight\n",
              a.window != 0 ? std::to_string(a.window) : std::string("half the ring"));
   if (!a.json.empty()) {

@@ -17,6 +17,12 @@
 
 namespace horus::tools {
 
+/// The clock of every measured round trip (steady_clock, in ns).
+inline std::int64_t bench_now_ns() noexcept {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
 /// What both sides agree on: the type, and the payload size of a sized type (0: the type's own).
 struct BenchPayload {
   std::string type;        // as the user wrote it, or qualified
@@ -32,17 +38,18 @@ struct BenchEndpoints {
 class BenchPeer {
  public:
   virtual ~BenchPeer() = default;
-  /// Sends a message tagged `tag` (modulo tag_modulus()); false when the topic refused it (a
-  /// pool whose slots are all pinned or lent, every publisher lane taken).
-  virtual bool send(std::uint64_t tag) = 0;
+  /// Sends a message tagged `tag` (modulo tag_modulus()), `sent_at` (bench_now_ns()) taken
+  /// just before the topic's send; false when the topic refused it (a pool whose slots are all
+  /// pinned or lent, every publisher lane taken, a message larger than the slot).
+  virtual bool send(std::uint64_t tag, std::int64_t& sent_at) = 0;
   /// The tag of the next received message, or nothing when none is waiting.
   virtual std::optional<std::uint64_t> recv_tag() = 0;
   /// Receives one message and sends it back unchanged; false when none was waiting.
   virtual bool echo_one() = 0;
   /// Sleeps until a message is waiting or `timeout` passes; true when one is.
   virtual bool wait(std::chrono::nanoseconds timeout) = 0;
-  /// Tags are carried modulo this (the field that carries them: 2^24 for a float, 2^63 for a
-  /// 64-bit integer); the ping resolves a tag to the nearest sequence number it sent.
+  /// Tags are carried modulo this (the field that carries them: 2^23 for a float, 2^62 for a
+  /// 64-bit integer); the ping resolves a tag to the latest sequence number it sent that has it.
   virtual std::uint64_t tag_modulus() const = 0;
   /// Bytes of one message as the network carries it (its XCDR1 encoding).
   virtual std::uint64_t message_bytes() const = 0;
