@@ -54,7 +54,7 @@ one() {  # backend case round ping-args...
   fi
   # --once ends the pong after the run; a ping that failed before its hello leaves it waiting.
   for _ in $(seq 100); do kill -0 "$pong" 2>/dev/null || break; sleep 0.05; done
-  kill "$pong" 2>/dev/null || true
+  pkill -TERM -f "timeout 120 $horus bench pong" 2>/dev/null || true  # timeout passes it on to the pong
   wait "$pong" 2>/dev/null || true
 }
 

@@ -591,12 +591,19 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
     }
     // Receive.
     if (a.spin) {
-      bool any = false;
-      while (auto tag = peer->recv_tag()) {
-        on_echo(*tag, now_ns());
-        any = true;
+      // Poll as tightly as the floor does: the clock is read only when an echo arrives, and
+      // every 256 polls to stop at the next send (or after 1 ms).
+      const std::int64_t until = phase != kDrain && period != 0 ? next_send : now + 1'000'000;
+      for (std::uint32_t polls = 1;; ++polls) {
+        if (auto tag = peer->recv_tag()) {
+          on_echo(*tag, now_ns());
+          while (auto more = peer->recv_tag()) on_echo(*more, now_ns());
+          break;
+        }
+        if (phase != kDrain && period == 0 && ledger->outstanding() < max_out && !refused_wait) break;
+        bench::spin_pause();
+        if (polls % 256 == 0 && now_ns() >= until) break;
       }
-      if (!any) bench::spin_pause();
     } else {
       std::int64_t wait = 100'000'000;
       if (phase != kDrain && period != 0) wait = std::max<std::int64_t>(0, next_send - now_ns());
