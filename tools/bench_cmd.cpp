@@ -16,7 +16,6 @@
 
 #include <sched.h>
 #include <spawn.h>
-#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -38,10 +37,12 @@
 #include <thread>
 #include <vector>
 
+#include "bench_common.hpp"
 #include "bench_peer.hpp"
 #include "bench_stats.hpp"
 #include "floor.hpp"
 #include "horus/config.hpp"
+#include "horus/fleet.hpp"
 #include "horus/msg/generic.hpp"
 #include "horus/topic.hpp"
 #include "horus/transport_registry.hpp"
@@ -58,30 +59,13 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using Fields = std::map<std::string, std::string>;
 
-std::int64_t now_ns() { return bench_now_ns(); }
-
-std::string host_name() {
-  char buf[256] = {};
-  if (::gethostname(buf, sizeof buf - 1) != 0) return "?";
-  return buf;
-}
-
-// What tells two hosts apart for --remote: the hostname, the machine id (robots cloned from one
-// image often share a hostname) and the device of /dev/shm (a namespace host has its own).
-std::string host_identity() {
-  std::string machine;
-  if (std::ifstream f("/etc/machine-id"); f) std::getline(f, machine);
-  struct stat st{};
-  const auto shm_dev = ::stat("/dev/shm", &st) == 0 ? static_cast<unsigned long long>(st.st_dev) : 0ULL;
-  return fmt::format("{}|{}|{}", host_name(), machine, shm_dev);
-}
+// The host as the fleet layer names and tells it apart (hostname, boot, /dev/shm, namespace):
+// a namespace host is a host of its own, and robots cloned from one image with one hostname differ.
+std::string host_name() { return fleet::host_name(); }
+std::string host_id() { return fmt::format("{:016x}", fleet::host_id()); }
 
 void pin_to_cpu(int cpu) {
-  if (cpu < 0) return;
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  CPU_SET(cpu, &set);
-  (void)::sched_setaffinity(0, sizeof set, &set);
+  if (cpu >= 0) (void)bench::pin_to_cpu(cpu);
 }
 
 // -- choices ----------------------------------------------------------------------------------
@@ -190,7 +174,7 @@ void echo_loop(PongSession& s, bool spin, int cpu) {
       s.echoed.fetch_add(1, std::memory_order_relaxed);
       any = true;
     }
-    if (any) s.last_ns.store(now_ns(), std::memory_order_relaxed);
+    if (any) s.last_ns.store(bench_now_ns(), std::memory_order_relaxed);
     if (spin) bench::spin_pause();
     else if (!any) (void)s.peer_endpoint->wait(std::chrono::milliseconds(50));
   }
@@ -206,7 +190,7 @@ int run_pong(const BenchArgs& a, const std::optional<Backend>& backend, const st
     if (ready_flag != nullptr) ready_flag->store(true);  // horus bench local's ping then fails with the reason
     return 2;
   }
-  const std::string host = host_name(), hostid = host_identity();
+  const std::string host = host_name(), hostid = host_id();
   const std::string pid = std::to_string(::getpid());
   if (!a.quiet)
     fmt::print("horus bench pong: answering on {} ({}) on host {}, pid {}; Ctrl-C stops\n", control->name(),
@@ -259,7 +243,7 @@ int run_pong(const BenchArgs& a, const std::optional<Backend>& backend, const st
         s->peer = fmt::format("{} (pid {})", get(*f, "host"), get(*f, "pid"));
         s->ping_topic = ping_topic;
         s->peer_endpoint = std::move(peer);
-        s->last_ns.store(now_ns());
+        s->last_ns.store(bench_now_ns());
         auto* raw = s.get();
         s->thread = std::thread([raw, spin = a.spin, cpu = a.cpu] { echo_loop(*raw, spin, cpu); });
         if (!a.quiet)
@@ -274,7 +258,7 @@ int run_pong(const BenchArgs& a, const std::optional<Backend>& backend, const st
         close(run, "done");
       }
     }
-    const auto now = now_ns();
+    const auto now = bench_now_ns();
     std::vector<std::string> idle;
     for (const auto& [r, s] : sessions)
       if (now - s->last_ns.load() > kPongIdleNs) idle.push_back(r);
@@ -424,9 +408,9 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
   r.backend = peer->backend();
   r.window = a.flood ? (a.window != 0 ? a.window : std::max<std::uint32_t>(1, std::min<std::uint32_t>(peer->capacity() / 2, 256)))
                      : 0;
-  std::mt19937_64 rng(std::random_device{}() ^ static_cast<std::uint64_t>(now_ns()));
+  std::mt19937_64 rng(std::random_device{}() ^ static_cast<std::uint64_t>(bench_now_ns()));
   const std::string run = fmt::format("{:016x}", rng());
-  const std::int64_t t0 = now_ns();
+  const std::int64_t t0 = bench_now_ns();
   const auto warmup_ns = static_cast<std::int64_t>(a.warmup * 1e9);
 
   // Whatever happens after the first hello, the pongs that answered hear that the run is over.
@@ -437,13 +421,13 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
       for (int i = 0; i < 3; ++i) c.send({{"op", "bye"}, {"run", run}});
     }
   } bye{*control, run};
-  const std::string hostid = host_identity();
+  const std::string hostid = host_id();
 
   // 1. Handshake: hello until a pong is ready.
   std::vector<std::string> refusals;
   std::int64_t last_hello = 0;
   while (r.pong_host.empty()) {
-    const auto now = now_ns();
+    const auto now = bench_now_ns();
     if (stop.load()) return fail_with(130, "interrupted");
     if (now - t0 > std::max(warmup_ns, static_cast<std::int64_t>(a.handshake * 1e9)))
       return fail_with(3, no_pong_error(r, a.prefix, choice->backend, choice_origin(*choice), a.remote, refusals));
@@ -480,7 +464,7 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
   // The chosen pong; the others close their side (sent three times: LCM may lose one).
   for (int i = 0; i < 3; ++i)
     control->send({{"op", "start"}, {"run", run}, {"host", r.pong_host}, {"pid", r.pong_pid}});
-  const std::int64_t handshake_done = now_ns();
+  const std::int64_t handshake_done = bench_now_ns();
 
   // 2. Traffic: warm-up (not measured), then the measurement, then the drain.
   const auto modulus = peer->tag_modulus();
@@ -491,10 +475,10 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
   auto interval = std::make_unique<LatencyHistogram>();
   std::uint64_t seq = 0, measure_from = UINT64_MAX, max_seen = 0, echoes = 0;
   bool seen_any = false;
-  std::int64_t next_send = now_ns(), measure_start = 0, send_end = 0, last_progress = 0, last_echo = 0;
-  std::uint64_t interval_sent = 0, interval_received = 0, refused_seq = UINT64_MAX;
+  std::int64_t next_send = bench_now_ns(), measure_start = 0, send_end = 0, last_progress = 0, last_echo = 0;
+  std::uint64_t interval_received = 0, refused_seq = UINT64_MAX;
   bool refused_wait = false;
-  const std::int64_t warm_end = std::max(t0 + warmup_ns, now_ns() + 200'000'000);
+  const std::int64_t warm_end = std::max(t0 + warmup_ns, bench_now_ns() + 200'000'000);
   const bool is_tty = ::isatty(2) != 0;
   enum Phase { kWarm, kMeasure, kDrain } phase = kWarm;
 
@@ -527,7 +511,7 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
   };
 
   while (true) {
-    auto now = now_ns();
+    auto now = bench_now_ns();
     if (stop.load() && phase != kDrain) {
       phase = kDrain;
       send_end = now;
@@ -547,7 +531,7 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
         r.warmup_s = static_cast<double>(now - t0) / 1e9;
         last_progress = now;
         interval->clear();
-        interval_sent = interval_received = 0;
+        interval_received = 0;
         next_send = now;
       }
     }
@@ -579,14 +563,13 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
         refused_wait = false;
         ledger->sent(seq, t_send);
         ++seq;
-        if (phase == kMeasure) ++interval_sent;
         if (period == 0) {
           if (!a.flood) break;
           continue;
         }
         next_send += period;
         if (now - next_send > 100 * period) next_send = now;  // fell far behind: do not burst
-        now = now_ns();
+        now = bench_now_ns();
       }
     }
     // Receive.
@@ -596,24 +579,24 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
       const std::int64_t until = phase != kDrain && period != 0 ? next_send : now + 1'000'000;
       for (std::uint32_t polls = 1;; ++polls) {
         if (auto tag = peer->recv_tag()) {
-          on_echo(*tag, now_ns());
-          while (auto more = peer->recv_tag()) on_echo(*more, now_ns());
+          on_echo(*tag, bench_now_ns());
+          while (auto more = peer->recv_tag()) on_echo(*more, bench_now_ns());
           break;
         }
         if (phase != kDrain && period == 0 && ledger->outstanding() < max_out && !refused_wait) break;
         bench::spin_pause();
-        if (polls % 256 == 0 && now_ns() >= until) break;
+        if (polls % 256 == 0 && bench_now_ns() >= until) break;
       }
     } else {
       std::int64_t wait = 100'000'000;
-      if (phase != kDrain && period != 0) wait = std::max<std::int64_t>(0, next_send - now_ns());
+      if (phase != kDrain && period != 0) wait = std::max<std::int64_t>(0, next_send - bench_now_ns());
       if (phase != kDrain && period == 0 && ledger->outstanding() < max_out) wait = 0;
       if (refused_wait) wait = std::max<std::int64_t>(wait, 1'000'000);
       if (wait > 0) (void)peer->wait(std::chrono::nanoseconds(wait));
-      while (auto tag = peer->recv_tag()) on_echo(*tag, now_ns());
+      while (auto tag = peer->recv_tag()) on_echo(*tag, bench_now_ns());
     }
     // Progress, once a second.
-    now = now_ns();
+    now = bench_now_ns();
     if (!a.quiet && phase == kMeasure && now - last_progress >= 1'000'000'000) {
       const double el = static_cast<double>(now - measure_start) / 1e9;
       const double dt = static_cast<double>(now - last_progress) / 1e9;
@@ -624,12 +607,12 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
       std::fflush(stderr);
       last_progress = now;
       interval->clear();
-      interval_sent = interval_received = 0;
+      interval_received = 0;
     }
   }
   if (!a.quiet && is_tty) fmt::print(stderr, "\n");
   if (measure_from == UINT64_MAX) return fail_with(130, "interrupted during the warm-up; nothing was measured");
-  r.sent = measure_from == UINT64_MAX ? 0 : seq - measure_from;
+  r.sent = seq - measure_from;
   r.lost = r.sent - r.received;
   r.dropped = peer->dropped();
   const std::int64_t end = std::max(send_end, last_echo);
@@ -855,7 +838,9 @@ bool write_outputs(const BenchArgs& a, const PingResult& r) {
   return ok;
 }
 
-bool check_args(const BenchArgs& a, const char* cmd) {
+// Checks the arguments and, when `backend` is given, parses --backend into it; prints what is
+// wrong and returns false otherwise.
+bool check_args(const BenchArgs& a, const char* cmd, std::optional<Backend>* backend = nullptr) {
   std::string bad;
   if (a.rate <= 0 && !a.flood) bad = fmt::format("--rate {} must be above 0 (or use --flood)", a.rate);
   else if (a.duration <= 0 && a.count == 0) bad = fmt::format("--duration {} must be above 0", a.duration);
@@ -863,6 +848,10 @@ bool check_args(const BenchArgs& a, const char* cmd) {
   else if (a.timeout <= 0) bad = fmt::format("--timeout {} must be above 0", a.timeout);
   else if (auto ok = validate_topic_name(a.prefix + ".control"); !ok)
     bad = fmt::format("--topic-prefix '{}': {}", a.prefix, ok.error().message());
+  else if (backend != nullptr) {
+    if (auto b = parse_backend(a.backend)) *backend = *b;
+    else bad = b.error().message();
+  }
   if (bad.empty()) return true;
   fmt::print(stderr, "horus bench {}: {}\n", cmd, bad);
   return false;
@@ -871,23 +860,15 @@ bool check_args(const BenchArgs& a, const char* cmd) {
 }  // namespace
 
 int cmd_bench_pong(const BenchArgs& a, const std::atomic<bool>& stop) {
-  if (!check_args(a, "pong")) return 2;
-  auto backend = parse_backend(a.backend);
-  if (!backend) {
-    fmt::print(stderr, "horus bench pong: {}\n", backend.error().message());
-    return 2;
-  }
-  return run_pong(a, *backend, stop, nullptr);
+  std::optional<Backend> backend;
+  if (!check_args(a, "pong", &backend)) return 2;
+  return run_pong(a, backend, stop, nullptr);
 }
 
 int cmd_bench_ping(const BenchArgs& a, const std::atomic<bool>& stop) {
-  if (!check_args(a, "ping")) return 2;
-  auto backend = parse_backend(a.backend);
-  if (!backend) {
-    fmt::print(stderr, "horus bench ping: {}\n", backend.error().message());
-    return 2;
-  }
-  auto r = run_ping(a, *backend, stop);
+  std::optional<Backend> backend;
+  if (!check_args(a, "ping", &backend)) return 2;
+  auto r = run_ping(a, backend, stop);
   if (!r.ok) {
     fmt::print(stderr, "horus bench ping: {}\n", r.error);
     return r.exit_code;
@@ -924,9 +905,9 @@ FloorResult measure_floor(int cpu_a, int cpu_b, std::uint64_t n) {
     pin_to_cpu(cpu_a);
     LatencyHistogram h;
     for (std::uint64_t i = 0; i < n; ++i) {
-      const auto t = now_ns();
+      const auto t = bench_now_ns();
       bench::floor_ping(*lines, mode, i);
-      h.add(static_cast<std::uint64_t>((now_ns() - t) / 2));
+      h.add(static_cast<std::uint64_t>((bench_now_ns() - t) / 2));
     }
     echo.join();
     (mode == bench::FloorMode::OneLine ? out.one_line : out.two_lines) = h.quantile(0.5);
@@ -953,7 +934,6 @@ int cmd_bench_local(const BenchArgs& args, const std::atomic<bool>& stop) {
   const int cpu_a = cpus.empty() ? -1 : cpus[0];
   const int cpu_b = cpus.size() >= 2 ? cpus[1] : -1;
   const bool pinned = cpu_b >= 0;
-  const auto all_cpus = allowed_cpus();
   std::FILE* out = a.json == "-" ? stderr : stdout;  // the JSON alone on stdout
   a.prefix = fmt::format("{}.local_{}", a.prefix, ::getpid());
   a.quiet = true;
@@ -991,13 +971,9 @@ int cmd_bench_local(const BenchArgs& args, const std::atomic<bool>& stop) {
     if (row.spin && !pinned) continue;  // two spinning threads on one CPU measure the scheduler
     BenchArgs r = a;
     r.spin = row.spin;
-    r.flood = row.flood;
     r.prefix = fmt::format("{}.{}", a.prefix, &row - rows);
-    if (!row.flood) r.rate = 0;  // one message in flight, as fast as it comes back
-    if (!row.flood) {
-      r.flood = true;
-      r.window = 1;
-    }
+    r.flood = true;                // as fast as the echoes come back:
+    if (!row.flood) r.window = 1;  // latency rows keep one message in flight
     std::atomic<bool> pong_stop{false}, pong_ready{false};
     std::thread pong_thread;
     pid_t child = -1;
@@ -1021,7 +997,7 @@ int cmd_bench_local(const BenchArgs& args, const std::atomic<bool>& stop) {
     // Back on every allowed CPU between rows.
     cpu_set_t set;
     CPU_ZERO(&set);
-    for (int c : all_cpus) CPU_SET(c, &set);
+    for (int c : cpus) CPU_SET(c, &set);
     (void)::sched_setaffinity(0, sizeof set, &set);
     if (pong_thread.joinable()) {
       pong_stop.store(true);

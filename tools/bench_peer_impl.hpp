@@ -158,6 +158,8 @@ std::string tag_field_name() {
 
 template <class M>
 inline constexpr bool kSizedSerialized = std::is_same_v<M, msg::CompressedImage>;
+// A sized CompressedImage's slot: its data and room for the other fields.
+inline constexpr std::uint64_t kSerializedSlack = 1024;
 
 // A large-data message of about `bytes` bytes (0: its default, a 640 x 480 frame or the like).
 template <class M>
@@ -292,8 +294,9 @@ std::string check_bench_size(std::uint64_t size) {
     if (!describe_bytes<M>(size)) return fmt::format("--size {} does not make a valid {}", size, name);
     return {};
   } else if constexpr (kSizedSerialized<M>) {
-    if (size >= (std::uint64_t{1} << 30) - 1024)
-      return fmt::format("--size {} is beyond the largest serialized slot (1 GiB)", size);
+    if (size + kSerializedSlack > (std::uint64_t{1} << 30) - 8)
+      return fmt::format("--size {} is beyond the largest serialized slot (1 GiB - 8 bytes, {} of them the "
+                         "message's other fields)", size, kSerializedSlack);
     return {};
   } else {
     if (size == 0) return {};
@@ -321,7 +324,7 @@ std::unique_ptr<BenchPeer> open_bench_as(const BenchPayload& p, const BenchEndpo
   } else if constexpr (kSizedSerialized<M>) {
     // The message and its fixed fields: a slot as large as the message, so the ring gets the
     // depth the message's size gives it (a 2 MiB default slot would leave 4 slots).
-    if (p.size > 0) options.slot_size = p.size + 1024;
+    if (p.size > 0) options.slot_size = p.size + kSerializedSlack;
   }
   auto in = Topic<M>::open(e.in, options);
   if (!in) {

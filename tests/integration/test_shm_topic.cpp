@@ -294,22 +294,32 @@ TEST(Doorbell, AHandlesOnlyRingLeavesTheBridgeClassAsleepAndAFullRingWakesIt) {
   for (const std::uint32_t armed : {Doorbell::kArmedBridge, Doorbell::kArmedReader}) {
     Doorbell bell;
     bell.process_private = 1;
-    std::atomic<bool> flag{false}, done{false};
-    const horus::shm::WaitItem item{
-        &bell, nullptr, [](const void* c) noexcept { return static_cast<const std::atomic<bool>*>(c)->load(); },
-        &flag, armed};
+    // The predicate counts its calls: wait_any looks before arming, after arming, and again
+    // when its first slice (kFirstSlice) ends; the third look means it sleeps till the deadline.
+    struct Ready {
+      std::atomic<bool> flag{false};
+      mutable std::atomic<int> looks{0};
+    } state;
+    std::atomic<bool> done{false};
+    const horus::shm::WaitItem item{&bell, nullptr,
+                                    [](const void* c) noexcept {
+                                      const auto& r = *static_cast<const Ready*>(c);
+                                      r.looks.fetch_add(1);
+                                      return r.flag.load();
+                                    },
+                                    &state, armed};
     bool ready = false;
     std::thread waiter([&] {
       ready = horus::shm::wait_any({&item, 1}, std::chrono::steady_clock::now() + 5s);
       done = true;
     });
-    // Asleep past its first slice (kFirstSlice, 10 ms), armed with its class's bit.
-    ASSERT_TRUE(eventually([&] { return (bell.word.load() & armed) != 0; }, 2000ms));
-    std::this_thread::sleep_for(50ms);
-    flag = true;
+    // Asleep past its first slice, armed with its class's bit.
+    ASSERT_TRUE(eventually([&] { return state.looks.load() >= 3 && (bell.word.load() & armed) != 0; }, 2000ms));
+    state.flag = true;
     const bool rang = horus::shm::ring_doorbell(bell, Doorbell::kArmedReader);
     if (armed == Doorbell::kArmedBridge) {
       EXPECT_FALSE(rang) << "a handles-only ring found the bridge class armed";
+      // Nothing may happen: only a window of time can show it (the waiter sleeps till 5 s).
       std::this_thread::sleep_for(200ms);
       EXPECT_FALSE(done.load()) << "a handles-only ring woke a waiter of the bridge class";
       EXPECT_TRUE(horus::shm::ring_doorbell(bell)) << "the bridge class was not armed any more";

@@ -6,8 +6,6 @@
 // skip when not root.
 #include <gtest/gtest.h>
 
-#include <fcntl.h>
-#include <spawn.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -46,19 +44,7 @@ horus_test::HostProcess run_here(const std::vector<std::string>& env, const std:
   full.insert(full.end(), env.begin(), env.end());
   full.emplace_back(HORUS_CLI);
   full.insert(full.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& a : full) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  const std::string out = scratch("out_" + std::to_string(counter++));
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-  posix_spawn_file_actions_adddup2(&fa, 1, 2);
-  pid_t pid = -1;
-  if (::posix_spawnp(&pid, "env", &fa, nullptr, argv.data(), environ) != 0) pid = -1;
-  posix_spawn_file_actions_destroy(&fa);
-  return horus_test::HostProcess(pid, out, -1);
+  return horus_test::start_logged(std::move(full), scratch("out_" + std::to_string(counter++)));
 }
 
 // Waits (at most 20 s) until the pong says it answers: its control topic is open, so the ping's

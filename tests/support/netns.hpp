@@ -25,6 +25,7 @@
 #include <cstdlib>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 extern char** environ;
@@ -95,6 +96,11 @@ class HostProcess {
     pid_ = -1;
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   }
+  /// Gives up the process (not killed, its output file kept); its pid.
+  pid_t release() noexcept {
+    out_.clear();
+    return std::exchange(pid_, -1);
+  }
   /// Its pid (nsenter and env exec the program: the program's own pid); -1 once it ended.
   pid_t pid() const noexcept { return pid_; }
   /// What it printed on stdout and stderr so far.
@@ -114,6 +120,24 @@ class HostProcess {
   std::string out_;
   int stdin_ = -1;
 };
+
+/// Starts argv (found on PATH) with its stdout and stderr written to `out`, its stdin `stdin_fd`
+/// (-1: /dev/null); the running process, or one with pid -1 when it could not start.
+inline HostProcess start_logged(std::vector<std::string> args, const std::string& out, int stdin_fd = -1) {
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  if (stdin_fd >= 0) posix_spawn_file_actions_adddup2(&fa, stdin_fd, 0);
+  else posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  posix_spawn_file_actions_adddup2(&fa, 1, 2);
+  pid_t pid = -1;
+  if (::posix_spawnp(&pid, argv[0], &fa, nullptr, argv.data(), environ) != 0) pid = -1;
+  posix_spawn_file_actions_destroy(&fa);
+  return HostProcess(pid, out, -1);
+}
 
 class NetnsLan {
  public:
@@ -193,22 +217,12 @@ class NetnsLan {
     std::vector<std::string> full = {"nsenter", "-t", std::to_string(holder(i)), "-n", "-m", "-u", "--", "env"};
     full.insert(full.end(), env_extra.begin(), env_extra.end());
     full.insert(full.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (auto& a : full) argv.push_back(a.data());
-    argv.push_back(nullptr);
     const std::string out = "/tmp/" + prefix_ + "_" + std::to_string(counter_++) + ".log";
     int in[2] = {-1, -1};
     if (::pipe2(in, O_CLOEXEC) != 0) return HostProcess();
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_adddup2(&fa, in[0], 0);
-    posix_spawn_file_actions_addopen(&fa, 1, out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-    posix_spawn_file_actions_adddup2(&fa, 1, 2);
-    pid_t pid = -1;
-    if (::posix_spawnp(&pid, "nsenter", &fa, nullptr, argv.data(), environ) != 0) pid = -1;
-    posix_spawn_file_actions_destroy(&fa);
+    HostProcess p = start_logged(std::move(full), out, in[0]);
     ::close(in[0]);
-    return HostProcess(pid, out, in[1]);
+    return HostProcess(p.release(), out, in[1]);
   }
 
  private:
