@@ -13,12 +13,16 @@
 #include <mutex>
 
 #include "horus/detail/topic_core.hpp"
+
+#include "horus/detail/network_link.hpp"
 #include "horus/log.hpp"
 #include "horus/names.hpp"
 #include "horus/transport_registry.hpp"
 
 namespace horus {
 namespace detail {
+
+TopicCore::~TopicCore() = default;  // here: NetworkLink is complete
 
 namespace {
 // Large data: each publisher has 2 x capacity pool slots, at most kMaxPoolSlotsPerLane.

@@ -1,6 +1,8 @@
 // The futex calls behind Doorbell (the protocol is described in doorbell.hpp).
 #include "horus/shm/doorbell.hpp"
 
+#include "horus/shm/engine_board.hpp"
+
 #include <linux/futex.h>
 #include <sys/syscall.h>
 #include <unistd.h>
@@ -91,12 +93,41 @@ bool ring_doorbell(Doorbell& bell, std::uint32_t classes) noexcept {
     // class left armed stays armed (its sleepers are not woken, the next ring of it finds them).
     if (bell.word.compare_exchange_weak(w, (w & ~classes) + Doorbell::kEpoch, std::memory_order_acq_rel,
                                         std::memory_order_relaxed)) {
-      const std::uint32_t bitset = classes == Doorbell::kArmedAll ? FUTEX_BITSET_MATCH_ANY : classes;
+      std::uint32_t on_word = classes;
+      // A network engine sleeps on its own word (engine_board.hpp): wake it there. A forward
+      // whose engine is gone falls back to the word (nobody of that class sleeps there).
+      if ((w & classes & Doorbell::kArmedBridge) != 0) {
+        const std::uint64_t forward = bell.forward.load(std::memory_order_acquire);
+        if (forward != 0 && notify_engine(forward)) on_word &= ~Doorbell::kArmedBridge;
+      }
+      if ((w & on_word) == 0) return true;
+      const std::uint32_t bitset = on_word == Doorbell::kArmedAll ? FUTEX_BITSET_MATCH_ANY : on_word;
       ::syscall(SYS_futex, &bell.word, FUTEX_WAKE_BITSET | private_flag(bell), INT_MAX, nullptr, nullptr, bitset);
       return true;
     }
   }
   return false;
+}
+
+void engine_join(Doorbell& bell, WaitShare& share, std::uint64_t forward) noexcept {
+  bell.forward.store(forward, std::memory_order_release);
+  bell.state.fetch_add(Doorbell::kWaiter, std::memory_order_seq_cst);
+  share.pid.store(static_cast<std::int32_t>(::getpid()), std::memory_order_relaxed);
+  share.count.fetch_add(1, std::memory_order_seq_cst);
+  arm_bridge(bell);
+}
+
+void engine_leave(Doorbell& bell, WaitShare& share, std::uint64_t forward) noexcept {
+  std::uint64_t mine = forward;
+  bell.forward.compare_exchange_strong(mine, 0, std::memory_order_acq_rel);
+  unregister(WaitItem{&bell, &share, nullptr, nullptr, Doorbell::kArmedBridge});
+}
+
+void arm_bridge(Doorbell& bell) noexcept {
+  (void)arm(bell, Doorbell::kArmedBridge);
+#if !defined(__SANITIZE_THREAD__)
+  std::atomic_thread_fence(std::memory_order_seq_cst);  // pairs with ring_doorbell's: look after this
+#endif
 }
 
 bool wait_any(std::span<const WaitItem> items, Clock::time_point deadline) noexcept {

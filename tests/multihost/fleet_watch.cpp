@@ -30,7 +30,7 @@
 #include <string>
 #include <thread>
 
-#include "horus/discovery/fleet_messages.hpp"
+#include "horus/fleet_messages.hpp"
 #include "horus/executor.hpp"
 #include "horus/network.hpp"
 #include "horus/transport_registry.hpp"

@@ -35,7 +35,7 @@
 
 #include "horus/backend.hpp"
 #include "horus/detail/bridge_port.hpp"
-#include "horus/detail/network_bridge.hpp"
+#include "horus/detail/network_link.hpp"
 #include "horus/detail/slots.hpp"
 #include "horus/detail/waiting.hpp"
 #include "horus/error.hpp"
@@ -309,7 +309,7 @@ class Topic {
   // Writes a prepared msg if there is space (a fleet topic's bridge is one of the subscribers).
   bool try_commit(const T& msg) { return codec_.try_write(port_, msg); }
 
-  // What a fleet topic's bridge knows of T (horus/detail/network_bridge.hpp).
+  // What a fleet topic's bridge knows of T (horus/detail/network_link.hpp).
   static constexpr detail::WireOps kWireOps{&detail::wire_expressible<T>, &detail::wire_encoded_size<T>,
                                             &detail::wire_encode<T>, &detail::make_bridge_port<T>};
 

@@ -1,4 +1,4 @@
-// BridgePort<T>: the handle a fleet topic's bridge uses (horus/detail/network_bridge.hpp), made
+// BridgePort<T>: the handle a fleet topic's bridge uses (horus/detail/network_link.hpp), made
 // from the same local port and slot codec as a user's handle. Two ports, so the transport's
 // thread (import: decode and write into the bridge's lane) and the bridge's thread (export:
 // read every lane but that one) never share a codec's scratch state.
@@ -7,7 +7,7 @@
 
 #include <memory>
 
-#include "horus/detail/network_bridge.hpp"
+#include "horus/detail/network_link.hpp"
 #include "horus/detail/slots.hpp"
 
 namespace horus::detail {
@@ -22,7 +22,8 @@ class TypedBridgePort final : public BridgePort {
   explicit TypedBridgePort(TopicCore& core)
       : import_(std::shared_ptr<TopicCore>(std::shared_ptr<void>(), &core)),
         export_(std::shared_ptr<TopicCore>(std::shared_ptr<void>(), &core)) {
-    import_.writer().wake_readers_only();  // the export thread skips the import's messages
+    import_.writer().wake_readers_only();  // the export skips the import's messages
+    import_.writer().set_inline_export(nullptr);  // and never runs from the import's sends
   }
 
   bool take_lane(std::uint32_t lane, std::uint64_t from) override {

@@ -30,7 +30,10 @@ class LocalPort {
  public:
   LocalPort() = default;
   explicit LocalPort(std::shared_ptr<TopicCore> core)
-      : core_(std::move(core)), writer_(core_->ring, next_token()), reader_(core_->ring, next_token()) {}
+      : core_(std::move(core)), writer_(core_->ring, next_token()), reader_(core_->ring, next_token()) {
+    // A fleet topic's sends export inline while this process bridges it (InlineExport).
+    if (is_network(core_->backend)) writer_.set_inline_export(&core_->inline_export);
+  }
   LocalPort(LocalPort&&) noexcept = default;
   /// Gives this port's lane and subscriber entry back while its ring is still mapped (the
   /// core goes last), then takes the other's.

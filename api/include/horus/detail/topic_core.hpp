@@ -33,10 +33,7 @@ struct TypeInfo {
   std::string (*signature)() = nullptr;  // reflect::type_signature<T>: written into a new segment
 };
 
-class NetworkBridge;  // network_bridge.hpp
-struct NetworkBridgeDeleter {
-  void operator()(NetworkBridge* b) const noexcept;
-};
+class NetworkLink;  // network_link.hpp
 
 /// The shared state of one topic in this process: its ring and the memory it lives in.
 struct TopicCore {
@@ -55,15 +52,20 @@ struct TopicCore {
   shm::Pool::Claimer claimer;     // this process, as the pool records who writes a slot
   std::atomic<std::int64_t> last_reap_ns{0};  // reap_dead_participants' rate limit
 
-  // Fleet topics: this process's network bridge (horus/detail/network_bridge.hpp: the host's
+  // Fleet topics: how this process's handles hand their messages to the network while it
+  // holds the host's bridge (doorbell.hpp, InlineExport; set by the bridge).
+  shm::InlineExport inline_export;
+  // Fleet topics: this process's network bridge (horus/detail/network_link.hpp: the host's
   // bridge when this process holds it, else a watcher that takes over). Declared last: it goes
-  // first, so its thread and callbacks stop before the ring is gone. net_mutex serializes its
-  // creation.
+  // first, so the engine stops serving it and its callbacks end before the ring is gone.
+  // net_mutex serializes its creation.
   std::mutex net_mutex;
-  // Fleet topics: keeps this host announced while the topic is open (fleet_presence.hpp);
-  // released after the bridge is gone.
-  std::shared_ptr<void> fleet_presence;
-  std::unique_ptr<NetworkBridge, NetworkBridgeDeleter> net;
+  std::unique_ptr<NetworkLink> net;
+
+  TopicCore() = default;
+  TopicCore(const TopicCore&) = delete;
+  TopicCore& operator=(const TopicCore&) = delete;
+  ~TopicCore();
 };
 
 /// Finds or creates the topic `name` for a message type; checks name, type and configuration.

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "horus/byte_buffer.hpp"
-#include "horus/detail/network_bridge.hpp"
+#include "horus/detail/network_link.hpp"
 #include "horus/wire/lcm.hpp"
 #include "horus/wire/xcdr1.hpp"
 

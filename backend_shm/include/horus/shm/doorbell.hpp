@@ -15,7 +15,9 @@
 //            of a fleet topic's bridge (kArmedBridge), which sleeps in FUTEX_WAIT_BITSET with its
 //            own bit. The bridge's import, writing what came from the network, rings the handles
 //            only (it would wake the export thread for a message the bridge skips: its own); every
-//            other publisher rings both.
+//            other publisher rings both. The bridge class is a process's network engine
+//            (fleet/), which holds many topics and sleeps on a word of its own: `forward` names it
+//            (engine_board.hpp), and the publisher that clears kArmedBridge wakes it there.
 //
 // The waiting side (wait_any): register in the waiters, arm each word, look at the ring(s)
 // again, then sleep in FUTEX_WAIT (one doorbell) or futex_waitv (several), with an absolute
@@ -63,6 +65,9 @@ struct Doorbell {
   std::atomic<std::uint64_t> state{0};  // high half: waiters; low half: the owner's (see above)
   std::atomic<std::uint32_t> word{0};   // the futex word; low bits: armed (kArmed*)
   std::uint32_t process_private = 0;    // 1: memory of one process only (FUTEX_PRIVATE_FLAG)
+  // Where the bridge class sleeps when it is not on `word`: a network engine's slot on the
+  // host's board (engine_board.hpp: engine_forward()); 0: on `word`, as readers do.
+  std::atomic<std::uint64_t> forward{0};
 
   std::uint32_t waiters() const noexcept {
     return static_cast<std::uint32_t>(state.load(std::memory_order_relaxed) >> 32);
@@ -76,6 +81,17 @@ struct WaitShare {
   std::atomic<std::int32_t> pid{0};  // the process that registered last
 };
 
+/// A fleet topic whose bridge this process holds: its publishers hand each message to the
+/// network themselves (fleet/: inline export) instead of waking the engine. Process memory; a
+/// RingWriter with one set calls `run` after each send while `active`, and then wakes only the
+/// reader class (the engine stays asleep). `active` implies the engine is registered as a
+/// waiter, so every send reaches RingWriter::wake().
+struct InlineExport {
+  std::atomic<bool> active{false};
+  void (*run)(void* ctx) noexcept = nullptr;
+  void* ctx = nullptr;
+};
+
 /// Sends that find waiters registered but the doorbell not armed, before a publisher looks for
 /// waiters that died (a waiter draining messages is registered and unarmed too).
 inline constexpr std::uint32_t kStaleCheck = 4096;
@@ -85,7 +101,8 @@ inline constexpr std::chrono::milliseconds kFirstSlice{10};
 
 /// The publisher's side, after a send found waiters: clears the armed bits of `classes`
 /// (Doorbell::kArmed*) and wakes the sleepers of those classes; false (and nothing done) when
-/// none of them is armed. Async-signal-safe (atomics and one syscall).
+/// none of them is armed. Async-signal-safe (atomics and one syscall), but for the first ring
+/// of a process that finds a network engine armed (it maps the engines' board).
 bool ring_doorbell(Doorbell& bell, std::uint32_t classes = Doorbell::kArmedAll) noexcept;
 
 /// One thing a waiter waits for: a doorbell, an optional per-entry share of its count (a
@@ -99,6 +116,15 @@ struct WaitItem {
   /// this one item (wait_any with several items waits as a reader).
   std::uint32_t armed = Doorbell::kArmedReader;
 };
+
+/// A network engine (engine_board.hpp) bridging the topic of `bell`: registers as one waiter of
+/// the bridge class that sleeps elsewhere (`forward`), with the share of its export entry, and
+/// arms. Stays registered until engine_leave(), which takes the registration and the forward
+/// back (the forward only if it is still `forward`).
+void engine_join(Doorbell& bell, WaitShare& share, std::uint64_t forward) noexcept;
+void engine_leave(Doorbell& bell, WaitShare& share, std::uint64_t forward) noexcept;
+/// Arms the bridge class again after a wake-up took it (then look at the ring, then sleep).
+void arm_bridge(Doorbell& bell) noexcept;
 
 /// The largest number of items one wait_any call sleeps on (the kernel's futex_waitv limit).
 inline constexpr std::size_t kMaxWaitItems = 128;

@@ -36,7 +36,8 @@ inline constexpr std::uint32_t kMaxSubscribers = 64;
 /// Largest number of slots per lane.
 inline constexpr std::uint32_t kMaxCapacity = 1u << 20;
 inline constexpr std::uint64_t kRingMagic = 0x3147'4E52'5355'524FULL;  // "ORUSRNG1"
-inline constexpr std::uint32_t kLayoutVersion = 4;  // 2: the doorbell; 3: the latest lane in its state word; 4: two classes of waiters
+inline constexpr std::uint32_t kLayoutVersion = 5;  // 2: the doorbell; 3: the latest lane in its state word; 4: two classes
+                                                    // of waiters; 5: the bridge class forwarded to a network engine
 
 struct alignas(kCacheLine) RingHeader {
   // Written once by format(), read-only afterwards.

@@ -44,6 +44,7 @@ class RingWriter {
       sent_before_ = o.sent_before_;
       stride_ = o.stride_;
       wake_classes_ = o.wake_classes_;
+      inline_export_ = o.inline_export_;
       o.lane_ = kNoLane;
       o.slots_ = nullptr;
     }
@@ -55,6 +56,8 @@ class RingWriter {
   /// A fleet bridge's import writes what came from the network: its sends wake the handles
   /// blocked on the topic, not the bridge's own export thread (doorbell.hpp).
   void wake_readers_only() noexcept { wake_classes_ = Doorbell::kArmedReader; }
+  /// A fleet topic's handle: sends export inline while `e->active` (doorbell.hpp, InlineExport).
+  void set_inline_export(InlineExport* e) noexcept { inline_export_ = e; }
   /// The token this writer claims its lane with.
   std::uint64_t token() const noexcept { return token_; }
   /// The lane this writer owns (when has_lane()).
@@ -193,7 +196,15 @@ class RingWriter {
   // Waiters registered: wake them if armed; a count that stays registered and unarmed for
   // kStaleCheck sends may be a waiter that died (doorbell.hpp).
   void wake() noexcept {
-    if (ring_.wake_waiters(wake_classes_) || ++unarmed_ < kStaleCheck) return;
+    InlineExport* const ex = inline_export_;
+    if (ex != nullptr && ex->active.load(std::memory_order_acquire)) {
+      // This process bridges the topic: the readers first (their latency), then the network.
+      const bool woke = ring_.wake_waiters(wake_classes_ & ~Doorbell::kArmedBridge);
+      ex->run(ex->ctx);
+      if (woke || ++unarmed_ < kStaleCheck) return;
+    } else if (ring_.wake_waiters(wake_classes_) || ++unarmed_ < kStaleCheck) {
+      return;
+    }
     unarmed_ = 0;
     ring_.reap_dead_waiters();
   }
@@ -209,6 +220,7 @@ class RingWriter {
   std::uint64_t claim_head_ = 0;   // head when the lane was claimed
   std::uint32_t unarmed_ = 0;      // sends that found waiters but nobody armed (wake())
   std::uint32_t wake_classes_ = Doorbell::kArmedAll;  // the waiters a send wakes (doorbell.hpp)
+  InlineExport* inline_export_ = nullptr;  // a fleet topic's, in process memory (doorbell.hpp)
   std::uint64_t sent_before_ = 0;  // messages sent through lanes released earlier
   Ring ring_;
   std::uint64_t token_ = 0;

@@ -1,15 +1,13 @@
-// The network side of a fleet topic, not a template: api/src/network_bridge.cpp.
+// The seam between api/ and the fleet layer (fleet/): what a fleet topic's handles know of the
+// network, not a template and no transport header.
 //
 // A fleet topic lives in shared memory like a host topic; in addition, exactly one process of
-// the host (the holder of the segment's bridge claim, shm_segment.hpp) bridges it to the
-// network: it exports every message the host's publishers write (a subscriber entry of the
-// ring, read by a thread that sleeps on the ring's doorbell) and imports what other hosts send
-// (a lane of the ring, written from the transport's thread). Every process that has the topic
-// open runs the same bridge object; those that do not hold the claim only watch the holder and
-// take over when it exits or dies (HORUS_BRIDGE=0 keeps a process out: it never bridges). The
-// bridge knows the message type only through a WireOps
-// table and the BridgePort it makes (horus/detail/bridge_port.hpp), so T never reaches a
-// transport. Internal to horus: users include <horus/topic.hpp>.
+// the host bridges it to the network (fleet/: the bridge per topic, on the process's network
+// engine). api/ sees that bridge as a NetworkLink owned by the topic's TopicCore, made by the
+// connector the fleet layer installs (from the composition root, horus::horus), and knows the
+// message type to it only through a WireOps table and the BridgePort it makes
+// (horus/detail/bridge_port.hpp), so T never reaches a transport.
+// Internal to horus: users include <horus/topic.hpp>.
 #pragma once
 
 #include <cstddef>
@@ -77,11 +75,36 @@ struct WireOps {
   std::unique_ptr<BridgePort> (*make_port)(TopicCore& core);
 };
 
-/// A fleet topic's handle connects: the first one of the topic in this process creates the
-/// bridge, which claims the host's bridge at once when nobody holds it (so a lone process
-/// exports from its first message) and otherwise watches the holder. `qos` holds the type's
-/// defaults with the options' overrides; a later handle asking for another reliability or
-/// durability than the bridge has is Errc::ConfigMismatch.
+/// This process's side of a fleet topic's bridge (fleet/src/bridge.cpp). Owned by the topic's
+/// TopicCore; destroyed before its ring (the link stops exporting and gives the claim up).
+class NetworkLink {
+ public:
+  virtual ~NetworkLink() = default;
+  /// Another handle of the topic opens in this process: a handle asking for another
+  /// reliability or durability than the bridge has is Errc::ConfigMismatch; a subscribing one
+  /// resumes a paused bridge at once.
+  virtual Result<void> join(const TopicOptions& options) = 0;
+  /// Messages lost on the way, host-wide (the segment's count).
+  virtual std::uint64_t dropped() const noexcept = 0;
+  /// Remote writers / readers matched by the host's bridge.
+  virtual std::uint32_t remote_publishers() const noexcept = 0;
+  virtual std::uint32_t remote_subscribers() const noexcept = 0;
+  /// Problems this process's bridge reported (incompatible endpoints).
+  virtual std::uint64_t errors() const noexcept = 0;
+  virtual std::uint64_t decode_failures() const noexcept = 0;
+  /// Logs (first and every 1024th) a received sample that did not decode, and counts it.
+  virtual void report_decode_failure(const std::string& what) noexcept = 0;
+};
+
+/// What the fleet layer installs: makes the bridge of a fleet topic's first handle in this
+/// process. `qos` holds the type's defaults with the options' overrides.
+using NetworkConnector = Result<std::unique_ptr<NetworkLink>> (*)(TopicCore& core, const WireOps& ops,
+                                                                   const net::Qos& qos, const TopicOptions& options);
+/// Installed once, before main(), by the composition root (fleet::install()).
+void set_network_connector(NetworkConnector connector) noexcept;
+
+/// A fleet topic's handle connects: the first one of the topic in this process makes the
+/// bridge (through the installed connector), later ones join it.
 Result<void> connect_network(TopicCore& core, const WireOps& ops, const net::Qos& qos, const TopicOptions& options);
 /// What a handle of a fleet topic reports (zero on other topics): messages lost on the way
 /// (host-wide: the bridge's dropped count), remote writers and readers matched by the host's
@@ -93,7 +116,7 @@ std::uint32_t network_subscribers(const TopicCore& core) noexcept;  // remote re
 std::uint64_t network_errors(const TopicCore& core) noexcept;
 /// True when this process holds the host's bridge of the topic (a fleet topic).
 bool network_holds_bridge(const TopicCore& core) noexcept;
-/// Threads blocked on the topic's doorbell on this host, the bridge's own thread not counted.
+/// Threads blocked on the topic's doorbell on this host, the bridge's own registration not counted.
 std::uint32_t network_waiters(const TopicCore& core) noexcept;
 std::uint64_t network_decode_failures(const TopicCore& core) noexcept;
 /// Logs (first and every 1024th) a received sample that did not decode, and counts it.

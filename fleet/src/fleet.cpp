@@ -10,7 +10,7 @@
 
 #include "fleet_internal.hpp"
 #include "horus/config.hpp"
-#include "horus/detail/fleet_presence.hpp"
+#include "bridge.hpp"
 #include "horus/discovery/registry.hpp"
 #include "horus/executor.hpp"
 #include "horus/log.hpp"
@@ -59,7 +59,7 @@ struct Fleet::State {
   std::string transport;
   std::uint64_t self = fleet::host_id();
   std::uint32_t misses = 3;
-  detail::FleetPresence presence;  // keeps this host announced while the Fleet lives
+  fleet::detail::Presence presence;  // keeps this host announced while the Fleet lives
 
   mutable std::mutex mutex;
   std::map<std::uint64_t, Record> hosts;
@@ -235,9 +235,9 @@ Result<std::unique_ptr<Fleet>> Fleet::open(Executor& executor, FleetOptions opti
   }
   state->transport = std::string(info->name);
   if (state->misses == 0) return fail(Errc::InvalidArgument, "horus::Fleet: misses must be at least 1");
-  auto may = detail::may_bridge_from_environment();
+  auto may = fleet::detail::may_bridge_from_environment();
   if (!may) return std::unexpected(may.error());
-  if (*may) state->presence = detail::acquire_fleet_presence(state->transport);
+  if (*may) state->presence = fleet::detail::acquire_presence(state->transport);
 
   auto rq = Topic<Request>::open(fleet::kRequestTopic, fleet::detail::request_options(state->transport));
   if (!rq) return std::unexpected(rq.error());

@@ -12,7 +12,7 @@
 // HORUS_FLEET_HEARTBEAT_MS, or `fleet.heartbeat_ms` in the configuration file) and an
 // announcement (the host's horus processes, its topics with their types' signatures) every
 // 2 s, at once when they change and when asked (a newcomer asks). These are ordinary fleet
-// topics (horus/discovery/fleet_messages.hpp). A Fleet reads them: a host is *lost* when
+// topics (horus/fleet_messages.hpp). A Fleet reads them: a host is *lost* when
 // `misses` (3) of its heartbeats in a row did not come (its own period, plus one period of
 // tolerance), and *rejoined* when heartbeats come again. A host's own processes see it too
 // (self = true). Hosts on another DDS domain or LCM URL are never seen (another network).

@@ -5,11 +5,16 @@
 #include <chrono>
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 #include "horus/backend.hpp"
-#include "horus/discovery/fleet_messages.hpp"
+#include "horus/fleet_messages.hpp"
 
 namespace horus::fleet::detail {
+
+/// The prefix of the fleet layer's own topics (they do not keep the host announced).
+inline constexpr std::string_view kFleetTopicPrefix = "horus.fleet.";
+
 
 /// The fleet layer's topics on `transport`: heartbeats best effort, announcements and requests
 /// reliable; the slot sizes bound what a host can announce.

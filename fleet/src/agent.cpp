@@ -1,8 +1,11 @@
 // The fleet agent: one per process and network backend, alive while the process has a fleet
 // topic (or a horus::Fleet) open on it. When its process holds the host's bridge of
 // horus.fleet.heartbeat, it publishes the host's heartbeats and announcements; otherwise it
-// only stands by, and takes over with the bridge. Also: this host's identity, the fleet
-// topics' options, and fleet::install() (the hook api/ calls, fleet_presence.hpp).
+// only stands by, and takes over with the bridge. Its heartbeats leave from a thread of their
+// own (the agent's executor: nothing else runs there, so they leave on time under load); its
+// announcements are a job of the network engine's control thread (engine.hpp). Also: this
+// host's identity, the fleet topics' options, and fleet::install() (the composition root's
+// call: it gives api/ the fleet layer's bridges, horus/detail/network_link.hpp).
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -20,7 +23,9 @@
 
 #include "fleet_internal.hpp"
 #include "horus/config.hpp"
-#include "horus/detail/fleet_presence.hpp"
+#include "bridge.hpp"
+#include "engine.hpp"
+#include "horus/detail/network_link.hpp"
 #include "horus/discovery/registry.hpp"
 #include "horus/executor.hpp"
 #include "horus/fleet.hpp"
@@ -156,14 +161,20 @@ class Agent {
       return;
     }
     tick();
-    std::thread announcer_thread([this] { announcer(); });
+    // The announcer: a job of this transport's engine (its topics are open: the engine exists).
+    if (const auto* info = net::find_transport(transport_)) {
+      if (auto engine = detail::Engine::of(*info)) {
+        engine_ = std::move(*engine);
+        job_.store(engine_->add_job([this](auto now) { return announcer_step(now); }));
+      }
+    }
     executor_.spin();
     {
       std::lock_guard lock(mutex_);
       stopping_ = true;
     }
     cv_.notify_all();
-    announcer_thread.join();
+    if (engine_) engine_->remove_job(job_.load());
     heartbeat_.reset();
     announce_.reset();
     request_.reset();
@@ -200,7 +211,7 @@ class Agent {
       std::lock_guard lock(mutex_);
       announce_due_ = std::min(announce_due_, std::chrono::steady_clock::now());
     }
-    cv_.notify_all();
+    wake_announcer();
   }
 
   // The executor's thread, every heartbeat period: only the heartbeat, so that it leaves on
@@ -220,7 +231,7 @@ class Agent {
         rescan_ = true;
       }
       holder_.store(true, std::memory_order_relaxed);
-      cv_.notify_all();
+      wake_announcer();
       request_->send(Request{self_, 0});
     }
     Heartbeat hb;
@@ -245,49 +256,46 @@ class Agent {
     heartbeat_->send(hb);
   }
 
-  // The announcer's thread: scans the host's topics (every announce period, at most 500 ms
-  // apart) and announces when due, on change, and when asked; idle while another process
-  // speaks for the host.
-  void announcer() {
+  // The announcer (a job of the engine's control thread): scans the host's topics (every
+  // announce period, at most 500 ms apart) and announces when due, on change, and when asked;
+  // idle while another process speaks for the host. Returns when it is due next.
+  std::chrono::steady_clock::time_point announcer_step(std::chrono::steady_clock::time_point now) {
     using Clock = std::chrono::steady_clock;
-    Clock::time_point next_scan{}, last_announce{};
     std::unique_lock lock(mutex_);
-    while (!stopping_) {
-      if (!holder_.load(std::memory_order_relaxed)) {
-        cv_.wait_for(lock, settings_.heartbeat);
-        continue;
-      }
-      auto now = Clock::now();
-      if (rescan_) {
-        next_scan = now;
-        rescan_ = false;
-      }
-      if (now >= next_scan) {
-        lock.unlock();
-        scan();
-        next_scan = now + std::min<Clock::duration>(settings_.announce_period, std::chrono::milliseconds(500));
-        lock.lock();
-        if (current_.version != sent_version_.load(std::memory_order_relaxed)) announce_due_ = std::min(announce_due_, now);
-        continue;
-      }
-      // At most one announcement per 100 ms, however many requests arrive.
-      const auto may_announce = last_announce + std::chrono::milliseconds(100);
-      if (now >= announce_due_ && now >= may_announce) {
-        announce_due_ = now + settings_.announce_period;
-        lock.unlock();
-        current_.sent_unix_ns = static_cast<std::uint64_t>(
-            std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count());
-        if (auto ok = announce_->send_blocking(current_, std::chrono::milliseconds(20)); !ok && !announce_error_logged_) {
-          horus::detail::log().warn("fleet: the announcement did not go out: {}", ok.error().message());
-          announce_error_logged_ = true;
-        }
-        sent_version_.store(current_.version, std::memory_order_relaxed);
-        last_announce = now;
-        lock.lock();
-        continue;
-      }
-      cv_.wait_until(lock, std::min(next_scan, std::max(announce_due_, may_announce)));
+    if (stopping_) return Clock::time_point::max();
+    if (!holder_.load(std::memory_order_relaxed)) return now + settings_.heartbeat;  // tick() wakes it
+    if (rescan_) {
+      next_scan_ = now;
+      rescan_ = false;
     }
+    if (now >= next_scan_) {
+      lock.unlock();
+      scan();
+      lock.lock();
+      next_scan_ = now + std::min<Clock::duration>(settings_.announce_period, std::chrono::milliseconds(500));
+      if (current_.version != sent_version_.load(std::memory_order_relaxed)) announce_due_ = std::min(announce_due_, now);
+    }
+    // At most one announcement per 100 ms, however many requests arrive.
+    if (now >= announce_due_ && now >= last_announce_ + std::chrono::milliseconds(100)) {
+      announce_due_ = now + settings_.announce_period;
+      lock.unlock();
+      current_.sent_unix_ns = static_cast<std::uint64_t>(
+          std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count());
+      if (auto ok = announce_->send_blocking(current_, std::chrono::milliseconds(20)); !ok && !announce_error_logged_) {
+        horus::detail::log().warn("fleet: the announcement did not go out: {}", ok.error().message());
+        announce_error_logged_ = true;
+      }
+      sent_version_.store(current_.version, std::memory_order_relaxed);
+      lock.lock();
+      last_announce_ = now;
+    }
+    return std::min(next_scan_, std::max(announce_due_, last_announce_ + std::chrono::milliseconds(100)));
+  }
+
+  // Makes the announcer due now (a request, or this process now speaks for the host).
+  void wake_announcer() {
+    cv_.notify_all();
+    if (const std::uint64_t id = job_.load(); id != 0 && engine_) engine_->wake_job(id);
   }
 
   // The host's processes and topics, from its shared-memory segments (the local registry).
@@ -306,7 +314,7 @@ class Agent {
     for (const auto& e : discovery::list_topics(a.shm_namespace)) {
       for (const auto& p : e.processes)
         if (p.alive) pids.insert(p.pid);
-      if (e.stale || e.topic.starts_with(horus::detail::kFleetTopicPrefix)) continue;
+      if (e.stale || e.topic.starts_with(detail::kFleetTopicPrefix)) continue;
       AnnouncedTopic t;
       t.name = e.topic;
       t.type_name = e.type_name;
@@ -383,8 +391,11 @@ class Agent {
   std::mutex mutex_;  // guards what follows
   std::condition_variable cv_;
   std::chrono::steady_clock::time_point announce_due_{};
+  std::chrono::steady_clock::time_point next_scan_{}, last_announce_{};
   bool rescan_ = false;
   bool stopping_ = false;
+  std::shared_ptr<detail::Engine> engine_;  // runs the announcer (set by the agent's thread)
+  std::atomic<std::uint64_t> job_{0};
   std::thread thread_;  // last: starts once everything above exists
 };
 
@@ -422,6 +433,10 @@ std::string host_name() {
   return buf;
 }
 
-void install() { horus::detail::set_fleet_presence_hook(&presence); }
+namespace detail {
+Presence acquire_presence(const std::string& transport) { return presence(transport); }
+}  // namespace detail
+
+void install() { horus::detail::set_network_connector(&detail::Bridge::open); }
 
 }  // namespace horus::fleet

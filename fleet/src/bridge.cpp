@@ -1,0 +1,598 @@
+// The bridge of one fleet topic in one process (bridge.hpp: holder, receiving, takeover).
+#include "bridge.hpp"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <cstring>
+#include <thread>
+
+#include "horus/detail/bridge_port.hpp"
+#include "horus/log.hpp"
+#include "horus/shm/doorbell.hpp"
+
+namespace horus::fleet::detail {
+
+using horus::detail::log;
+
+namespace {
+constexpr auto kWatchPeriod = std::chrono::milliseconds(50);  // a watcher looks at the claim
+constexpr auto kMatchFast = std::chrono::milliseconds(50);    // matched counts, while discovery settles
+constexpr auto kMatchSlow = std::chrono::seconds(1);          // matched counts, later
+constexpr auto kMatchSettle = std::chrono::seconds(5);        // how long discovery may take to settle
+constexpr auto kMatchWait = std::chrono::seconds(1);          // a successor waits for the readers
+constexpr auto kImportWait = std::chrono::milliseconds(100);  // a reliable import holds samples for room
+constexpr auto kEchoTtl = std::chrono::seconds(2);            // how long our own sample may take to come back
+
+std::atomic<int> g_network_pid{0};  // the process that created this process's transports
+
+// A 64-bit hash of a sample's bytes (the echo ledger), four independent lanes of 8 bytes.
+std::uint64_t body_hash(std::span<const std::byte> b) noexcept {
+  constexpr std::uint64_t kMul = 0x9E37'79B9'7F4A'7C15ULL;
+  std::uint64_t h[4] = {b.size(), 0x243F'6A88'85A3'08D3ULL, 0x1319'8A2E'0370'7344ULL, 0xA409'3822'299F'31D0ULL};
+  std::size_t i = 0;
+  const std::byte* p = b.data();
+  for (; i + 32 <= b.size(); i += 32) {
+    for (int k = 0; k < 4; ++k) {
+      std::uint64_t w;
+      std::memcpy(&w, p + i + 8 * k, 8);
+      h[k] = (h[k] ^ w) * kMul;
+      h[k] ^= h[k] >> 29;
+    }
+  }
+  std::uint64_t tail = 0;
+  for (int shift = 0; i < b.size(); ++i, shift = (shift + 8) & 63) {
+    tail ^= static_cast<std::uint64_t>(std::to_integer<std::uint8_t>(p[i])) << shift;
+    if (shift == 56) {
+      h[0] = (h[0] ^ tail) * kMul;
+      tail = 0;
+    }
+  }
+  std::uint64_t r = (h[0] ^ tail) * kMul;
+  for (int k = 1; k < 4; ++k) r = (r ^ h[k] ^ (h[k] >> 31)) * kMul;
+  return r ^ (r >> 32);
+}
+
+std::int64_t now_ns() noexcept { return Clock::now().time_since_epoch().count(); }
+}  // namespace
+
+// --- the echo ledger ------------------------------------------------------------------------
+
+void EchoLedger::add(std::uint64_t h) {
+  std::lock_guard lock(mutex_);
+  expire(Clock::now());
+  order_.emplace_back(Clock::now(), h);
+  ++count_[h];
+}
+
+bool EchoLedger::consume(std::uint64_t h) {
+  std::lock_guard lock(mutex_);
+  expire(Clock::now());
+  auto it = count_.find(h);
+  if (it == count_.end()) return false;
+  if (--it->second == 0) count_.erase(it);
+  return true;
+}
+
+void EchoLedger::expire(Clock::time_point now) {
+  while (!order_.empty() && now - order_.front().first > kEchoTtl) {
+    if (auto it = count_.find(order_.front().second); it != count_.end() && --it->second == 0) count_.erase(it);
+    order_.pop_front();
+  }
+}
+
+// HORUS_BRIDGE: "0" keeps this process from ever bridging a fleet topic (it still uses them
+// through shared memory; another process of the host bridges); "1" or unset: it may.
+Result<bool> may_bridge_from_environment() {
+  const char* v = std::getenv("HORUS_BRIDGE");
+  if (v == nullptr || *v == '\0' || std::string_view(v) == "1") return true;
+  if (std::string_view(v) == "0") return false;
+  return fail(Errc::Config, fmt::format("HORUS_BRIDGE='{}' is not valid; expected 0 (this process never bridges "
+                                        "fleet topics to the network) or 1 (it may; the default)",
+                                        v));
+}
+
+// --- a process that never bridges (HORUS_BRIDGE=0) --------------------------------------------
+
+namespace {
+// Shared memory only: what the host's bridge (another process) publishes in the segment.
+class PassiveLink final : public horus::detail::NetworkLink {
+ public:
+  PassiveLink(horus::detail::TopicCore& core, const net::Qos& qos) : core_(core), qos_(qos) {}
+  Result<void> join(const TopicOptions& options) override { return check_qos(core_.name, qos_, options); }
+  std::uint64_t dropped() const noexcept override { return bridge().dropped.load(std::memory_order_relaxed); }
+  std::uint32_t remote_publishers() const noexcept override {
+    return bridge().matched_publishers.load(std::memory_order_relaxed);
+  }
+  std::uint32_t remote_subscribers() const noexcept override {
+    return bridge().matched_subscribers.load(std::memory_order_relaxed);
+  }
+  std::uint64_t errors() const noexcept override { return 0; }
+  std::uint64_t decode_failures() const noexcept override { return 0; }
+  void report_decode_failure(const std::string&) noexcept override {}
+
+ private:
+  shm::BridgeState& bridge() const noexcept { return core_.segment->bridge(); }
+  horus::detail::TopicCore& core_;
+  net::Qos qos_;
+};
+}  // namespace
+
+Result<void> check_qos(const std::string& topic, const net::Qos& have, const TopicOptions& options) {
+  // The topic's bridge exists: a handle asking for another QoS is an error, not ignored.
+  if ((options.reliability && *options.reliability != have.reliability) ||
+      (options.durability && *options.durability != have.durability))
+    return fail(Errc::ConfigMismatch,
+                "topic '" + topic + "' is open in this process as " + std::string(net::to_string(have.reliability)) +
+                    ", " + std::string(net::to_string(have.durability)) +
+                    "; cannot open it with another reliability or durability (open it with the same, or "
+                    "without either to accept them)");
+  return {};
+}
+
+// --- opening and closing ----------------------------------------------------------------------
+
+Bridge::Bridge(horus::detail::TopicCore& core, const horus::detail::WireOps& ops, const net::Qos& qos,
+               std::shared_ptr<Engine> engine)
+    : core_(core),
+      ops_(ops),
+      qos_(qos),
+      engine_(std::move(engine)),
+      info_(engine_->info()),
+      format_(info_.format),
+      creator_pid_(horus::detail::current_pid()) {
+  loopback_ = engine_->transport()->delivers_own_samples();
+  hold_ = qos_.reliability == net::Reliability::Reliable && engine_->transport()->holds_samples();
+}
+
+Result<std::unique_ptr<horus::detail::NetworkLink>> Bridge::open(horus::detail::TopicCore& core,
+                                                                 const horus::detail::WireOps& ops,
+                                                                 const net::Qos& qos, const TopicOptions&) {
+  const auto* info = net::find_transport(core.backend.transport());
+  if (info == nullptr)
+    return fail(Errc::Config,
+                fmt::format("topic '{}': this build of horus has no {} backend", core.name, to_string(core.backend)));
+  if (!ops.expressible(info->format))
+    return fail(Errc::Config, "topic '" + core.name + "': " + core.type_name +
+                                  " cannot travel over LCM: it has a variable-size array of variable-size arrays "
+                                  "or an array of size 0, which LCM types cannot express (horus/wire/"
+                                  "lcm_mapping.hpp); use another backend for it");
+  if (const int owner = g_network_pid.load(); owner != 0 && owner != horus::detail::current_pid())
+    return fail(Errc::Io, fmt::format("topic '{}': this process was forked from pid {} after that process used {}; "
+                                      "network transports (DDS participants, LCM instances) do not survive fork() "
+                                      "(their threads stay in the parent). Open network topics before forking only "
+                                      "in the process that keeps them, or exec the child",
+                                      core.name, owner, to_string(core.backend)));
+  auto may = may_bridge_from_environment();
+  if (!may) return std::unexpected(std::move(may.error()));
+  if (!*may) return std::unique_ptr<horus::detail::NetworkLink>(new PassiveLink(core, qos));  // HORUS_BRIDGE=0
+  auto wire = info->wire_name(core.name);
+  if (!wire) return std::unexpected(std::move(wire.error()));
+  auto engine = Engine::of(*info);  // the transport reads its own settings (HORUS_DOMAIN_ID, HORUS_LCM_URL)
+  if (!engine) return std::unexpected(std::move(engine.error()));
+  g_network_pid.store(horus::detail::current_pid());
+  std::unique_ptr<Bridge> b(new Bridge(core, ops, qos, std::move(*engine)));
+  b->wire_topic_ = std::move(*wire);
+  const auto claim = b->segment().claim_bridge();
+  if (claim == shm::ShmSegment::BridgeClaim::Claimed || claim == shm::ShmSegment::BridgeClaim::TookOver) {
+    if (auto ok = b->become_holder(claim == shm::ShmSegment::BridgeClaim::TookOver); !ok) {
+      b->segment().release_bridge();
+      b->engine_.reset();
+      return std::unexpected(std::move(ok.error()));
+    }
+  }
+  b->engine_->add(*b);
+  if (b->is_holder()) b->attach();
+  // The fleet layer's own topics (horus.fleet.*) do not keep the host announced; the others do.
+  if (!core.name.starts_with(kFleetTopicPrefix)) b->presence_ = acquire_presence(std::string(info->name));
+  return std::unique_ptr<horus::detail::NetworkLink>(std::move(b));
+}
+
+Bridge::~Bridge() {
+  if (horus::detail::current_pid() != creator_pid_) {
+    // A forked child's copy: the engine's threads and the participant's live in the parent
+    // only. Deleting the endpoint here would hang or tell peers the parent's are gone.
+    (void)endpoint_.release();
+    (void)port_.release();
+    new std::shared_ptr<Engine>(std::move(engine_));  // never released in the child
+    new Presence(std::move(presence_));
+    return;
+  }
+  stop_.store(true, std::memory_order_release);
+  core_.inline_export.active.store(false, std::memory_order_release);
+  engine_->remove(*this);
+  leave();
+  presence_.reset();
+}
+
+void Bridge::leave() noexcept {
+  core_.inline_export.active.store(false, std::memory_order_release);  // (a takeover may have set it)
+  // Wait for an exporter in progress (a reliable write gives up within its blocking bound).
+  while (export_busy_.exchange(true, std::memory_order_acquire)) std::this_thread::yield();
+  if (holder_.load(std::memory_order_relaxed) && !gated_.load(std::memory_order_relaxed)) drain();
+  if (attached_.exchange(false))
+    shm::engine_leave(core_.ring.doorbell(), core_.ring.subscriber(port_->entry()).waiting, forward_);
+  {
+    std::lock_guard receiving(receiving_mutex_);  // no opening handle is inside update_receiving()
+    std::lock_guard lock(endpoint_mutex_);        // the import pump is not inside take_held()
+    endpoint_ready_.store(false, std::memory_order_release);
+    endpoint_.reset();  // no callback after this
+  }
+  if (holder_.load(std::memory_order_relaxed)) {
+    state().matched_publishers.store(0, std::memory_order_relaxed);
+    state().matched_subscribers.store(0, std::memory_order_relaxed);
+    port_->leave();  // recorded in the segment: the next holder adopts them
+    segment().release_bridge();
+  }
+  port_.reset();
+}
+
+Result<void> Bridge::join(const TopicOptions& options) {
+  if (auto ok = check_qos(core_.name, qos_, options); !ok) return ok;
+  update_receiving();  // this handle subscribed: a paused bridge of this process resumes now
+  return {};
+}
+
+// --- becoming the holder -------------------------------------------------------------------
+
+Result<void> Bridge::become_holder(bool takeover) {
+  if (!port_) port_ = ops_.make_port(core_);
+  const std::uint32_t readers_before = state().matched_subscribers.load(std::memory_order_relaxed);
+  bool inherited = false;
+  segment().inherit_bridge([&](shm::ShmSegment::Inheritance& in) {
+    if (in.export_entry && port_->take_entry(*in.export_entry, in.export_token)) {
+      in.export_entry.reset();
+      inherited = true;
+    }
+    if (in.import_lane && port_->take_lane(*in.import_lane, in.import_token)) in.import_lane.reset();
+    // It had read a message and died before the transport took it: maybe sent, never twice.
+    if (in.inflight != 0) state().dropped.fetch_add(1, std::memory_order_relaxed);
+  });
+  if (!port_->has_entry() && !port_->take_entry(0, 0))
+    return fail(Errc::LimitReached, fmt::format("topic '{}': its bridge found no free subscriber entry (all {} "
+                                                "in use); nothing of this host reaches the fleet",
+                                                core_.name, shm::kMaxSubscribers));
+  if (!port_->has_lane() && !port_->take_lane(0, 0))
+    return fail(Errc::LimitReached, fmt::format("topic '{}': its bridge found no free publisher lane (all {} "
+                                                "in use); nothing of the fleet reaches this host",
+                                                core_.name, shm::kMaxPublishers));
+  segment().record_bridge_export(port_->entry(), port_->entry_token());
+  segment().record_bridge_import(port_->lane(), port_->lane_token());
+  export_lost_seen_ = port_->export_lost();
+  net::EndpointSpec spec;
+  spec.topic = core_.name;
+  spec.wire_topic = wire_topic_;
+  spec.type_name = core_.type_name;
+  spec.type_hash = core_.type_hash;
+  spec.qos = qos_;
+  spec.max_message_bytes = core_.pool ? core_.pool.slot_bytes() : core_.ring.header().payload_size;
+  receiving_.store(host_subscribers() != 0, std::memory_order_relaxed);
+  spec.receive = receiving_.load(std::memory_order_relaxed);
+  auto endpoint = engine_->transport()->open(spec, *this);
+  if (!endpoint) {
+    port_->leave();  // recorded: the next holder adopts them
+    return std::unexpected(std::move(endpoint.error()));
+  }
+  {
+    std::lock_guard lock(endpoint_mutex_);
+    endpoint_ = std::move(*endpoint);
+  }
+  if ((takeover || inherited) && readers_before != 0) {
+    // The readers that matched the predecessor's writer must match ours before the backlog
+    // goes out, or a volatile reader would miss it (bounded: a reader may have left). The
+    // control thread opens the gate (control()).
+    gate_readers_ = readers_before;
+    gate_until_ = Clock::now() + kMatchWait;
+    gated_.store(true, std::memory_order_release);
+  }
+  held_since_claim_ = Clock::now();
+  next_match_ = Clock::time_point{};
+  holder_.store(true, std::memory_order_release);
+  endpoint_ready_.store(true, std::memory_order_release);
+  publish_matches();
+  return {};
+}
+
+void Bridge::attach() noexcept {
+  forward_ = engine_->forward(*this);
+  shm::engine_join(core_.ring.doorbell(), core_.ring.subscriber(port_->entry()).waiting, forward_);
+  attached_.store(true, std::memory_order_release);
+  if (!gated_.load(std::memory_order_acquire)) {
+    core_.inline_export.ctx = this;
+    core_.inline_export.run = &Bridge::export_inline_trampoline;
+    core_.inline_export.active.store(true, std::memory_order_release);
+  }
+  engine_->recheck(*this);  // what the host's publishers wrote before: export it now
+}
+
+// --- the engine's calls --------------------------------------------------------------------
+
+void Bridge::service() noexcept {
+  if (!attached_.load(std::memory_order_acquire)) return;
+  shm::arm_bridge(core_.ring.doorbell());  // armed again, then look: a later send wakes us
+  if (!gated_.load(std::memory_order_acquire) && !export_busy_.exchange(true, std::memory_order_acquire)) {
+    drain();
+    release_export();
+  }
+  update_receiving();
+}
+
+Clock::time_point Bridge::control(Clock::time_point now, bool gone) noexcept {
+  if (stop_.load(std::memory_order_relaxed)) return Clock::time_point::max();
+  if (holder_.load(std::memory_order_acquire)) {
+    if (gated_.load(std::memory_order_acquire)) {
+      std::uint32_t matched = 0;
+      try {
+        matched = endpoint_->matched_subscribers();
+      } catch (...) {
+      }
+      if (matched < gate_readers_ && now < gate_until_) return now + std::chrono::milliseconds(1);
+      gated_.store(false, std::memory_order_release);
+      if (attached_.load(std::memory_order_acquire)) {
+        core_.inline_export.ctx = this;
+        core_.inline_export.run = &Bridge::export_inline_trampoline;
+        core_.inline_export.active.store(true, std::memory_order_release);
+      }
+      engine_->notify(*this);
+    }
+    if (now >= next_match_) {
+      publish_matches();
+      update_receiving();
+      next_match_ = now + (now - held_since_claim_ < kMatchSettle ? kMatchFast : kMatchSlow);
+    }
+    return next_match_;
+  }
+  // A watcher: claim when nobody holds the bridge, or its holder is gone (pidfd), or a holder
+  // it cannot watch (no pidfd) may be gone; the claim word tells a holder that left.
+  const std::uint64_t owner = state().owner.load(std::memory_order_acquire);
+  if (retry_claim_ && now < retry_at_) return std::min(retry_at_, now + kWatchPeriod);
+  if (owner != 0 && owner == seen_owner_ && !gone && !retry_claim_) return now + kWatchPeriod;
+  seen_owner_ = owner;
+  const auto claim = segment().claim_bridge();
+  if (claim == shm::ShmSegment::BridgeClaim::Held) return now + kWatchPeriod;
+  const bool takeover = claim == shm::ShmSegment::BridgeClaim::TookOver;
+  if (auto ok = become_holder(takeover); !ok) {
+    log().error("topic '{}': this process could not take over the host's bridge to {}: {}; retrying in 1 s",
+                core_.name, info_.name, ok.error().message());
+    segment().release_bridge();
+    retry_claim_ = true;
+    retry_at_ = now + std::chrono::seconds(1);
+    return retry_at_;
+  }
+  retry_claim_ = false;
+  log().info("topic '{}': this process (pid {}) now bridges the host to {}{}", core_.name, ::getpid(), info_.name,
+             takeover ? " (it took over from a process that is gone)" : "");
+  attach();
+  return gated_.load() ? now + std::chrono::milliseconds(1) : now + kMatchFast;
+}
+
+pid_t Bridge::watched_pid() const noexcept {
+  if (holder_.load(std::memory_order_acquire)) return 0;
+  return static_cast<pid_t>(state().owner.load(std::memory_order_acquire) >> 32);
+}
+
+// --- exporting -------------------------------------------------------------------------------
+
+void Bridge::export_inline_trampoline(void* self) noexcept { static_cast<Bridge*>(self)->export_inline(); }
+
+// A publishing thread of this process, right after its send: exports unless another thread
+// does (it looks again when it stops, release_export()).
+void Bridge::export_inline() noexcept {
+  if (export_busy_.exchange(true, std::memory_order_acquire)) return;
+  drain();
+  release_export();
+}
+
+bool Bridge::has_export_work() const noexcept {
+  return core_.ring.has_unread_except(port_->entry(), port_->entry_token(), port_->lane());
+}
+
+// Stops exporting, then looks once more: a message written while we held export_busy_ by a
+// thread that found it taken would otherwise wait for the next send.
+void Bridge::release_export() noexcept {
+  for (;;) {
+    export_busy_.store(false, std::memory_order_seq_cst);
+#if !defined(__SANITIZE_THREAD__)
+    std::atomic_thread_fence(std::memory_order_seq_cst);
+#endif
+    if (gated_.load(std::memory_order_acquire) || !has_export_work()) return;
+    if (export_busy_.exchange(true, std::memory_order_acquire)) return;
+    drain();
+  }
+}
+
+void Bridge::drain() noexcept {
+  const horus::detail::ExportSink sink{this, [](void* c, const void* msg) { return static_cast<Bridge*>(c)->send(msg); }};
+  try {
+    while (port_->export_pending(port_->lane(), sink) != 0) {
+    }
+  } catch (const std::exception& e) {
+    log().error("topic '{}': exporting to {} failed: {}", core_.name, info_.name, e.what());
+  }
+  if (const std::uint64_t lost = port_->export_lost(); lost > export_lost_seen_) {
+    state().dropped.fetch_add(lost - export_lost_seen_, std::memory_order_relaxed);
+    export_lost_seen_ = lost;
+  }
+}
+
+bool Bridge::send(const void* msg) {
+  auto report = [&](const Error& error) {
+    state().dropped.fetch_add(1, std::memory_order_relaxed);
+    if (++send_failures_ == 1 || send_failures_ % 1024 == 0)
+      log().error("topic '{}': the {} backend did not send a {} sample: {} ({} so far; counted in "
+                  "dropped_count())",
+                  core_.name, info_.name, core_.type_name, error.message(), send_failures_);
+    return true;  // go on with the next message
+  };
+  auto n = ops_.encoded_size(format_, msg);
+  if (!n) return report(n.error());
+  struct Context {
+    Bridge* self;
+    const void* msg;
+    bool echo;  // our sample may come back: note it in the ledger
+  } ctx{this, msg,
+        loopback_ && (receiving_.load(std::memory_order_relaxed) ||
+                      now_ns() - paused_at_ns_.load(std::memory_order_relaxed) <
+                          std::chrono::duration_cast<Clock::duration>(kEchoTtl).count())};
+  const net::BodyWriter writer{[](void* c, std::span<std::byte> body) {
+                                 const auto& x = *static_cast<const Context*>(c);
+                                 x.self->ops_.encode(x.self->format_, x.msg, body);
+                                 if (x.echo) x.self->ledger_.add(body_hash(body));
+                               },
+                               &ctx};
+  state().inflight.store(1, std::memory_order_relaxed);
+  auto ok = endpoint_->write(*n, writer);
+  // Reliable: a writer that timed out waiting for its readers to catch up keeps the message
+  // and tries again (back-pressure, not a loss), until the topic closes.
+  while (!ok && ok.error().code() == Errc::Timeout && qos_.reliability == net::Reliability::Reliable &&
+         !stop_.load(std::memory_order_relaxed)) {
+    ++write_retries_;
+    ok = endpoint_->write(*n, writer);
+  }
+  state().inflight.store(0, std::memory_order_relaxed);
+  if (!ok) [[unlikely]]
+    return report(ok.error());
+  state().exported.fetch_add(1, std::memory_order_relaxed);
+  return true;
+}
+
+// --- receiving -------------------------------------------------------------------------------
+
+void Bridge::on_sample(const net::Sample& sample) {
+  if (loopback_ && ledger_.consume(body_hash(sample.body))) return;  // our own, back
+  if (!port_->deliver(format_, sample)) return;
+  state().imported.fetch_add(1, std::memory_order_relaxed);
+  // The import wakes the host's handles, not the export (it skips these messages); once they
+  // fill half the ring, let the engine pass over them, so that the export cursor never falls a
+  // ring behind (that would count as losses nobody had).
+  if (import_lag() > core_.ring.capacity() / 2) engine_->notify(*this);
+}
+
+std::uint64_t Bridge::import_lag() const noexcept {
+  const std::uint32_t lane = port_->lane();
+  if (lane >= shm::kMaxPublishers || !port_->has_entry()) return 0;
+  const std::uint64_t head = core_.ring.lane(lane).head.load(std::memory_order_acquire);
+  const std::uint64_t seen = core_.ring.subscriber(port_->entry()).cursor[lane].load(std::memory_order_relaxed);
+  return head > seen ? head - seen : 0;
+}
+
+// Reliable topics on a transport that holds samples (DDS): the transport takes no more than the
+// host's subscribers have room for, and the rest waits in its reader, whose flow control slows
+// the sending host, instead of overwriting. The transport's thread never blocks (it serves every
+// topic and the fleet's heartbeats): the engine pumps the held samples when room appears. A
+// subscriber that leaves the lane full for kImportWait is stuck (stopped, in a debugger): then
+// its oldest messages are overwritten (counted in its dropped_count) until it reads again.
+std::size_t Bridge::room() {
+  if (!hold_) return SIZE_MAX;
+  const std::size_t r = port_->import_room();
+  if (r > 0) {  // the subscribers read: not stuck
+    stalled_.store(false, std::memory_order_relaxed);
+    held_since_ns_.store(0, std::memory_order_relaxed);
+    return r;
+  }
+  if (stalled_.load(std::memory_order_relaxed)) return SIZE_MAX;
+  if (held_since_ns_.load(std::memory_order_relaxed) == 0) held_since_ns_.store(now_ns(), std::memory_order_relaxed);
+  if (!held_.exchange(true, std::memory_order_acq_rel)) engine_->pump(*this);
+  return 0;
+}
+
+bool Bridge::pump_held() noexcept {
+  const std::int64_t since_ns = held_since_ns_.load(std::memory_order_relaxed);
+  const auto since = Clock::time_point(Clock::duration(since_ns));
+  if (since_ns != 0 && Clock::now() - since > kImportWait && !stalled_.exchange(true, std::memory_order_relaxed)) {
+    const std::uint64_t n = ++import_stalls_;
+    if (n == 1 || n % 64 == 0)
+      log().warn("topic '{}': a subscriber on this host has not read for {} ms; the bridge stops holding the {} "
+                 "samples back for it and overwrites its oldest messages (counted in its dropped_count()) until it "
+                 "reads again ({} time(s) so far)",
+                 core_.name, std::chrono::duration_cast<std::chrono::milliseconds>(kImportWait).count(), info_.name,
+                 n);
+  }
+  std::lock_guard lock(endpoint_mutex_);
+  if (!endpoint_) return true;  // not open yet: try again
+  held_.store(false, std::memory_order_release);  // room() sets it again if it must hold on
+  endpoint_->take_held();
+  return held_.load(std::memory_order_acquire);
+}
+
+void Bridge::on_lost(std::uint64_t count) {
+  const auto before = state().dropped.fetch_add(count, std::memory_order_relaxed);
+  // Log the first loss, then at most once per 1024 more (the count is in dropped_count()).
+  if (before == 0 || before / 1024 != (before + count) / 1024)
+    log().warn("topic '{}': the {} backend lost {} message(s) or datagram(s) ({} so far on this host; they "
+               "count in dropped_count())",
+               core_.name, info_.name, count, before + count);
+}
+
+void Bridge::on_error(std::string_view message) {
+  const auto n = errors_.fetch_add(1, std::memory_order_relaxed) + 1;
+  if (n <= 16 || n % 1024 == 0) log().error("{} [{}]", message, info_.name);
+}
+
+// The host's subscribing handles, the holder's own entry left out.
+std::uint32_t Bridge::host_subscribers() const noexcept {
+  const std::uint32_t n = core_.ring.subscriber_count();
+  return n - (n != 0 && port_ && port_->has_entry() ? 1u : 0u);
+}
+
+// Stops or resumes receiving as the host's subscribers come and go: the engine, and a handle
+// of the holding process that subscribes (its open() returns once the bridge receives; a
+// handle of another process rings the doorbell, which wakes the engine to resume at once).
+void Bridge::update_receiving() noexcept {
+  std::lock_guard lock(receiving_mutex_);
+  if (!endpoint_ready_.load(std::memory_order_acquire)) return;
+  const bool want = host_subscribers() != 0;
+  if (want == receiving_.load(std::memory_order_relaxed)) return;
+  receiving_.store(want, std::memory_order_relaxed);
+  if (!want) paused_at_ns_.store(now_ns(), std::memory_order_relaxed);
+  endpoint_->set_receiving(want);
+}
+
+void Bridge::publish_matches() noexcept {
+  if (!endpoint_ready_.load(std::memory_order_acquire)) return;
+  try {
+    state().matched_publishers.store(endpoint_->matched_publishers(), std::memory_order_relaxed);
+    state().matched_subscribers.store(endpoint_->matched_subscribers(), std::memory_order_relaxed);
+  } catch (...) {
+  }
+}
+
+// --- reports -----------------------------------------------------------------------------------
+
+std::uint64_t Bridge::dropped() const noexcept { return state().dropped.load(std::memory_order_relaxed); }
+
+// Remote writers (readers) the host's bridge matched: asked of the endpoint in the holding
+// process, read from the segment (published by the holder's engine) in the others.
+std::uint32_t Bridge::remote_publishers() const noexcept {
+  if (endpoint_ready_.load(std::memory_order_acquire)) {
+    try {
+      return endpoint_->matched_publishers();
+    } catch (...) {
+    }
+  }
+  return state().matched_publishers.load(std::memory_order_relaxed);
+}
+
+std::uint32_t Bridge::remote_subscribers() const noexcept {
+  if (endpoint_ready_.load(std::memory_order_acquire)) {
+    try {
+      return endpoint_->matched_subscribers();
+    } catch (...) {
+    }
+  }
+  return state().matched_subscribers.load(std::memory_order_relaxed);
+}
+
+void Bridge::report_decode_failure(const std::string& what) noexcept {
+  const auto n = decode_failures_.fetch_add(1, std::memory_order_relaxed) + 1;
+  if (n == 1 || n % 1024 == 0) {
+    try {
+      log().error("topic '{}': a {} sample from the network does not decode as {} ({}); dropped ({} so far)",
+                  core_.name, core_.type_name, format_ == net::WireFormat::Lcm ? "an LCM message" : "XCDR1", what, n);
+    } catch (...) {
+    }
+  }
+}
+
+}  // namespace horus::fleet::detail

@@ -1,0 +1,176 @@
+// The bridge of one fleet topic in one process (api/'s NetworkLink): no thread of its own, it is
+// served by the process's network engine (engine.hpp).
+//
+// Holder (the process holding the segment's bridge claim). Export: the host's publishers'
+// messages, read through a subscriber entry of its own (skipping its import lane: a message
+// never goes back to the network it came from). In this process the publishing thread exports
+// inline, right after its send (export_inline: no thread is woken); messages of the host's other
+// processes wake the engine (the ring's doorbell forwards to it), whose export thread exports
+// them (service). One exporter at a time (export_busy_), and the one that stops looks again, so
+// every message goes out exactly once and in each publisher's order. Import: the transport's
+// thread decodes each sample into the bridge's lane. DDS does not deliver a participant's own
+// samples back; LCM does, so an echo ledger (hashes of what we sent, for 2 s) drops them.
+//
+// Receiving. While no handle of the host reads the topic, the holder tells the endpoint to stop
+// receiving (Endpoint::set_receiving); a subscribing handle rings the doorbell, which wakes the
+// engine to resume at once; in this process the handle's open() resumes it itself.
+//
+// Takeover. Watchers (every other process with the topic open) let their engine's control
+// thread watch the holder: a pidfd per holder process, and a 50 ms look at the claim word (a
+// holder that closes the topic and lives on). The successor adopts the entry and the lane its
+// predecessor recorded in the segment (the reaper leaves them), so it exports exactly what the
+// predecessor had not read; a message the predecessor died exporting counts as dropped. Until the
+// remote readers that matched the predecessor match the successor (at most 1 s), its export
+// waits (the gate), so a volatile reader does not miss the backlog.
+#pragma once
+
+#include <sys/types.h>
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <unordered_map>
+
+#include "engine.hpp"
+#include "fleet_internal.hpp"
+#include "horus/detail/network_link.hpp"
+#include "horus/detail/topic_core.hpp"
+
+namespace horus::fleet::detail {
+
+// What this bridge sent on a transport that delivers it back (LCM): a sample that arrives with
+// the hash of one we sent in the last 2 s is our own and is dropped once. Two identical samples
+// from us and another host are indistinguishable: one of them is dropped, the count stays right.
+class EchoLedger {
+ public:
+  void add(std::uint64_t h);
+  bool consume(std::uint64_t h);
+
+ private:
+  void expire(Clock::time_point now);
+  std::mutex mutex_;
+  std::deque<std::pair<Clock::time_point, std::uint64_t>> order_;
+  std::unordered_map<std::uint64_t, std::uint32_t> count_;
+};
+
+/// Keeps this host announced on a transport while held (agent.cpp).
+using Presence = std::shared_ptr<void>;
+Presence acquire_presence(const std::string& transport);
+
+class Bridge final : public horus::detail::NetworkLink, public net::Listener {
+ public:
+  static Result<std::unique_ptr<horus::detail::NetworkLink>> open(horus::detail::TopicCore& core,
+                                                                   const horus::detail::WireOps& ops,
+                                                                   const net::Qos& qos,
+                                                                   const TopicOptions& options);
+  ~Bridge() override;
+
+  // -- NetworkLink (user threads) ------------------------------------------------
+  Result<void> join(const TopicOptions& options) override;
+  std::uint64_t dropped() const noexcept override;
+  std::uint32_t remote_publishers() const noexcept override;
+  std::uint32_t remote_subscribers() const noexcept override;
+  std::uint64_t errors() const noexcept override { return errors_.load(std::memory_order_relaxed); }
+  std::uint64_t decode_failures() const noexcept override { return decode_failures_.load(std::memory_order_relaxed); }
+  void report_decode_failure(const std::string& what) noexcept override;
+
+  // -- net::Listener (the transport's threads) --------------------------------------
+  void on_sample(const net::Sample& sample) override;
+  std::size_t room() override;
+  void on_lost(std::uint64_t count) override;
+  void on_error(std::string_view message) override;
+
+  // -- the engine ---------------------------------------------------------------------
+  /// The export thread, notified: re-arms the doorbell, exports, resumes receiving.
+  void service() noexcept;
+  /// The export thread: takes what the transport held once there is room; false when nothing is
+  /// held any more.
+  bool pump_held() noexcept;
+  bool holding() const noexcept { return held_.load(std::memory_order_acquire); }
+  /// The control thread: claims a bridge nobody (alive) holds, opens the gate, publishes the
+  /// matched counts; returns when it wants to be called next. `gone`: the holder's pidfd fired.
+  Clock::time_point control(Clock::time_point now, bool gone) noexcept;
+  /// The process holding the bridge, for a watcher (0: nobody, or this process holds it).
+  pid_t watched_pid() const noexcept;
+  bool is_holder() const noexcept { return holder_.load(std::memory_order_acquire); }
+  const std::string& name() const noexcept { return core_.name; }
+
+  std::uint32_t index = 0;     // the engine's bit (set by Engine::add)
+  std::atomic<int> pins{0};    // engine threads using it now (Engine::remove waits for none)
+
+ private:
+  Bridge(horus::detail::TopicCore& core, const horus::detail::WireOps& ops, const net::Qos& qos,
+         std::shared_ptr<Engine> engine);
+  shm::ShmSegment& segment() const noexcept { return *core_.segment; }
+  shm::BridgeState& state() const noexcept { return core_.segment->bridge(); }
+
+  Result<void> become_holder(bool takeover);
+  void attach() noexcept;  // holder and endpoint open: the doorbell forwards to the engine
+  void leave() noexcept;   // stop: final export, give the claim, lane and entry up
+  std::uint64_t import_lag() const noexcept;
+  std::uint32_t host_subscribers() const noexcept;
+  void update_receiving() noexcept;
+  void publish_matches() noexcept;
+
+  // Export: one exporter at a time; the one that stops looks again (release_export).
+  static void export_inline_trampoline(void* self) noexcept;
+  void export_inline() noexcept;
+  void drain() noexcept;
+  void release_export() noexcept;
+  bool has_export_work() const noexcept;
+  bool send(const void* msg);
+
+  horus::detail::TopicCore& core_;
+  const horus::detail::WireOps& ops_;
+  net::Qos qos_;
+  std::shared_ptr<Engine> engine_;
+  const net::TransportInfo& info_;
+  net::WireFormat format_;
+  std::string wire_topic_;
+  const int creator_pid_;
+  std::unique_ptr<horus::detail::BridgePort> port_;  // the holder's lane and entry; outlives the endpoint
+  std::unique_ptr<net::Endpoint> endpoint_;          // the holder's only; reset first: no callback after that
+  std::atomic<bool> holder_{false};
+  std::atomic<bool> attached_{false};          // the doorbell forwards to the engine
+  std::uint64_t forward_ = 0;                  // what it forwards to
+  std::mutex receiving_mutex_;                 // update_receiving: the engine, or an opening handle
+  std::atomic<bool> receiving_{true};          // what the endpoint was told
+  std::atomic<std::int64_t> paused_at_ns_{0};  // when it was told to stop receiving (steady clock)
+  std::atomic<bool> endpoint_ready_{false};    // endpoint_ is set (user threads may ask it for counts)
+  std::mutex endpoint_mutex_;                  // endpoint_ set or reset, against the import pump
+  bool loopback_ = false;                      // the transport delivers our own samples back (LCM)
+  EchoLedger ledger_;
+  std::atomic<bool> stop_{false};
+  std::atomic<bool> export_busy_{false};       // someone exports now
+  std::atomic<bool> gated_{false};             // a successor waits for the readers to match
+  Clock::time_point gate_until_{};
+  std::uint32_t gate_readers_ = 0;
+  Clock::time_point next_match_{};             // the control thread's
+  Clock::time_point held_since_claim_{};       // when this process became the holder
+  std::uint64_t seen_owner_ = ~std::uint64_t{0};  // the claim word at the control thread's last look
+  bool retry_claim_ = false;                   // a takeover failed: retry_at_
+  Clock::time_point retry_at_{};
+  std::atomic<std::uint64_t> decode_failures_{0};
+  std::uint64_t write_retries_ = 0;        // reliable writes that waited for slow readers
+  std::atomic<std::uint64_t> errors_{0};   // incompatible endpoints reported
+  std::uint64_t send_failures_ = 0;        // for the log's rate
+  std::uint64_t export_lost_seen_ = 0;
+  bool hold_ = false;                           // reliable, and the transport holds samples
+  std::atomic<bool> held_{false};               // the transport holds samples back for room
+  std::atomic<std::int64_t> held_since_ns_{0};  // since when (steady clock)
+  std::atomic<bool> stalled_{false};            // a subscriber let kImportWait pass: overwrite
+  std::atomic<std::uint64_t> import_stalls_{0}; // for the log's rate
+  Presence presence_;                           // released last in ~Bridge (after leave())
+};
+
+/// A later handle's options against the bridge's QoS: Errc::ConfigMismatch when they differ.
+Result<void> check_qos(const std::string& topic, const net::Qos& have, const TopicOptions& options);
+
+/// HORUS_BRIDGE: whether this process may bridge fleet topics (0: never; 1 or unset: it may).
+Result<bool> may_bridge_from_environment();
+
+}  // namespace horus::fleet::detail

@@ -1,0 +1,125 @@
+// The network engine: one per process and network transport, serving every fleet topic's
+// bridge of the process with two threads, whatever the number of topics.
+//
+//   export thread   sleeps on the process's slot of the host's engine board (shm/engine_board.hpp):
+//                   a publisher of any process that rings a held topic's doorbell sets the topic's
+//                   bit there and wakes it. It re-arms each notified topic, exports what the
+//                   host's publishers wrote (Bridge::service), and pumps the samples a reliable
+//                   transport held back for room (every 200 us while any are held).
+//   control thread  sleeps in epoll on the pidfds of the processes holding the bridges this
+//                   process only watches (one pidfd per holder, not per topic), an eventfd and
+//                   its timers: takeover (a holder that exited, or closed the topic: a 50 ms look
+//                   at the claim words of the watched topics), the matched counts the holder
+//                   publishes into the segments, and the jobs others give it (the fleet agent's
+//                   announcements).
+//
+// Nothing of the engine runs per message in the publishing process while it holds the topic's
+// bridge: its handles export inline (Bridge::export_inline); the engine wakes for what the
+// host's other processes publish. The engine lives while a bridge or the fleet agent holds it.
+#pragma once
+
+#include <sys/types.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <unordered_map>
+#include <vector>
+
+#include "horus/error.hpp"
+#include "horus/network.hpp"
+#include "horus/shm/engine_board.hpp"
+#include "horus/transport_registry.hpp"
+
+namespace horus::fleet::detail {
+
+class Bridge;
+using Clock = std::chrono::steady_clock;
+
+class Engine {
+ public:
+  /// This process's engine for `info` (made at the first call, kept while held).
+  static Result<std::shared_ptr<Engine>> of(const net::TransportInfo& info);
+  ~Engine();
+  Engine(const Engine&) = delete;
+  Engine& operator=(const Engine&) = delete;
+
+  const net::TransportInfo& info() const noexcept { return info_; }
+  const std::shared_ptr<net::Transport>& transport() const noexcept { return transport_; }
+
+  /// Serves `b` from now on (a holder or a watcher); gives it its bit on the board.
+  void add(Bridge& b);
+  /// Stops serving `b`: when this returns no engine thread uses it.
+  void remove(Bridge& b);
+  /// The value `b`'s topic doorbell forwards to (its bit on this engine's slot).
+  std::uint64_t forward(const Bridge& b) const noexcept;
+  /// Asks the export thread to look at `b` (it became the holder, was ungated, holds samples).
+  void notify(const Bridge& b) noexcept;
+  /// `b` was attached: look at it now and once more 10 ms later (a send that raced the
+  /// engine's registration as a waiter is seen then: doorbell.hpp's race).
+  void recheck(const Bridge& b);
+  /// `b`'s transport holds samples back for room: pump them until it does not.
+  void pump(Bridge& b);
+  /// Wakes the control thread (a watcher should look at its claim now).
+  void kick() noexcept;
+
+  /// A job of the control thread: called when due, returns when it is due next.
+  using Job = std::function<Clock::time_point(Clock::time_point now)>;
+  std::uint64_t add_job(Job job);
+  /// When this returns the job does not run and will not again.
+  void remove_job(std::uint64_t id);
+  /// Makes the job with this id due now.
+  void wake_job(std::uint64_t id);
+
+  /// Threads this engine runs (2), for the benchmark's accounting.
+  static constexpr int kThreads = 2;
+
+ private:
+  Engine(const net::TransportInfo& info, std::shared_ptr<net::Transport> transport, shm::EngineBell bell);
+  void run_export();
+  void run_control();
+  // Pins (under mutex_) the bridges `pick` selects; the caller unpins them.
+  template <class Pick>
+  std::vector<Bridge*> pinned(Pick&& pick);
+  static void unpin(const std::vector<Bridge*>& bridges) noexcept;
+  void watch_holders(const std::vector<Bridge*>& watchers);
+  Clock::time_point run_jobs(Clock::time_point now);
+
+  const net::TransportInfo& info_;
+  std::shared_ptr<net::Transport> transport_;
+  shm::EngineBell bell_;
+  const int creator_pid_;
+
+  std::mutex mutex_;                  // the tables below
+  std::vector<Bridge*> by_index_;     // index: the bridge's bit (mod kEngineBits); null: free
+  std::vector<Bridge*> held_;         // bridges whose transport holds samples back
+  std::vector<std::uint32_t> recheck_;  // bridges to look at once more (recheck())
+  std::atomic<bool> stop_{false};
+
+  // The control thread's.
+  int epoll_fd_ = -1;
+  int event_fd_ = -1;
+  std::unordered_map<pid_t, int> pidfds_;  // holder pid -> pidfd (registered in epoll_fd_)
+  struct JobEntry {
+    std::uint64_t id;
+    Job job;
+    Clock::time_point due;
+    bool woken;  // wake_job() since it last started
+  };
+  std::mutex jobs_mutex_;
+  std::condition_variable job_done_;
+  std::vector<JobEntry> jobs_;
+  std::uint64_t next_job_ = 1;
+  std::uint64_t running_job_ = 0;
+
+  std::thread export_thread_;
+  std::thread control_thread_;
+};
+
+}  // namespace horus::fleet::detail
