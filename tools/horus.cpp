@@ -17,7 +17,7 @@
 //   horus bench pong | ping | local       round trips between hosts through ordinary topics
 //                                         (one-way latency, jitter, losses, throughput; JSON,
 //                                         CSV, a plot), and the local paths beside the true
-//                                         floor (bench_cmd.cpp)
+//                                         floor (bench_cmd.hpp)
 //   horus clean                           remove segments whose processes are all gone
 //   horus config check FILE               validate a configuration file (exit 1 naming the error)
 //   horus config explain NAME [--file F]  which rule, scope, backend and QoS a topic gets, and
