@@ -1,6 +1,6 @@
-// horus bench local (bench_cmd.hpp): on this machine, the true floor (floor.hpp) on the first two
-// allowed CPUs, then in-process and cross-process round trips (a pong thread, or a pong child
-// process) measured by the ping of bench_ping.cpp, each row beside the floor.
+// horus bench local (bench_cmd.hpp): on this machine, the true floor (horus/detail/cache_floor.hpp)
+// on the first two allowed CPUs, then in-process and cross-process round trips (a pong thread, or
+// a pong child process) measured by the ping of bench_ping.cpp, each row beside the floor.
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -25,7 +25,7 @@
 #include "bench_cmd_internal.hpp"
 #include "bench_peer.hpp"
 #include "bench_stats.hpp"
-#include "floor.hpp"
+#include "horus/detail/cache_floor.hpp"
 
 extern char** environ;
 

@@ -31,8 +31,8 @@
 #include "bench_cmd_internal.hpp"
 #include "bench_peer.hpp"
 #include "bench_stats.hpp"
-#include "floor.hpp"
 #include "horus/config.hpp"
+#include "horus/detail/cache_floor.hpp"
 
 extern char** environ;
 
