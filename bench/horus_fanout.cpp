@@ -44,7 +44,7 @@
 
 #include "bench_common.hpp"
 #include "dds/bench_types.hpp"  // the 1 KiB message
-#include "floor.hpp"
+#include "horus/detail/cache_floor.hpp"
 #ifdef HORUS_BENCH_ICEORYX
 #include "iox_baseline.hpp"
 #endif

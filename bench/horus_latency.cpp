@@ -3,7 +3,7 @@
 // Measured in one run, on the same two pinned CPUs:
 //   * same thread: Topic<CmdVel> send + recv, against boost::lockfree::spsc_queue push + pop;
 //   * cross thread one-way latency (ping-pong, RTT/2, p50/p99/p99.9): the true floor (the
-//     better of a one-line and a two-line bounce between the two threads, floor.hpp), horus
+//     better of a one-line and a two-line bounce between the two threads, cache_floor.hpp), horus
 //     Topic, boost spsc_queue; every spin pauses;
 //   * cross thread throughput (lossless: the publisher waits for space), horus and boost.
 // It prints a table, the ratios and the targets; --json / --csv write the rows.
@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "bench_common.hpp"
-#include "floor.hpp"
+#include "horus/detail/cache_floor.hpp"
 #include "horus/horus.hpp"
 
 using horus::msg::CmdVel;
@@ -376,7 +376,7 @@ int main(int argc, char** argv) {
     if (r.section == "throughput") fmt::print("{:<34} {:>12.1f} {:>9.2f}x\n", r.name, r.value / 1e6, r.ratio);
 
   fmt::print("* median over {} interleaved blocks of (p50 / the true floor's p50 in the same block: the better of\n"
-             "  its one-line and two-line bounces, every spin with pause; bench/floor.hpp)\n",
+             "  its one-line and two-line bounces, every spin with pause; horus/detail/cache_floor.hpp)\n",
              cfg.blocks);
   auto verdict = [](bool ok) { return ok ? "met" : "MISSED"; };
   fmt::print("\ntargets: same-thread <= 5 ns: {:.2f} ns {} | <= 1.5x boost: {:.2f}x {} | cross-thread p50 <= 1.2x "

@@ -2,7 +2,7 @@
 // floor measured in the same run.
 //
 //   * the true floor: the better of a one-line and a two-line bounce between the two processes
-//     through a MAP_SHARED page (floor.hpp), every spin with pause, as in the measured paths;
+//     through a MAP_SHARED page (cache_floor.hpp), every spin with pause, as in the measured paths;
 //   * horus Topic<CmdVel> (16 B), a 1 KiB message, and a 1920x1080 RGB Image through the pool
 //     (a loan: zero-copy; and send() of an existing image: one copy into the pool): ping-pong
 //     between two processes (fork), one-way = RTT/2, p50/p99/p99.9;
@@ -33,7 +33,7 @@
 
 #include "bench_common.hpp"
 #include "dds/bench_types.hpp"  // the 1 KiB message
-#include "floor.hpp"
+#include "horus/detail/cache_floor.hpp"
 #include "horus/horus.hpp"
 #include "horus/messages.hpp"
 #ifdef HORUS_BENCH_ICEORYX
@@ -79,7 +79,7 @@ std::string unique(const char* what) {
   return fmt::format("bench.shm.{}.{}.{}", what, ::getpid(), n++);
 }
 
-// The true floor's two bounces (floor.hpp) between this process and a child, through a
+// The true floor's two bounces (cache_floor.hpp) between this process and a child, through a
 // MAP_SHARED page.
 std::vector<double> floor_rounds(std::uint64_t rounds, int cpu, const hb::TscClock& tsc, hb::FloorMode mode) {
   void* p = ::mmap(nullptr, sizeof(hb::FloorLines), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
@@ -366,7 +366,7 @@ int main(int argc, char** argv) {
   }
   fmt::print("\nthroughput, lossless: {:.1f} M CmdVel/s\n", rate / 1e6);
   fmt::print("* median over {} blocks of (p50 / the true floor's p50 in the same block: the better of its one-line\n"
-             "  and two-line bounces, every spin with pause; bench/floor.hpp)\n",
+             "  and two-line bounces, every spin with pause; horus/detail/cache_floor.hpp)\n",
              blocks);
   fmt::print("targets: CmdVel p50 <= 1.2x true floor ({}), p99 <= 3x floor p99 ({}); image p50 < 2 us ({}); "
              "throughput >= 100 M/s ({}); p50 >= 3x lower than iceoryx ({})\n",

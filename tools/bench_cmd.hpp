@@ -1,4 +1,4 @@
-// horus bench ping / pong / local (bench_cmd.cpp): round trips between a user's own hosts
+// horus bench ping / pong / local (bench_cmd.cpp, bench_ping.cpp, bench_local.cpp): round trips
 // through ordinary horus topics, and the local paths beside the machine's true floor.
 #pragma once
 

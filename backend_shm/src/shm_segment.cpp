@@ -1,3 +1,7 @@
+// A topic's ring in a POSIX shared-memory segment (shm_segment.hpp): the namespace and mode
+// rules, process liveness, opening (create, join, reclaim, or refuse with both sides named),
+// reaping dead participants, detaching, the read-only view, listing and cleaning segments. The
+// bridge claim and its hand-over are in segment_bridge.cpp.
 #include "horus/shm/shm_segment.hpp"
 
 #include <dirent.h>
@@ -20,6 +24,8 @@
 #include <thread>
 #include <utility>
 
+#include "segment_internal.hpp"
+
 namespace horus::shm {
 
 namespace {
@@ -27,16 +33,10 @@ namespace {
 constexpr std::uint64_t kPage = 4096;
 constexpr auto kLockTimeout = std::chrono::seconds(5);
 
-std::uint64_t align_up(std::uint64_t v, std::uint64_t a) { return (v + a - 1) / a * a; }
+}  // namespace
 
-std::string errno_text(int err) { return std::strerror(err); }
+namespace detail {
 
-SegmentError io_error(const std::string& what, const std::string& name, int err) {
-  return {SegmentError::Kind::Io, what + " shared-memory segment /dev/shm" + name + ": " + errno_text(err)};
-}
-
-// flock with a deadline: a holder that died has released the lock; a live one holds it only
-// while it changes membership, so waiting seconds means something is wrong.
 bool lock_with_deadline(int fd) {
   const auto deadline = std::chrono::steady_clock::now() + kLockTimeout;
   for (;;) {
@@ -45,6 +45,24 @@ bool lock_with_deadline(int fd) {
     if (std::chrono::steady_clock::now() >= deadline) return false;
     std::this_thread::sleep_for(std::chrono::microseconds(200));
   }
+}
+
+std::uint64_t now_unix_ns() {
+  return static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+          .count());
+}
+
+}  // namespace detail
+
+namespace {
+
+std::uint64_t align_up(std::uint64_t v, std::uint64_t a) { return (v + a - 1) / a * a; }
+
+std::string errno_text(int err) { return std::strerror(err); }
+
+SegmentError io_error(const std::string& what, const std::string& name, int err) {
+  return {SegmentError::Kind::Io, what + " shared-memory segment /dev/shm" + name + ": " + errno_text(err)};
 }
 
 struct FdLock {
@@ -97,12 +115,6 @@ bool any_participant_alive(const SegmentHeader& h) {
 
 bool valid_namespace_char(char c) {
   return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
-}
-
-std::uint64_t now_unix_ns() {
-  return static_cast<std::uint64_t>(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
-          .count());
 }
 
 std::string describe_type(std::string_view name, std::uint64_t hash, std::uint32_t payload, bool serialized,
@@ -282,7 +294,7 @@ std::expected<ShmSegment, SegmentError> ShmSegment::open(std::string_view ns, st
     seg.fd_ = fd;
     seg.name_ = name;
     seg.owner_ = self;
-    if (!lock_with_deadline(fd))
+    if (!detail::lock_with_deadline(fd))
       return std::unexpected(SegmentError{SegmentError::Kind::Io,
                                           "shared-memory segment /dev/shm" + name +
                                               " stayed locked by another process for 5 s (is it stopped?)"});
@@ -393,7 +405,7 @@ std::expected<ShmSegment, SegmentError> ShmSegment::open(std::string_view ns, st
       h->creator_pid = static_cast<std::uint32_t>(self);
       h->ring_offset = ring_offset;
       h->total_size = total;
-      h->created_unix_ns = now_unix_ns();
+      h->created_unix_ns = detail::now_unix_ns();
       h->scope = static_cast<std::uint32_t>(spec.scope);
       // An empty string_view may carry a null data(): copy only what there is.
       std::ranges::copy(spec.transport.substr(0, kMaxTransportName), h->transport);
@@ -438,7 +450,7 @@ std::uint32_t ShmSegment::live_participants() const {
 }
 
 std::uint32_t ShmSegment::reap_dead() const {
-  if (header_ == nullptr || fd_ < 0 || !lock_with_deadline(fd_)) return 0;
+  if (header_ == nullptr || fd_ < 0 || !detail::lock_with_deadline(fd_)) return 0;
   FdLock lock{fd_};
   return reap_dead_locked();
 }
@@ -478,100 +490,11 @@ std::uint32_t ShmSegment::reap_dead_locked() const {
   return reaped;
 }
 
-namespace {
-std::uint64_t bridge_word(pid_t pid, std::uint32_t slot) noexcept {
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(pid)) << 32) | (slot + 1u);
-}
-
-// Whether the holder `word` names is a live process still attached as that participant (its
-// entry is freed when it detaches or is reaped, and may then go to another process).
-bool bridge_holder_alive(const SegmentHeader& h, std::uint64_t word) noexcept {
-  const auto pid = static_cast<pid_t>(word >> 32);
-  const auto slot = static_cast<std::uint32_t>(word & 0xffff'ffffu) - 1u;
-  if (slot >= kMaxParticipants) return false;
-  const Participant& e = h.participants[slot];
-  if (static_cast<pid_t>(e.pid.load(std::memory_order_acquire)) != pid) return false;
-  return process_alive(pid, e.start_time.load(std::memory_order_relaxed));
-}
-}  // namespace
-
-ShmSegment::BridgeClaim ShmSegment::claim_bridge() noexcept {
-  if (header_ == nullptr || slot_ >= kMaxParticipants) return BridgeClaim::Held;
-  const std::uint64_t mine = bridge_word(::getpid(), slot_);
-  BridgeState& b = header_->bridge;
-  std::uint64_t cur = b.owner.load(std::memory_order_acquire);
-  for (;;) {
-    if (cur == mine) return BridgeClaim::Ours;
-    const bool takeover = cur != 0;
-    if (takeover && bridge_holder_alive(*header_, cur)) return BridgeClaim::Held;
-    if (b.owner.compare_exchange_strong(cur, mine, std::memory_order_acq_rel)) {
-      b.claims.fetch_add(1, std::memory_order_relaxed);
-      b.claimed_unix_ns.store(now_unix_ns(), std::memory_order_relaxed);
-      return takeover ? BridgeClaim::TookOver : BridgeClaim::Claimed;
-    }
-  }
-}
-
-void ShmSegment::release_bridge() noexcept {
-  if (header_ == nullptr || slot_ >= kMaxParticipants) return;
-  std::uint64_t mine = bridge_word(::getpid(), slot_);
-  header_->bridge.owner.compare_exchange_strong(mine, 0, std::memory_order_acq_rel);
-}
-
-void ShmSegment::record_bridge_export(std::uint32_t entry, std::uint64_t token) noexcept {
-  if (header_ == nullptr) return;
-  header_->bridge.export_entry.store(entry, std::memory_order_relaxed);
-  header_->bridge.export_token.store(token, std::memory_order_release);
-}
-
-void ShmSegment::record_bridge_import(std::uint32_t lane, std::uint64_t token) noexcept {
-  if (header_ == nullptr) return;
-  header_->bridge.import_lane.store(lane, std::memory_order_relaxed);
-  header_->bridge.import_token.store(token, std::memory_order_release);
-}
-
-bool ShmSegment::lock_inheritance(Inheritance& in) noexcept {
-  if (header_ == nullptr || fd_ < 0 || !lock_with_deadline(fd_)) return false;
-  BridgeState& b = header_->bridge;
-  in.export_token = b.export_token.load(std::memory_order_acquire);
-  in.import_token = b.import_token.load(std::memory_order_acquire);
-  in.inflight = b.inflight.exchange(0, std::memory_order_acq_rel);
-  const std::uint32_t entry = b.export_entry.load(std::memory_order_relaxed);
-  const std::uint32_t lane = b.import_lane.load(std::memory_order_relaxed);
-  // Only what still carries the recorded token (a graceful predecessor may have freed them).
-  if (in.export_token != 0 && entry < kMaxSubscribers &&
-      ring_.subscriber(entry).owner.load(std::memory_order_acquire) == in.export_token &&
-      ring_.subscriber(entry).state.load(std::memory_order_acquire) == SubscriberEntry::kActive)
-    in.export_entry = entry;
-  if (in.import_token != 0 && lane < kMaxPublishers &&
-      ring_.lane(lane).owner.load(std::memory_order_acquire) == in.import_token)
-    in.import_lane = lane;
-  return true;
-}
-
-void ShmSegment::unlock_inheritance(const Inheritance& in) noexcept {
-  BridgeState& b = header_->bridge;
-  // Whatever the new holder did not adopt is freed now (it would never be reaped otherwise).
-  if (in.export_entry) ring_.remove_subscriber(*in.export_entry, in.export_token);
-  if (in.import_lane) ring_.release_lane(*in.import_lane, in.import_token);
-  std::uint64_t t = in.export_token;
-  b.export_token.compare_exchange_strong(t, 0, std::memory_order_acq_rel);
-  t = in.import_token;
-  b.import_token.compare_exchange_strong(t, 0, std::memory_order_acq_rel);
-  ::flock(fd_, LOCK_UN);
-}
-
-pid_t ShmSegment::bridge_holder() const noexcept {
-  if (header_ == nullptr) return 0;
-  const std::uint64_t cur = header_->bridge.owner.load(std::memory_order_acquire);
-  return cur != 0 && bridge_holder_alive(*header_, cur) ? static_cast<pid_t>(cur >> 32) : 0;
-}
-
 void ShmSegment::detach() noexcept {
   if (fd_ < 0) return;
   if (header_ != nullptr && owner_ == ::getpid()) release_bridge();
   // Membership work only for a segment we joined (never on a failed open's foreign header).
-  if (header_ != nullptr && owner_ == ::getpid() && slot_ < kMaxParticipants && lock_with_deadline(fd_)) {
+  if (header_ != nullptr && owner_ == ::getpid() && slot_ < kMaxParticipants && detail::lock_with_deadline(fd_)) {
     if (pool_) pool_.release_participant(slot_);
     header_->participants[slot_].pid.store(0, std::memory_order_release);
     try {

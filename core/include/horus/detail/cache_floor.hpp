@@ -18,6 +18,9 @@
 //     clear) before it can see the new value. `pause` keeps one load in flight.
 // A floor measured without both is slower than the hardware allows, and every ratio against it
 // flatters the measured path.
+//
+// It lives in core/ (horus/detail/cache_floor.hpp, not public API) so that the latency tools of
+// bench/ and `horus bench local` (tools/) measure the floor with the same code.
 #pragma once
 
 #include <immintrin.h>

@@ -1,0 +1,109 @@
+// What the files of `horus bench` share, internal to tools/: bench_cmd.cpp (the handshake, the
+// choices, the argument checks, the pong side), bench_ping.cpp (the ping side and its outputs),
+// bench_local.cpp (`horus bench local`). The commands themselves are in bench_cmd.hpp.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "bench_cmd.hpp"
+#include "bench_stats.hpp"
+#include "horus/config.hpp"
+#include "horus/msg/generic.hpp"
+#include "horus/topic.hpp"
+
+namespace horus::tools::bench_detail {
+
+using Fields = std::map<std::string, std::string>;
+
+// -- bench_cmd.cpp ----------------------------------------------------------------------------
+
+// The host as the fleet layer names and tells it apart (hostname, boot, /dev/shm, namespace):
+// a namespace host is a host of its own, and robots cloned from one image with one hostname differ.
+std::string host_name();
+std::string host_id();
+
+// Pins the calling thread to `cpu` (nothing when it is negative).
+void pin_to_cpu(int cpu);
+
+// "PREFIX.SIDE.TYPE" or, for a sized payload, "PREFIX.SIDE.TYPE_SIZE".
+std::string data_topic(const std::string& prefix, const char* side, const std::string& qualified, std::uint64_t size);
+
+// Where a topic's messages go, in words: "fleet (cyclonedds, domain 3)", "host (shared memory)".
+std::string where_text(const Backend& b);
+
+// Where the choice of a topic's backend came from, for errors.
+std::string choice_origin(const TopicChoice& c);
+
+// The control topic, PREFIX.control.
+class Control {
+ public:
+  static Result<Control> open(const std::string& prefix, const std::optional<Backend>& backend) {
+    TopicOptions o;
+    o.backend = backend;
+    auto t = Topic<msg::GenericMessage>::open(prefix + ".control", o);
+    if (!t) return std::unexpected(t.error());
+    return Control(std::move(*t));
+  }
+  void send(const Fields& f) {
+    auto m = msg::GenericMessage::from_value(f);
+    if (m) topic_.send(*m);
+  }
+  // The next well-formed control message (others are skipped: another tool's traffic).
+  std::optional<Fields> recv() {
+    while (auto m = topic_.recv()) {
+      auto f = static_cast<const msg::GenericMessage&>(*m).to_value<Fields>();
+      if (f && f->contains("op") && f->contains("run")) return *f;
+    }
+    return std::nullopt;
+  }
+  bool wait(std::chrono::nanoseconds t) { return topic_.wait_for(t); }
+  Backend backend() const { return topic_.backend(); }
+  std::string name() const { return std::string(topic_.name()); }
+
+ private:
+  explicit Control(Topic<msg::GenericMessage> t) : topic_(std::move(t)) {}
+  Topic<msg::GenericMessage> topic_;
+};
+
+// A control message's field `k` (empty when it has none).
+std::string get(const Fields& f, const std::string& k);
+
+// Checks the arguments and, when `backend` is given, parses --backend into it; prints what is
+// wrong and returns false otherwise.
+bool check_args(const BenchArgs& a, const char* cmd, std::optional<Backend>* backend = nullptr);
+
+// Answers pings until `stop` (or, with --once, after one run); sets `ready_flag` once it listens.
+int run_pong(const BenchArgs& a, const std::optional<Backend>& backend, const std::atomic<bool>& stop,
+             std::atomic<bool>* ready_flag);
+
+// -- bench_ping.cpp ---------------------------------------------------------------------------
+
+struct PingResult {
+  bool ok = false;
+  int exit_code = 0;
+  std::string error;
+  std::string type, payload, tag, ping_topic, pong_topic, control_topic, where, backend;
+  std::string host, pong_host, pong_pid;
+  std::uint64_t message_bytes = 0;
+  std::uint64_t sent = 0, received = 0, lost = 0, late = 0, reordered = 0, duplicates = 0, refused = 0, dropped = 0;
+  double measured_s = 0, warmup_s = 0;
+  std::uint32_t window = 0;
+  LatencyHistogram one_way;
+  std::int64_t start_unix_ns = 0;
+};
+
+// One ping run: the handshake with a pong, the warm-up, the measurement and the drain.
+PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, const std::atomic<bool>& stop);
+
+double msgs_per_s(const PingResult& r);
+
+// Writes `text` to `file` ("-": stdout), appending or truncating; false with `error` set when it cannot.
+bool write_text(const std::string& file, const std::string& text, bool append, std::string& error);
+
+}  // namespace horus::tools::bench_detail

@@ -1,0 +1,85 @@
+// horus config check / explain (config_cmd.hpp): a configuration file validated, and what a
+// topic name gets from the environment and the file (horus/config.hpp's choose()).
+#include "config_cmd.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "horus/config.hpp"
+#include "horus/horus.hpp"
+
+namespace horus::tools {
+
+int cmd_config_check(const std::string& file) {
+  auto c = horus::Config::load(file);
+  if (!c) {
+    fmt::print(stderr, "horus config check: {}\n", c.error().message());
+    return 1;
+  }
+  fmt::print("{}: valid; {} rule{}\n", file, c->rules().size(), c->rules().size() == 1 ? "" : "s");
+  return 0;
+}
+
+namespace {
+
+std::string from_where(horus::Source s, const horus::TopicChoice& c) {
+  if (s == horus::Source::File && c.rule != nullptr)
+    return fmt::format("file {}, line {}: rule '{}'", c.config->file(), c.rule->line, c.rule->match);
+  if (s == horus::Source::Environment) return "environment (HORUS_BACKEND)";
+  if (s == horus::Source::Default) return "default";
+  return std::string(horus::to_string(s));
+}
+
+}  // namespace
+
+int cmd_config_explain(const std::string& topic, const std::string& file) {
+  if (auto ok = horus::validate_topic_name(topic); !ok) {
+    fmt::print(stderr, "horus config explain: {}\n", ok.error().message());
+    return 2;
+  }
+  std::optional<horus::Config> own;
+  const horus::Config* config = nullptr;
+  if (!file.empty()) {
+    auto c = horus::Config::load(file);
+    if (!c) {
+      fmt::print(stderr, "horus config explain: {}\n", c.error().message());
+      return 1;
+    }
+    own = std::move(*c);
+    config = &*own;
+  } else {
+    auto c = horus::config_from_environment();
+    if (!c) {
+      fmt::print(stderr, "horus config explain: {}\n", c.error().message());
+      return 1;
+    }
+    config = *c;
+  }
+  auto choice = horus::choose(topic, horus::TopicOptions{}, config);
+  if (!choice) {
+    fmt::print(stderr, "horus config explain: {}\n", choice.error().message());
+    return 1;
+  }
+  const auto& c = *choice;
+  fmt::print("topic '{}'{}\n", topic, config != nullptr ? fmt::format(" (configuration file {})", config->file()) : "");
+  if (c.rule != nullptr) fmt::print("  rule        '{}' (line {})\n", c.rule->match, c.rule->line);
+  else fmt::print("  rule        none matches\n");
+  fmt::print("  scope       {:<16} {}\n", horus::to_string(c.backend.scope()), from_where(c.backend_from, c));
+  if (horus::is_network(c.backend)) {
+    fmt::print("  backend     {:<16} {}\n", c.backend.transport(), from_where(c.backend_from, c));
+    if (auto wire = horus::wire_name(c.backend, topic)) fmt::print("  wire name   {}\n", *wire);
+  }
+  fmt::print("  capacity    {:<16} {}\n", c.capacity ? std::to_string(*c.capacity) : "type default",
+             from_where(c.capacity_from, c));
+  fmt::print("  reliability {:<16} {}\n", c.reliability ? std::string(horus::net::to_string(*c.reliability)) : "type default",
+             from_where(c.reliability_from, c));
+  fmt::print("  durability  {:<16} {}\n", c.durability ? std::string(horus::net::to_string(*c.durability)) : "type default",
+             from_where(c.durability_from, c));
+  return 0;
+}
+
+}  // namespace horus::tools

@@ -1,0 +1,158 @@
+// horus fleet (fleet_cmd.hpp): the fleet's hosts as a live table or JSON, through the fleet
+// layer (horus/fleet.hpp); and the pieces of it the topic commands share (fleet_transport,
+// open_fleet, settle, fleet_topic_json).
+#include "fleet_cmd.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include "horus/config.hpp"
+#include "horus/fleet.hpp"
+
+namespace horus::tools {
+
+namespace {
+
+using clock_type = std::chrono::steady_clock;
+
+}  // namespace
+
+std::string fleet_transport(const std::string& backend_flag) {
+  if (!backend_flag.empty()) return backend_flag;
+  auto s = horus::fleet_settings();
+  return s ? s->transport : std::string();
+}
+
+std::unique_ptr<horus::Fleet> open_fleet(const std::string& transport, std::string& error) {
+  horus::FleetOptions o;
+  o.transport = transport;
+  auto f = horus::Fleet::open(o);
+  if (!f) {
+    error = f.error().message();
+    return nullptr;
+  }
+  return std::move(*f);
+}
+
+void settle(const horus::Fleet& fleet, std::chrono::milliseconds wait, const std::atomic<bool>& stop) {
+  const auto start = clock_type::now();
+  while (!stop.load() && clock_type::now() - start < wait) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    if (clock_type::now() - start < wait / 4) continue;
+    const auto hosts = fleet.hosts();
+    if (!hosts.empty() && std::all_of(hosts.begin(), hosts.end(), [](const auto& h) { return h.announced; })) return;
+  }
+}
+
+nlohmann::json fleet_topic_json(const horus::FleetTopic& t) {
+  nlohmann::json j = {{"topic", t.name},
+                      {"type", t.type_name},
+                      {"type_hash", fmt::format("{:016x}", t.type_hash)},
+                      {"scope", t.scope},
+                      {"publishers", t.publishers},
+                      {"subscribers", t.subscribers},
+                      {"messages", t.messages},
+                      {"dropped", t.dropped},
+                      {"message_size", t.message_size},
+                      {"decodable", !t.signature.empty()}};
+  if (t.scope == "fleet") j["transport"] = t.transport;
+  if (t.rate_hz >= 0) j["rate_hz"] = t.rate_hz;
+  return j;
+}
+
+namespace {
+
+nlohmann::json fleet_json(const horus::Fleet& fleet) {
+  auto hosts = nlohmann::json::array();
+  for (const auto& h : fleet.hosts()) {
+    auto procs = nlohmann::json::array();
+    for (const auto& p : h.processes) procs.push_back({{"pid", p.pid}, {"name", p.name}, {"start_unix_ns", p.start_unix_ns}});
+    auto topics = nlohmann::json::array();
+    for (const auto& t : h.topics) topics.push_back(fleet_topic_json(t));
+    nlohmann::json j = {{"host", h.name},
+                        {"id", fmt::format("{:016x}", h.id)},
+                        {"state", h.state == horus::HostState::Lost ? "lost" : "alive"},
+                        {"rejoined", h.state == horus::HostState::Rejoined},
+                        {"rejoins", h.rejoins},
+                        {"self", h.self},
+                        {"age_ms", h.heartbeat_age.count()},
+                        {"period_ms", h.period.count()},
+                        {"heartbeats", h.heartbeats},
+                        {"announced", h.announced},
+                        {"namespace", h.shm_namespace},
+                        {"processes", procs},
+                        {"topics", topics}};
+    j["rtt_us"] = h.rtt ? nlohmann::json(h.rtt->count()) : nlohmann::json(nullptr);
+    hosts.push_back(std::move(j));
+  }
+  return {{"transport", fleet.transport()}, {"malformed", fleet.malformed()}, {"hosts", hosts}};
+}
+
+void print_fleet_table(const horus::Fleet& fleet) {
+  const auto hosts = fleet.hosts();
+  fmt::print("fleet on {}: {} host{}\n", fleet.transport(), hosts.size(), hosts.size() == 1 ? "" : "s");
+  fmt::print("{:<24} {:<9} {:>8} {:>9} {:>6} {:>7} {:>7}\n", "host", "state", "age ms", "rtt us", "procs", "fleet", "topics");
+  for (const auto& h : hosts) {
+    std::size_t fleet_topics = 0;
+    for (const auto& t : h.topics) fleet_topics += t.scope == "fleet" ? 1 : 0;
+    std::string state(horus::to_string(h.state));
+    if (h.rejoins > 0) state += fmt::format(" ({}x)", h.rejoins);
+    fmt::print("{:<24} {:<9} {:>8} {:>9} {:>6} {:>7} {:>7}\n", h.name + (h.self ? " *" : ""), state,
+               h.heartbeat_age.count(), h.rtt ? std::to_string(h.rtt->count()) : "-",
+               h.announced ? std::to_string(h.processes.size()) : "?", h.announced ? std::to_string(fleet_topics) : "?",
+               h.announced ? std::to_string(h.topics.size()) : "?");
+  }
+  if (const auto bad = fleet.malformed(); bad != 0) fmt::print("{} malformed announcement(s) ignored\n", bad);
+}
+
+}  // namespace
+
+int cmd_fleet(const std::string& backend, bool json, bool once, int wait_ms, double duration_s,
+              const std::atomic<bool>& stop) {
+  const std::string transport = fleet_transport(backend);
+  if (transport.empty()) {
+    fmt::print(stderr, "horus fleet: no network backend to watch the fleet on; set HORUS_BACKEND=cyclonedds|fastdds|lcm, "
+                       "network.backend in the configuration file (HORUS_CONFIG), or --backend\n");
+    return 2;
+  }
+  std::string error;
+  auto fleet = open_fleet(transport, error);
+  if (!fleet) {
+    fmt::print(stderr, "horus fleet: {}\n", error);
+    return 2;
+  }
+  settle(*fleet, std::chrono::milliseconds(wait_ms), stop);
+  if (once) {
+    if (json) fmt::print("{}\n", fleet_json(*fleet).dump(2));
+    else print_fleet_table(*fleet);
+    return 0;
+  }
+  const auto end = clock_type::now() + std::chrono::duration_cast<clock_type::duration>(
+                                           std::chrono::duration<double>(duration_s > 0 ? duration_s : 1e9));
+  const bool tty = ::isatty(1) != 0;
+  while (!stop.load() && clock_type::now() < end) {
+    if (json) {
+      fmt::print("{}\n", fleet_json(*fleet).dump());
+    } else {
+      if (tty) fmt::print("\033[H\033[2J");
+      print_fleet_table(*fleet);
+      if (!tty) fmt::print("\n");
+    }
+    std::fflush(stdout);
+    const auto next = clock_type::now() + std::chrono::seconds(1);
+    while (!stop.load() && clock_type::now() < std::min(next, end)) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  return 0;
+}
+
+}  // namespace horus::tools
