@@ -1,4 +1,5 @@
-// Shared pieces of the benchmarks: CPU pinning, a TSC clock and percentiles.
+// Shared pieces of the benchmarks: a TSC clock and percentiles (CPU pinning and the true floor:
+// horus/detail/cache_floor.hpp, which `horus bench local` uses too).
 #pragma once
 
 #include <pthread.h>
@@ -12,15 +13,9 @@
 #include <utility>
 #include <vector>
 
-namespace horus::bench {
+#include "horus/detail/cache_floor.hpp"  // pin_to_cpu, the true floor
 
-/// Pins the calling thread to one CPU (ignored when that CPU is not available).
-inline bool pin_to_cpu(int cpu) {
-  cpu_set_t set;
-  CPU_ZERO(&set);
-  CPU_SET(cpu, &set);
-  return pthread_setaffinity_np(pthread_self(), sizeof(set), &set) == 0;
-}
+namespace horus::bench {
 
 inline int cpu_count() { return static_cast<int>(std::max(1u, std::thread::hardware_concurrency())); }
 

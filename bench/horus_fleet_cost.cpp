@@ -19,7 +19,9 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <fstream>
+#include <map>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -49,6 +51,33 @@ struct Usage {
   double cpu_s;
   long switches;
 };
+
+// CPU ticks per thread (name -> utime + stime, summed over threads of that name).
+std::map<std::string, long> thread_ticks() {
+  std::map<std::string, long> out;
+  DIR* d = ::opendir("/proc/self/task");
+  if (d == nullptr) return out;
+  while (dirent* e = ::readdir(d)) {
+    if (e->d_name[0] == '.') continue;
+    std::ifstream in(std::string("/proc/self/task/") + e->d_name + "/stat");
+    std::string line;
+    std::getline(in, line);
+    const auto open = line.find('('), close = line.rfind(')');
+    if (open == std::string::npos || close == std::string::npos) continue;
+    const std::string name = line.substr(open + 1, close - open - 1);
+    std::istringstream rest(line.substr(close + 2));
+    std::string field;
+    long ut = 0, st = 0;
+    for (int i = 3; i <= 15; ++i) {
+      rest >> field;
+      if (i == 14) ut = std::stol(field);
+      if (i == 15) st = std::stol(field);
+    }
+    out[name] += ut + st;
+  }
+  ::closedir(d);
+  return out;
+}
 
 Usage usage() {
   rusage ru{};
@@ -80,18 +109,32 @@ int child(const std::string& backend, int topics, double idle_s) {
     subs.push_back(std::move(*s));
   }
   const double open_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  for (auto& p : pubs) p.send(horus::msg::CmdVel{});
+  for (auto& p : pubs) {  // paced: a burst of 1000 would overflow a socket buffer
+    p.send(horus::msg::CmdVel{});
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
   for (auto& s : subs) (void)s.recv();
   // Let discovery and the first announcements settle before measuring rest.
   std::this_thread::sleep_for(std::chrono::seconds(2));
   const int after = thread_count();
+  const auto t_before = thread_ticks();
   const Usage u0 = usage();
   const auto i0 = Clock::now();
   std::this_thread::sleep_for(std::chrono::duration<double>(idle_s));
   const Usage u1 = usage();
+  const auto t_after = thread_ticks();
+  // Where the CPU went, by thread name (stderr: the parent prints it under the row).
+  const double tick_ms = 1000.0 / static_cast<double>(::sysconf(_SC_CLK_TCK));
+  std::string threads;
+  for (const auto& [name, ticks] : t_after) {
+    const auto it = t_before.find(name);
+    const long d = ticks - (it == t_before.end() ? 0 : it->second);
+    if (d > 0) threads += fmt::format(" {}={:.1f}", name, static_cast<double>(d) * tick_ms / idle_s);
+  }
   const double secs = std::chrono::duration<double>(Clock::now() - i0).count();
   std::printf("RESULT %s %d %d %d %.3f %.3f %.1f\n", backend.c_str(), topics, before, after, open_s,
               (u1.cpu_s - u0.cpu_s) * 1000.0 / secs, static_cast<double>(u1.switches - u0.switches) / secs);
+  std::printf("THREADS%s\n", threads.c_str());
   std::fflush(stdout);
   return 0;
 }
@@ -124,7 +167,7 @@ int main(int argc, char** argv) {
   if (!child_backend.empty()) return child(child_backend, child_topics, idle);
 
   ::setenv("HORUS_DDS_LOCALHOST", "1", 0);
-  ::setenv("HORUS_LCM_URL", fmt::format("udpm://239.255.76.{}:{}?ttl=0", 100 + ::getpid() % 100, 20000 + ::getpid() % 20000).c_str(), 0);
+  ::setenv("HORUS_LCM_URL", fmt::format("udpm://239.255.76.{}:{}?ttl=0&recv_buf_size=8388608", 100 + ::getpid() % 100, 20000 + ::getpid() % 20000).c_str(), 0);
   ::setenv("HORUS_DOMAIN_ID", std::to_string(::getpid() % 200 + 1).c_str(), 0);
   std::vector<std::string> rows;
   std::printf("%-11s %6s %8s %9s %9s %14s %12s\n", "backend", "topics", "threads", "added", "open s",
@@ -134,7 +177,13 @@ int main(int argc, char** argv) {
     FILE* p = ::popen(cmd.c_str(), "r");
     if (p == nullptr) return;
     char line[512];
+    bool pending_threads = false;
     while (std::fgets(line, sizeof line, p) != nullptr) {
+      if (pending_threads && std::strncmp(line, "THREADS", 7) == 0) {
+        std::printf("%-11s   CPU ms/s by thread:%s", "", line + 7);
+        pending_threads = false;
+        continue;
+      }
       char name[64];
       int topics = 0, before = 0, after = 0;
       double open_s = 0, cpu = 0, sw = 0;
@@ -142,6 +191,7 @@ int main(int argc, char** argv) {
           7) {
         std::printf("%-11s %6d %8d %9d %9.3f %14.2f %12.0f\n", name, topics, after, after - before, open_s, cpu, sw);
         std::fflush(stdout);
+        pending_threads = true;
         rows.push_back(fmt::format("{{\"backend\":\"{}\",\"topics\":{},\"threads\":{},\"threads_added\":{},"
                                    "\"open_s\":{:.4f},\"idle_cpu_ms_per_s\":{:.3f},\"switches_per_s\":{:.1f}}}",
                                    name, topics, after, after - before, open_s, cpu, sw));

@@ -30,7 +30,7 @@
 #include <vector>
 
 #include "bench_cmd_internal.hpp"
-#include "bench_common.hpp"
+#include "horus/detail/cache_floor.hpp"
 #include "bench_peer.hpp"
 #include "horus/config.hpp"
 #include "horus/detail/cache_floor.hpp"

@@ -72,6 +72,14 @@ void on_sample_lost(dds_entity_t, const dds_sample_lost_status_t status, void* a
   if (status.total_count_change > 0) static_cast<EndpointCore*>(arg)->lost(static_cast<std::uint64_t>(status.total_count_change));
 }
 
+void on_publication_matched(dds_entity_t, const dds_publication_matched_status_t, void* arg) {
+  static_cast<EndpointCore*>(arg)->matched();
+}
+
+void on_subscription_matched(dds_entity_t, const dds_subscription_matched_status_t, void* arg) {
+  static_cast<EndpointCore*>(arg)->matched();
+}
+
 void on_requested_incompatible_qos(dds_entity_t, const dds_requested_incompatible_qos_status_t status, void* arg) {
   auto* core = static_cast<EndpointCore*>(arg);
   try {
@@ -208,6 +216,8 @@ Result<void> CycloneEndpoint::create() {
   dds_lset_requested_incompatible_qos(reader_listener.get(), on_requested_incompatible_qos);
   dds_lset_data_available(reader_listener.get(), on_data_available);
   dds_lset_sample_lost(reader_listener.get(), on_sample_lost);
+  dds_lset_publication_matched(writer_listener.get(), on_publication_matched);
+  dds_lset_subscription_matched(reader_listener.get(), on_subscription_matched);
 
   writer_ = dds_create_writer(participant, topic_, qos.get(), writer_listener.get());
   if (writer_ < 0) {

@@ -55,6 +55,10 @@ class EndpointCore {
   void lost(std::uint64_t count) noexcept {
     gate_.run([&](net::EndpointGate::Calls& calls) { calls.lost(count); });
   }
+  /// The matched remote writers or readers changed.
+  void matched() noexcept {
+    gate_.run([&](net::EndpointGate::Calls& calls) { calls.matched(); });
+  }
   /// After this returns, the listener is never called again.
   void close() noexcept { gate_.close(); }
   /// Takes every sample the reader holds and hands the valid ones to the listener.

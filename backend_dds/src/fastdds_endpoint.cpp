@@ -65,12 +65,20 @@ void Core::post_lost(std::int32_t count) {
   drain();
 }
 
+void Core::post_matched() {
+  {
+    std::lock_guard lk(queue_mu_);
+    matched_changed_ = true;
+  }
+  drain();
+}
+
 void Core::drain() {
   if (t_app_call > 0) {
     bool has_errors;
     {
       std::lock_guard lk(queue_mu_);
-      has_errors = !errors_.empty() || lost_ != 0;
+      has_errors = !errors_.empty() || lost_ != 0 || matched_changed_;
     }
     if (has_errors) dispatcher_.post(shared_from_this());
     return;  // no remote sample arrives on an application thread; the filter keeps our own out
@@ -92,13 +100,16 @@ void Core::deliver_sample(net::EndpointGate::Calls& calls, const RawReadSample& 
 void Core::deliver(net::EndpointGate::Calls& calls) {
   std::vector<std::string> errors;
   std::uint64_t lost = 0;
+  bool matched = false;
   {
     std::lock_guard lk(queue_mu_);
     errors.swap(errors_);
     lost = std::exchange(lost_, 0);
+    matched = std::exchange(matched_changed_, false);
   }
   for (const auto& e : errors) calls.error(e);
   if (lost != 0) calls.lost(lost);
+  if (matched) calls.matched();
   fd::DataReader* reader = reader_.load(std::memory_order_acquire);
   if (reader == nullptr) return;
   fd::LoanableSequence<RawReadSample> data;

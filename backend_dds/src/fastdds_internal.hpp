@@ -142,6 +142,8 @@ class Core : public std::enable_shared_from_this<Core> {
   /// Samples of remote writers the reader will never get (Fast DDS's SAMPLE_LOST: a KEEP_LAST
   /// writer overwrote them before our reader acknowledged): added to the topic's lost count.
   void post_lost(std::int32_t count);
+  /// The matched remote endpoints changed: the listener hears it (on_matched) from the gate.
+  void post_matched();
   /// Delivers queued errors and available samples, unless another thread is doing so (it then
   /// picks this up) or this is an application thread (the dispatcher then does it).
   void drain();
@@ -163,6 +165,7 @@ class Core : public std::enable_shared_from_this<Core> {
   std::mutex queue_mu_;
   std::vector<std::string> errors_;  // waiting for delivery (queue_mu_)
   std::uint64_t lost_ = 0;           // samples lost, waiting for delivery (queue_mu_)
+  bool matched_changed_ = false;     // on_matched waiting for delivery (queue_mu_)
 
   mutable std::mutex matched_mu_;
   std::set<rtps::GUID_t> remote_writers_, remote_readers_;

@@ -47,12 +47,15 @@ std::string shorten(const std::string& name) {
 void Core::on_matched(bool reader_side, const rtps::InstanceHandle_t& handle, std::int32_t change) {
   const rtps::GUID_t guid = rtps::iHandle2GUID(handle);
   if (change == 0 || is_local(guid.guidPrefix)) return;
-  std::lock_guard lk(matched_mu_);
-  auto& set = reader_side ? remote_writers_ : remote_readers_;
-  if (change > 0)
-    set.insert(guid);
-  else
-    set.erase(guid);
+  {
+    std::lock_guard lk(matched_mu_);
+    auto& set = reader_side ? remote_writers_ : remote_readers_;
+    if (change > 0)
+      set.insert(guid);
+    else
+      set.erase(guid);
+  }
+  post_matched();
 }
 
 std::uint32_t Core::matched(bool reader_side) const {

@@ -18,9 +18,14 @@
 namespace horus::shm {
 
 namespace {
-constexpr std::size_t kBoardBytes = sizeof(EngineSlot) * kEngineSlots;
+constexpr std::size_t kBoardBytes = sizeof(EngineBoardHeader) + sizeof(EngineSlot) * kEngineSlots;
 
-EngineSlot* slots_at(void* base) noexcept { return static_cast<EngineSlot*>(base); }
+EngineSlot* slots_at(void* base) noexcept {
+  return reinterpret_cast<EngineSlot*>(static_cast<std::byte*>(base) + sizeof(EngineBoardHeader));
+}
+EngineBoardHeader* header_of(EngineSlot* slots) noexcept {
+  return reinterpret_cast<EngineBoardHeader*>(reinterpret_cast<std::byte*>(slots) - sizeof(EngineBoardHeader));
+}
 
 // Maps an open board file, growing a new (empty) one to its size first; null on failure.
 void* map_board(int fd) noexcept {
@@ -106,6 +111,16 @@ bool notify_in(EngineSlot* slots, std::uint64_t forward) noexcept {
 
 std::string engine_board_name(const std::string& ns) { return "/horus." + ns + "@engines.v1"; }
 
+void note_bridge_released() noexcept {
+  if (EngineSlot* slots = process_board().slots.load(std::memory_order_acquire))
+    header_of(slots)->released.fetch_add(1, std::memory_order_release);
+}
+
+std::uint64_t bridge_releases() noexcept {
+  EngineSlot* slots = process_board().slots.load(std::memory_order_acquire);
+  return slots == nullptr ? 0 : header_of(slots)->released.load(std::memory_order_acquire);
+}
+
 bool notify_engine(std::uint64_t forward) noexcept {
   EngineSlot* slots = process_board().slots.load(std::memory_order_acquire);
   if (notify_in(slots, forward)) return true;
@@ -135,8 +150,8 @@ std::expected<EngineBell, SegmentError> EngineBell::claim(const std::string& ns,
     ProcessBoard& pb = process_board();
     std::unique_lock board_lock(pb.mutex);
     // The board this process maps already (an engine of this process, or a publisher's ring).
-    void* base = pb.slots.load(std::memory_order_acquire) != nullptr && pb.ino == st.st_ino ? pb.slots.load()
-                                                                                              : map_board(fd);
+    EngineSlot* const mapped = pb.slots.load(std::memory_order_acquire);
+    void* base = mapped != nullptr && pb.ino == st.st_ino ? static_cast<void*>(header_of(mapped)) : map_board(fd);
     if (base == nullptr) {
       auto err = io("cannot map the network engines' board");
       ::flock(fd, LOCK_UN);
@@ -167,7 +182,7 @@ std::expected<EngineBell, SegmentError> EngineBell::claim(const std::string& ns,
       return bell;
     }
     ::flock(fd, LOCK_UN);
-    if (base != pb.slots.load()) ::munmap(base, kBoardBytes);
+    if (mapped == nullptr || base != static_cast<void*>(header_of(mapped))) ::munmap(base, kBoardBytes);
     ::close(fd);
     return std::unexpected(SegmentError{SegmentError::Kind::LimitReached,
                                         "every one of the " + std::to_string(kEngineSlots) +

@@ -69,6 +69,8 @@ void Ring::remove_subscriber(std::uint32_t entry, std::uint64_t token) const noe
     hdr_->doorbell.state.fetch_sub(w * Doorbell::kWaiter, std::memory_order_acq_rel);
   e.owner.store(0, std::memory_order_relaxed);
   e.state.store(SubscriberEntry::kFree, std::memory_order_release);
+  // A fleet topic's bridge stops receiving when the host's last subscriber leaves: tell it.
+  if ((hdr_->doorbell.state.load(std::memory_order_relaxed) >> 32) != 0) ring_doorbell(hdr_->doorbell, Doorbell::kArmedBridge);
 }
 
 bool Ring::adopt_lane(std::uint32_t lane, std::uint64_t from, std::uint64_t to) const noexcept {

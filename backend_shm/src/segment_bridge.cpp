@@ -4,6 +4,8 @@
 // lock_inheritance / unlock_inheritance).
 #include "horus/shm/shm_segment.hpp"
 
+#include "horus/shm/engine_board.hpp"
+
 #include <sys/file.h>
 #include <unistd.h>
 
@@ -51,7 +53,9 @@ ShmSegment::BridgeClaim ShmSegment::claim_bridge() noexcept {
 void ShmSegment::release_bridge() noexcept {
   if (header_ == nullptr || slot_ >= kMaxParticipants) return;
   std::uint64_t mine = bridge_word(::getpid(), slot_);
-  header_->bridge.owner.compare_exchange_strong(mine, 0, std::memory_order_acq_rel);
+  // Watchers of other processes see a release on the engine board (a holder that exits is
+  // seen through its pidfd instead).
+  if (header_->bridge.owner.compare_exchange_strong(mine, 0, std::memory_order_acq_rel)) note_bridge_released();
 }
 
 void ShmSegment::record_bridge_export(std::uint32_t entry, std::uint64_t token) noexcept {

@@ -1,4 +1,8 @@
+// The local registry (registry.hpp): what the segments of a namespace say, read-only.
 #include "horus/discovery/registry.hpp"
+
+#include <dirent.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cstring>
@@ -12,15 +16,31 @@ namespace horus::discovery {
 
 namespace {
 
+// Whether a process lives, asked of the kernel once per (pid, start time) and scan.
+class Liveness {
+ public:
+  bool alive(pid_t pid, std::uint64_t start) {
+    auto [it, fresh] = known_.try_emplace({pid, start}, false);
+    if (fresh) it->second = shm::process_alive(pid, start);
+    return it->second;
+  }
+
+ private:
+  std::map<std::pair<pid_t, std::uint64_t>, bool> known_;
+};
+
 // Fills what one look at a segment can tell (everything but the rate).
-std::optional<TopicEntry> read_entry(const shm::SegmentInfo& info) {
+std::optional<TopicEntry> read_entry(const std::string& file, const std::string& topic,
+                                     const shm::SegmentView* view, Liveness& live) {
   TopicEntry e;
-  e.topic = info.topic;
-  e.segment = info.name;
-  e.segment_bytes = info.size;
-  auto view = shm::SegmentView::open("/" + info.name);
-  if (!view) return std::nullopt;
+  e.topic = topic;
+  e.segment = file;
+  if (view == nullptr) return std::nullopt;
+  e.segment_bytes = view->size();
   const auto& h = view->header();
+  if (h.magic != shm::kSegmentMagic || h.layout_version != shm::kSegmentVersion ||
+      h.ready.load(std::memory_order_acquire) != 1)
+    return std::nullopt;
   e.type_name = std::string(h.type_name, strnlen(h.type_name, shm::kMaxTypeName));
   e.type_hash = h.type_hash;
   e.serialized = h.serialized != 0;
@@ -60,7 +80,7 @@ std::optional<TopicEntry> read_entry(const shm::SegmentInfo& info) {
     const auto slot = static_cast<std::uint32_t>(owner & 0xffff'ffffu) - 1u;
     if (owner != 0 && slot < shm::kMaxParticipants &&
         static_cast<pid_t>(h.participants[slot].pid.load(std::memory_order_acquire)) == holder &&
-        shm::process_alive(holder, h.participants[slot].start_time.load(std::memory_order_relaxed)))
+        live.alive(holder, h.participants[slot].start_time.load(std::memory_order_relaxed)))
       e.bridge_pid = holder;
   }
 
@@ -70,7 +90,7 @@ std::optional<TopicEntry> read_entry(const shm::SegmentInfo& info) {
     if (pid == 0) continue;
     auto& proc = procs[pid];
     proc.pid = pid;
-    proc.alive = shm::process_alive(pid, p.start_time.load(std::memory_order_relaxed));
+    proc.alive = live.alive(pid, p.start_time.load(std::memory_order_relaxed));
     proc.bridge = pid == e.bridge_pid;
   }
   for (std::uint32_t l = 0; l < shm::kMaxPublishers; ++l) {
@@ -123,11 +143,58 @@ void sample_rates(std::vector<TopicEntry>& entries, std::chrono::milliseconds wi
 
 }  // namespace
 
-std::vector<TopicEntry> list_topics(std::string_view ns, std::chrono::milliseconds window) {
+struct Scanner::Cache {
+  struct Mapped {
+    ino_t ino = 0;
+    std::optional<shm::SegmentView> view;  // nothing: it did not open (not a segment, gone)
+  };
+  std::map<std::string, Mapped> files;  // file name in /dev/shm -> its mapping
+  struct timespec dir_mtime{};
+};
+
+Scanner::Scanner(std::string ns) : ns_(std::move(ns)), cache_(std::make_unique<Cache>()) {}
+Scanner::~Scanner() = default;
+
+bool Scanner::topics_changed() {
+  struct stat st{};
+  if (::stat("/dev/shm", &st) != 0) return true;
+  const bool changed = st.st_mtim.tv_sec != cache_->dir_mtime.tv_sec || st.st_mtim.tv_nsec != cache_->dir_mtime.tv_nsec;
+  cache_->dir_mtime = st.st_mtim;
+  return changed;
+}
+
+std::vector<TopicEntry> Scanner::scan() {
+  const std::string prefix = "horus." + ns_ + ".";
+  std::map<std::string, Cache::Mapped> seen;
+  if (DIR* dir = ::opendir("/dev/shm")) {
+    while (dirent* ent = ::readdir(dir)) {
+      const std::string_view file(ent->d_name);
+      if (!file.starts_with(prefix)) continue;
+      auto it = cache_->files.find(std::string(file));
+      if (it != cache_->files.end() && it->second.ino == ent->d_ino && it->second.view) {
+        seen.emplace(it->first, std::move(it->second));
+        continue;
+      }
+      Cache::Mapped m;
+      m.ino = ent->d_ino;
+      if (auto v = shm::SegmentView::open("/" + std::string(file))) m.view.emplace(std::move(*v));
+      seen.emplace(std::string(file), std::move(m));
+    }
+    ::closedir(dir);
+  }
+  cache_->files = std::move(seen);  // what went is unmapped
+  Liveness live;
   std::vector<TopicEntry> out;
-  for (const auto& info : shm::list_segments(ns))
-    if (auto e = read_entry(info)) out.push_back(std::move(*e));
+  for (const auto& [file, m] : cache_->files)
+    if (auto e = read_entry(file, file.substr(prefix.size()), m.view ? &*m.view : nullptr, live))
+      out.push_back(std::move(*e));
   std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.topic < b.topic; });
+  return out;
+}
+
+std::vector<TopicEntry> list_topics(std::string_view ns, std::chrono::milliseconds window) {
+  Scanner scanner{std::string(ns)};
+  auto out = scanner.scan();
   sample_rates(out, window);
   return out;
 }

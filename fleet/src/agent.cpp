@@ -268,11 +268,19 @@ class Agent {
       next_scan_ = now;
       rescan_ = false;
     }
-    if (now >= next_scan_) {
+    // A full scan every announce period; between them, a look every 500 ms at whether a topic
+    // appeared or went (one stat of /dev/shm), which scans at once.
+    bool scan_now = now >= next_scan_;
+    if (now >= next_look_) {
+      next_look_ = now + std::chrono::milliseconds(500);
+      if (!scanner_) scanner_ = std::make_unique<discovery::Scanner>(shm::shm_namespace().value_or(""));
+      scan_now = scanner_->topics_changed() || scan_now;
+    }
+    if (scan_now) {
       lock.unlock();
       scan();
       lock.lock();
-      next_scan_ = now + std::min<Clock::duration>(settings_.announce_period, std::chrono::milliseconds(500));
+      next_scan_ = now + settings_.announce_period;
       if (current_.version != sent_version_.load(std::memory_order_relaxed)) announce_due_ = std::min(announce_due_, now);
     }
     // At most one announcement per 100 ms, however many requests arrive.
@@ -289,7 +297,7 @@ class Agent {
       lock.lock();
       last_announce_ = now;
     }
-    return std::min(next_scan_, std::max(announce_due_, last_announce_ + std::chrono::milliseconds(100)));
+    return std::min({next_scan_, next_look_, std::max(announce_due_, last_announce_ + std::chrono::milliseconds(100))});
   }
 
   // Makes the announcer due now (a request, or this process now speaks for the host).
@@ -311,7 +319,8 @@ class Agent {
     const auto now = std::chrono::steady_clock::now();
     std::map<std::string, Sample> samples;
     std::uint64_t version = 0xcbf29ce484222325ULL;
-    for (const auto& e : discovery::list_topics(a.shm_namespace)) {
+    if (!scanner_) scanner_ = std::make_unique<discovery::Scanner>(a.shm_namespace);
+    for (const auto& e : scanner_->scan()) {
       for (const auto& p : e.processes)
         if (p.alive) pids.insert(p.pid);
       if (e.stale || e.topic.starts_with(detail::kFleetTopicPrefix)) continue;
@@ -391,7 +400,8 @@ class Agent {
   std::mutex mutex_;  // guards what follows
   std::condition_variable cv_;
   std::chrono::steady_clock::time_point announce_due_{};
-  std::chrono::steady_clock::time_point next_scan_{}, last_announce_{};
+  std::chrono::steady_clock::time_point next_scan_{}, next_look_{}, last_announce_{};
+  std::unique_ptr<discovery::Scanner> scanner_;  // the announcer's: segments stay mapped between scans
   bool rescan_ = false;
   bool stopping_ = false;
   std::shared_ptr<detail::Engine> engine_;  // runs the announcer (set by the agent's thread)

@@ -17,10 +17,6 @@ namespace horus::fleet::detail {
 using horus::detail::log;
 
 namespace {
-constexpr auto kWatchPeriod = std::chrono::milliseconds(50);  // a watcher looks at the claim
-constexpr auto kMatchFast = std::chrono::milliseconds(50);    // matched counts, while discovery settles
-constexpr auto kMatchSlow = std::chrono::seconds(1);          // matched counts, later
-constexpr auto kMatchSettle = std::chrono::seconds(5);        // how long discovery may take to settle
 constexpr auto kMatchWait = std::chrono::seconds(1);          // a successor waits for the readers
 constexpr auto kImportWait = std::chrono::milliseconds(100);  // a reliable import holds samples for room
 constexpr auto kEchoTtl = std::chrono::seconds(2);            // how long our own sample may take to come back
@@ -286,8 +282,6 @@ Result<void> Bridge::become_holder(bool takeover) {
     gate_until_ = Clock::now() + kMatchWait;
     gated_.store(true, std::memory_order_release);
   }
-  held_since_claim_ = Clock::now();
-  next_match_ = Clock::time_point{};
   holder_.store(true, std::memory_order_release);
   endpoint_ready_.store(true, std::memory_order_release);
   publish_matches();
@@ -316,6 +310,7 @@ void Bridge::service() noexcept {
     release_export();
   }
   update_receiving();
+  if (matches_changed_.exchange(false, std::memory_order_acq_rel)) publish_matches();
 }
 
 Clock::time_point Bridge::control(Clock::time_point now, bool gone) noexcept {
@@ -336,21 +331,21 @@ Clock::time_point Bridge::control(Clock::time_point now, bool gone) noexcept {
       }
       engine_->notify(*this);
     }
-    if (now >= next_match_) {
-      publish_matches();
-      update_receiving();
-      next_match_ = now + (now - held_since_claim_ < kMatchSettle ? kMatchFast : kMatchSlow);
-    }
-    return next_match_;
+    // The matched counts come with the transport's on_matched, receiving follows the host's
+    // subscribers through the doorbell (service()): nothing to do on a timer.
+    return Clock::time_point::max();
   }
   // A watcher: claim when nobody holds the bridge, or its holder is gone (pidfd), or a holder
   // it cannot watch (no pidfd) may be gone; the claim word tells a holder that left.
+  // A watcher is due when something happened (engine.cpp): its holder's pidfd fired, a claim was
+  // given up on the host, or it was just added; it looks at the claim word and claims when
+  // nobody (alive) holds the bridge.
   const std::uint64_t owner = state().owner.load(std::memory_order_acquire);
-  if (retry_claim_ && now < retry_at_) return std::min(retry_at_, now + kWatchPeriod);
-  if (owner != 0 && owner == seen_owner_ && !gone && !retry_claim_) return now + kWatchPeriod;
+  if (retry_claim_ && now < retry_at_) return retry_at_;
+  if (owner != 0 && owner == seen_owner_ && !gone && !retry_claim_) return Clock::time_point::max();
   seen_owner_ = owner;
   const auto claim = segment().claim_bridge();
-  if (claim == shm::ShmSegment::BridgeClaim::Held) return now + kWatchPeriod;
+  if (claim == shm::ShmSegment::BridgeClaim::Held) return Clock::time_point::max();
   const bool takeover = claim == shm::ShmSegment::BridgeClaim::TookOver;
   if (auto ok = become_holder(takeover); !ok) {
     log().error("topic '{}': this process could not take over the host's bridge to {}: {}; retrying in 1 s",
@@ -364,7 +359,7 @@ Clock::time_point Bridge::control(Clock::time_point now, bool gone) noexcept {
   log().info("topic '{}': this process (pid {}) now bridges the host to {}{}", core_.name, ::getpid(), info_.name,
              takeover ? " (it took over from a process that is gone)" : "");
   attach();
-  return gated_.load() ? now + std::chrono::milliseconds(1) : now + kMatchFast;
+  return gated_.load() ? now + std::chrono::milliseconds(1) : Clock::time_point::max();
 }
 
 pid_t Bridge::watched_pid() const noexcept {
@@ -523,6 +518,12 @@ void Bridge::on_lost(std::uint64_t count) {
     log().warn("topic '{}': the {} backend lost {} message(s) or datagram(s) ({} so far on this host; they "
                "count in dropped_count())",
                core_.name, info_.name, count, before + count);
+}
+
+void Bridge::on_matched() {
+  // The transport's thread: the export thread asks the endpoint and publishes the counts.
+  matches_changed_.store(true, std::memory_order_release);
+  engine_->notify(*this);
 }
 
 void Bridge::on_error(std::string_view message) {

@@ -83,6 +83,7 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
   std::size_t room() override;
   void on_lost(std::uint64_t count) override;
   void on_error(std::string_view message) override;
+  void on_matched() override;
 
   // -- the engine ---------------------------------------------------------------------
   /// The export thread, notified: re-arms the doorbell, exports, resumes receiving.
@@ -100,6 +101,8 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
   const std::string& name() const noexcept { return core_.name; }
 
   std::uint32_t index = 0;     // the engine's bit (set by Engine::add)
+  std::uint64_t serial = 0;    // unique per engine (set by Engine::add)
+  pid_t watched_seen = -1;     // the control thread's: the holder it watches now
   std::atomic<int> pins{0};    // engine threads using it now (Engine::remove waits for none)
 
  private:
@@ -147,10 +150,9 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
   std::atomic<bool> stop_{false};
   std::atomic<bool> export_busy_{false};       // someone exports now
   std::atomic<bool> gated_{false};             // a successor waits for the readers to match
+  std::atomic<bool> matches_changed_{false};   // the endpoint's matched counts changed (on_matched)
   Clock::time_point gate_until_{};
   std::uint32_t gate_readers_ = 0;
-  Clock::time_point next_match_{};             // the control thread's
-  Clock::time_point held_since_claim_{};       // when this process became the holder
   std::uint64_t seen_owner_ = ~std::uint64_t{0};  // the claim word at the control thread's last look
   bool retry_claim_ = false;                   // a takeover failed: retry_at_
   Clock::time_point retry_at_{};

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <map>
+#include <queue>
 #include <unordered_set>
 
 #include "bridge.hpp"
@@ -22,6 +23,8 @@ using horus::detail::log;
 namespace {
 constexpr auto kPumpPeriod = std::chrono::microseconds(200);  // held samples, while a transport holds some
 constexpr auto kRecheck = std::chrono::milliseconds(10);      // a topic attached: look once more (doorbell.hpp's race)
+constexpr auto kReleaseLook = std::chrono::milliseconds(50);  // the board's count of claims given up
+constexpr auto kPollHolder = std::chrono::milliseconds(50);   // a holder without a pidfd: is it alive?
 
 int open_pidfd(pid_t pid) noexcept {
 #ifdef SYS_pidfd_open
@@ -115,6 +118,8 @@ void Engine::add(Bridge& b) {
     if (free == by_index_.end()) free = by_index_.insert(by_index_.end(), nullptr);
     *free = &b;
     b.index = static_cast<std::uint32_t>(free - by_index_.begin());
+    b.serial = next_serial_++;
+    added_.push_back(b.serial);
   }
   kick();  // a watcher: the control thread watches its holder from now on
 }
@@ -228,10 +233,14 @@ void Engine::run_export() {
 
 // --- the control thread ------------------------------------------------------------------------
 
-void Engine::watch_holders(const std::vector<Bridge*>& watchers) {
+void Engine::watch_holders(const std::vector<Bridge*>&) {
   std::unordered_set<pid_t> want;
-  for (Bridge* b : watchers)
-    if (const pid_t pid = b->watched_pid(); pid > 0 && pid != ::getpid()) want.insert(pid);
+  {
+    std::lock_guard lock(mutex_);
+    for (Bridge* b : by_index_)
+      if (b != nullptr)
+        if (const pid_t pid = b->watched_pid(); pid > 0 && pid != ::getpid()) want.insert(pid);
+  }
   for (auto it = pidfds_.begin(); it != pidfds_.end();) {
     if (want.contains(it->first)) {
       ++it;
@@ -253,48 +262,85 @@ void Engine::watch_holders(const std::vector<Bridge*>& watchers) {
   }
 }
 
+// Each bridge has its own due time (a min-heap of (due, serial)): a holder's matched counts and
+// gate, a watcher's retry; an idle watcher is due only when something happens: its holder's pidfd
+// fires, or a claim is given up somewhere on the host (the board's release count, looked at
+// every 50 ms: one load). So an idle process visits its topics about once a second, not 20 times.
 void Engine::run_control() {
+  using Entry = std::pair<Clock::time_point, std::uint64_t>;  // (due, serial)
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> due;
   std::unordered_set<pid_t> gone;
-  auto next_scan = Clock::time_point{};
+  std::uint64_t releases = shm::bridge_releases();
+  auto next_release_look = Clock::now();
+  bool watch_dirty = true;
+  // Makes every watcher (or every watcher of `pid`, when > 0) due now.
+  auto wake_watchers = [&](pid_t pid, Clock::time_point now) {
+    std::lock_guard lock(mutex_);
+    for (Bridge* b : by_index_)
+      if (b != nullptr && !b->is_holder() && (pid <= 0 || b->watched_pid() == pid)) due.emplace(now, b->serial);
+  };
   while (!stop_.load(std::memory_order_acquire)) {
     auto now = Clock::now();
-    const auto due = std::min(next_scan, run_jobs(now));
-    int timeout_ms = -1;
-    if (due != Clock::time_point::max()) {
-      const auto wait = std::chrono::ceil<std::chrono::milliseconds>(due - Clock::now()).count();
-      timeout_ms = static_cast<int>(std::clamp<long long>(wait, 0, 60'000));
-    }
+    auto next = std::min(run_jobs(now), next_release_look);
+    if (!due.empty()) next = std::min(next, due.top().first);
+    const auto wait = std::chrono::ceil<std::chrono::milliseconds>(next - Clock::now()).count();
+    const int timeout_ms = static_cast<int>(std::clamp<long long>(wait, 0, 60'000));
     epoll_event events[16];
     const int n = epoll_fd_ >= 0 ? ::epoll_wait(epoll_fd_, events, 16, timeout_ms) : 0;
     if (stop_.load(std::memory_order_acquire)) break;
-    bool kicked = false;
+    now = Clock::now();
     for (int i = 0; i < n; ++i) {
       if (events[i].data.fd == event_fd_) {
         std::uint64_t v;
         while (::read(event_fd_, &v, sizeof(v)) > 0) {
         }
-        kicked = true;
+        std::lock_guard lock(mutex_);
+        for (std::uint64_t serial : added_) due.emplace(now, serial);
+        added_.clear();
+        watch_dirty = true;
         continue;
       }
       for (auto& [pid, fd] : pidfds_)
         if (fd == events[i].data.fd) gone.insert(pid);
     }
-    now = Clock::now();
-    if (!kicked && gone.empty() && now < next_scan) continue;
-    auto all = pinned([&](std::vector<Bridge*>& out) {
+    for (pid_t pid : gone) wake_watchers(pid, now);
+    if (now >= next_release_look) {
+      next_release_look = now + kReleaseLook;
+      if (const std::uint64_t r = shm::bridge_releases(); r != releases) {
+        releases = r;
+        wake_watchers(0, now);
+      }
+    }
+    std::vector<std::uint64_t> serials;
+    while (!due.empty() && due.top().first <= now) {
+      if (std::find(serials.begin(), serials.end(), due.top().second) == serials.end())
+        serials.push_back(due.top().second);
+      due.pop();
+    }
+    if (serials.empty()) continue;
+    auto work = pinned([&](std::vector<Bridge*>& out) {
       for (Bridge* b : by_index_)
-        if (b != nullptr) out.push_back(b);
+        if (b != nullptr && std::find(serials.begin(), serials.end(), b->serial) != serials.end()) out.push_back(b);
     });
-    next_scan = now + std::chrono::seconds(1);
-    for (Bridge* b : all) {
-      // Gone: its pidfd fired, or it has none (no pidfd for it: look at its liveness each time).
+    for (Bridge* b : work) {
       const pid_t watched = b->watched_pid();
-      const bool maybe_gone = watched > 0 && (gone.contains(watched) || !pidfds_.contains(watched));
-      next_scan = std::min(next_scan, b->control(now, maybe_gone));
+      const bool no_pidfd = watched > 0 && !pidfds_.contains(watched);
+      auto at = b->control(now, watched > 0 && (gone.contains(watched) || no_pidfd));
+      const pid_t after = b->watched_pid();
+      if (after != b->watched_seen) {
+        b->watched_seen = after;
+        watch_dirty = true;
+      }
+      // A holder nobody can watch through a pidfd: look at its liveness every 50 ms.
+      if (after > 0 && !pidfds_.contains(after)) at = std::min(at, now + kPollHolder);
+      if (at != Clock::time_point::max()) due.emplace(at, b->serial);
     }
     gone.clear();
-    watch_holders(all);
-    unpin(all);
+    if (watch_dirty) {
+      watch_holders(work);
+      watch_dirty = false;
+    }
+    unpin(work);
   }
 }
 

@@ -100,6 +100,8 @@ class Engine {
   std::vector<Bridge*> by_index_;     // index: the bridge's bit (mod kEngineBits); null: free
   std::vector<Bridge*> held_;         // bridges whose transport holds samples back
   std::vector<std::uint32_t> recheck_;  // bridges to look at once more (recheck())
+  std::vector<std::uint64_t> added_;    // bridges the control thread has not seen yet (serials)
+  std::uint64_t next_serial_ = 1;
   std::atomic<bool> stop_{false};
 
   // The control thread's.

@@ -105,6 +105,9 @@ class Listener {
   /// that holds samples (Transport::holds_samples) takes no more than this and leaves the rest
   /// in its reader, whose flow control slows the remote writer, until Endpoint::take_held().
   virtual std::size_t room() { return SIZE_MAX; }
+  /// The remote writers or readers matched by the endpoint came or went: ask its
+  /// matched_publishers()/matched_subscribers() (from another thread, not from this call).
+  virtual void on_matched() {}
 
  protected:
   ~Listener() = default;

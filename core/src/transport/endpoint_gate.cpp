@@ -50,6 +50,14 @@ std::size_t EndpointGate::Calls::room() noexcept {
   }
 }
 
+void EndpointGate::Calls::matched() noexcept {
+  if (!gate_.is_open()) return;
+  try {
+    gate_.listener_.on_matched();
+  } catch (...) {
+  }
+}
+
 void EndpointGate::Calls::lost(std::uint64_t count) noexcept {
   if (!gate_.is_open()) return;
   try {

@@ -5,8 +5,12 @@
 // (futex_waitv takes at most 128 words). The engine of a process (fleet/) instead sleeps on one
 // futex word of its own, in a host-wide board:
 //
-//   /dev/shm/horus.<namespace>.engines.v1      kEngineSlots slots of 640 bytes, zero = free
+//   /dev/shm/horus.<namespace>@engines.v1      a header, then kEngineSlots slots of 640 bytes;
+//                                              zero = empty
 //
+//   EngineBoardHeader  released  bridge claims given up by a live holder (a topic closed), host-
+//                          wide: the watchers' control threads look at it (one load every 50 ms)
+//                          and look at their topics' claims only when it moved.
 //   EngineSlot   owner     (pid << 32) | generation; 0: free. The engine claims a slot (under
 //                          flock on the file) and frees it when it stops; a dead owner's slot is
 //                          claimed again (its pid no longer runs).
@@ -45,6 +49,10 @@ inline constexpr std::uint32_t kEngineSlots = 128;       // engines (processes x
 inline constexpr std::uint32_t kEngineGroups = 64;       // 64-bit words of pending bits per engine
 inline constexpr std::uint32_t kEngineBits = 64 * kEngineGroups;  // topics per engine before bits are shared
 
+struct alignas(2 * kCacheLine) EngineBoardHeader {
+  std::atomic<std::uint64_t> released;  // bridge claims given up (ShmSegment::release_bridge)
+};
+
 struct alignas(2 * kCacheLine) EngineSlot {
   std::atomic<std::uint64_t> owner;    // (pid << 32) | generation; 0: free
   std::atomic<std::uint32_t> word;     // the futex word the engine sleeps on
@@ -62,6 +70,12 @@ constexpr std::uint64_t engine_forward(std::uint32_t slot, std::uint32_t bit, st
 /// The publisher's side: sets the topic's bit in the engine named by `forward` and wakes it.
 /// False when no live engine has that slot and generation (nothing was done).
 bool notify_engine(std::uint64_t forward) noexcept;
+
+/// A holder gave a bridge claim up: counts it on the board (when this process maps one: it had
+/// an engine, or rang one).
+void note_bridge_released() noexcept;
+/// Claims given up on this host so far (0 without a board mapped).
+std::uint64_t bridge_releases() noexcept;
 
 /// This process's slot on the host's board: one per network engine. Move-only; frees the slot.
 class EngineBell {

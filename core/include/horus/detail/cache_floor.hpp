@@ -24,6 +24,8 @@
 #pragma once
 
 #include <immintrin.h>
+#include <pthread.h>
+#include <sched.h>
 
 #include <atomic>
 #include <cstddef>
@@ -31,6 +33,14 @@
 #include <string_view>
 
 namespace horus::bench {
+
+/// Pins the calling thread to one CPU (false when that CPU is not available).
+inline bool pin_to_cpu(int cpu) {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  CPU_SET(cpu, &set);
+  return pthread_setaffinity_np(pthread_self(), sizeof(set), &set) == 0;
+}
 
 /// What every spin in a latency benchmark calls between two polls.
 [[gnu::always_inline]] inline void spin_pause() noexcept { _mm_pause(); }

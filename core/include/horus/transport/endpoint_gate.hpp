@@ -43,6 +43,7 @@ class EndpointGate {
     void sample(const Sample& sample) noexcept;
     void error(std::string_view message) noexcept;
     void lost(std::uint64_t count) noexcept;
+    void matched() noexcept;
     /// Listener::room() (0 after close, or when it throws).
     std::size_t room() noexcept;
     /// False once the endpoint was closed (from inside this very call).

@@ -10,6 +10,8 @@
 #include <chrono>
 #include <cstdint>
 #include <expected>
+#include <map>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -67,6 +69,27 @@ struct TopicEntry {
 /// Every topic of shared-memory namespace `ns`. With a window > 0, sent counts are sampled
 /// twice that far apart to give rate_hz.
 std::vector<TopicEntry> list_topics(std::string_view ns, std::chrono::milliseconds window = std::chrono::milliseconds(0));
+
+/// The same, for a caller that looks again and again (the fleet agent's announcements): keeps
+/// each segment mapped between scans (a file replaced under the same name is mapped anew: its
+/// inode differs) and asks the kernel whether a process lives once per scan, not once per
+/// topic. A scan of 1000 topics costs about a millisecond instead of tens.
+class Scanner {
+ public:
+  explicit Scanner(std::string ns);
+  ~Scanner();
+  Scanner(const Scanner&) = delete;
+  Scanner& operator=(const Scanner&) = delete;
+  /// Every topic now, sorted by name (rate_hz not sampled).
+  std::vector<TopicEntry> scan();
+  /// True when a topic appeared or went since the last call (the directory changed): cheap.
+  bool topics_changed();
+
+ private:
+  struct Cache;
+  std::string ns_;
+  std::unique_ptr<Cache> cache_;
+};
 
 /// One topic; an error text when it does not exist (naming the namespace and the topics that do).
 std::expected<TopicEntry, std::string> find_topic(std::string_view ns, std::string_view topic,
