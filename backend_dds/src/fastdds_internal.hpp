@@ -219,8 +219,8 @@ class ParticipantListener final : public fd::DomainParticipantListener {
 
 class FastddsTransport final : public net::Transport, public std::enable_shared_from_this<FastddsTransport> {
  public:
-  FastddsTransport(net::CacheTicket ticket, net::Config config)
-      : ticket_(std::move(ticket)), config_(config), listener_(*this) {}
+  FastddsTransport(net::CacheTicket ticket, net::Config config, bool control = false)
+      : ticket_(std::move(ticket)), config_(config), control_(control), listener_(*this) {}
   FastddsTransport(const FastddsTransport&) = delete;
   FastddsTransport& operator=(const FastddsTransport&) = delete;
   ~FastddsTransport() override;
@@ -249,6 +249,7 @@ class FastddsTransport final : public net::Transport, public std::enable_shared_
 
   net::CacheTicket ticket_;  // first: removes the cache entry after everything else is gone
   const net::Config config_;
+  const bool control_;  // the fleet layer's participant (TransportInfo::open_control)
   std::shared_ptr<fd::DomainParticipantFactory> factory_;
   fd::DomainParticipant* participant_ = nullptr;
   fd::Publisher* publisher_ = nullptr;

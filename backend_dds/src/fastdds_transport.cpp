@@ -105,7 +105,7 @@ Result<void> FastddsTransport::start() {
 
   // A QoS object of our own (not PARTICIPANT_QOS_DEFAULT): XML default profiles do not apply.
   fd::DomainParticipantQos pq;
-  pq.name("horus");
+  pq.name(control_ ? "horus-control" : "horus");
   pq.transport().use_builtin_transports = false;  // drops the default UDPv4 + shared-memory pair
   auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
   udp->sendBufferSize = kSocketBuffer;
@@ -264,17 +264,19 @@ Result<std::unique_ptr<net::Endpoint>> FastddsTransport::open(const net::Endpoin
 
 }  // namespace fastdds_detail
 
-Result<std::shared_ptr<net::Transport>> fastdds_transport(const net::Config& config) {
+Result<std::shared_ptr<net::Transport>> fastdds_transport(const net::Config& config, bool control) {
   using fastdds_detail::FastddsTransport;
   if (config.domain_id > net::kMaxDomainId)
     return fail(Errc::InvalidArgument, "Fast DDS: domain id " + std::to_string(config.domain_id) +
                                            " is out of range; expected 0 to " + std::to_string(net::kMaxDomainId));
   // One participant per configuration (domain id and localhost_only).
-  const std::string key = std::to_string(config.domain_id) + (config.localhost_only ? "/localhost" : "/lan");
+  // The fleet layer's own topics have a participant of their own (TransportInfo::open_control).
+  const std::string key = std::to_string(config.domain_id) + (config.localhost_only ? "/localhost" : "/lan") +
+                          (control ? "/control" : "");
   auto got = net::SharedCache<FastddsTransport>::instance().get(
       key,
       [&](net::CacheTicket ticket) -> Result<std::shared_ptr<FastddsTransport>> {
-        auto transport = std::make_shared<FastddsTransport>(std::move(ticket), config);
+        auto transport = std::make_shared<FastddsTransport>(std::move(ticket), config, control);
         if (auto started = transport->start(); !started) return std::unexpected(std::move(started.error()));
         return transport;
       },
@@ -290,6 +292,11 @@ void register_fastdds() {
          auto config = net::config_from_environment();
          if (!config) return std::unexpected(std::move(config.error()));
          return fastdds_transport(*config);
+       },
+       []() -> Result<std::shared_ptr<net::Transport>> {
+         auto config = net::config_from_environment();
+         if (!config) return std::unexpected(std::move(config.error()));
+         return fastdds_transport(*config, true);
        }});
 }
 

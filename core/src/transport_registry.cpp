@@ -36,7 +36,9 @@ Result<void> register_transport(const TransportInfo& info) {
   std::lock_guard lock(t.mutex);
   for (const auto& [name, have] : t.entries) {
     if (name != info.name) continue;
-    if (have.format == info.format && have.wire_name == info.wire_name && have.open == info.open) return {};
+    if (have.format == info.format && have.wire_name == info.wire_name && have.open == info.open &&
+        have.open_control == info.open_control)
+      return {};
     return fail(Errc::Config, fmt::format("transport '{}' is already registered with other functions; expected "
                                           "one registration per name",
                                           info.name));

@@ -130,16 +130,17 @@ Result<void> check_qos(const std::string& topic, const net::Qos& have, const Top
 // --- opening and closing ----------------------------------------------------------------------
 
 Bridge::Bridge(horus::detail::TopicCore& core, const horus::detail::WireOps& ops, const net::Qos& qos,
-               std::shared_ptr<Engine> engine)
+               std::shared_ptr<Engine> engine, std::shared_ptr<net::Transport> transport)
     : core_(core),
       ops_(ops),
       qos_(qos),
       engine_(std::move(engine)),
+      transport_(std::move(transport)),
       info_(engine_->info()),
       format_(info_.format),
       creator_pid_(horus::detail::current_pid()) {
-  loopback_ = engine_->transport()->delivers_own_samples();
-  hold_ = qos_.reliability == net::Reliability::Reliable && engine_->transport()->holds_samples();
+  loopback_ = transport_->delivers_own_samples();
+  hold_ = qos_.reliability == net::Reliability::Reliable && transport_->holds_samples();
 }
 
 Result<std::unique_ptr<horus::detail::NetworkLink>> Bridge::open(horus::detail::TopicCore& core,
@@ -168,7 +169,9 @@ Result<std::unique_ptr<horus::detail::NetworkLink>> Bridge::open(horus::detail::
   auto engine = Engine::of(*info);  // the transport reads its own settings (HORUS_DOMAIN_ID, HORUS_LCM_URL)
   if (!engine) return std::unexpected(std::move(engine.error()));
   g_network_pid.store(horus::detail::current_pid());
-  std::unique_ptr<Bridge> b(new Bridge(core, ops, qos, std::move(*engine)));
+  auto transport = (*engine)->transport_for(core.name);
+  if (!transport) return std::unexpected(std::move(transport.error()));
+  std::unique_ptr<Bridge> b(new Bridge(core, ops, qos, std::move(*engine), std::move(*transport)));
   b->wire_topic_ = std::move(*wire);
   const auto claim = b->segment().claim_bridge();
   if (claim == shm::ShmSegment::BridgeClaim::Claimed || claim == shm::ShmSegment::BridgeClaim::TookOver) {
@@ -192,6 +195,7 @@ Bridge::~Bridge() {
     (void)endpoint_.release();
     (void)port_.release();
     new std::shared_ptr<Engine>(std::move(engine_));  // never released in the child
+    new std::shared_ptr<net::Transport>(std::move(transport_));
     new Presence(std::move(presence_));
     return;
   }
@@ -265,7 +269,7 @@ Result<void> Bridge::become_holder(bool takeover) {
   spec.max_message_bytes = core_.pool ? core_.pool.slot_bytes() : core_.ring.header().payload_size;
   receiving_.store(host_subscribers() != 0, std::memory_order_relaxed);
   spec.receive = receiving_.load(std::memory_order_relaxed);
-  auto endpoint = engine_->transport()->open(spec, *this);
+  auto endpoint = transport_->open(spec, *this);
   if (!endpoint) {
     port_->leave();  // recorded: the next holder adopts them
     return std::unexpected(std::move(endpoint.error()));

@@ -107,7 +107,7 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
 
  private:
   Bridge(horus::detail::TopicCore& core, const horus::detail::WireOps& ops, const net::Qos& qos,
-         std::shared_ptr<Engine> engine);
+         std::shared_ptr<Engine> engine, std::shared_ptr<net::Transport> transport);
   shm::ShmSegment& segment() const noexcept { return *core_.segment; }
   shm::BridgeState& state() const noexcept { return core_.segment->bridge(); }
 
@@ -131,6 +131,7 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
   const horus::detail::WireOps& ops_;
   net::Qos qos_;
   std::shared_ptr<Engine> engine_;
+  std::shared_ptr<net::Transport> transport_;  // the engine's, for this topic (Engine::transport_for)
   const net::TransportInfo& info_;
   net::WireFormat format_;
   std::string wire_topic_;

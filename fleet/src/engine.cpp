@@ -13,6 +13,7 @@
 #include <unordered_set>
 
 #include "bridge.hpp"
+#include "fleet_internal.hpp"
 #include "horus/detail/topic_core.hpp"
 #include "horus/log.hpp"
 
@@ -97,6 +98,7 @@ Engine::~Engine() {
     export_thread_.detach();
     control_thread_.detach();
     new std::shared_ptr<net::Transport>(std::move(transport_));
+    new std::shared_ptr<net::Transport>(std::move(control_transport_));
     return;
   }
   stop_.store(true, std::memory_order_release);
@@ -107,6 +109,17 @@ Engine::~Engine() {
   for (auto& [pid, fd] : pidfds_) ::close(fd);
   if (epoll_fd_ >= 0) ::close(epoll_fd_);
   if (event_fd_ >= 0) ::close(event_fd_);
+}
+
+Result<std::shared_ptr<net::Transport>> Engine::transport_for(std::string_view name) {
+  if (!name.starts_with(kFleetTopicPrefix) || info_.open_control == nullptr) return transport_;
+  std::lock_guard lock(mutex_);
+  if (!control_transport_) {
+    auto t = info_.open_control();
+    if (!t) return std::unexpected(std::move(t.error()));
+    control_transport_ = std::move(*t);
+  }
+  return control_transport_;
 }
 
 // --- tables -------------------------------------------------------------------------------------

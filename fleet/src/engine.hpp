@@ -52,6 +52,10 @@ class Engine {
 
   const net::TransportInfo& info() const noexcept { return info_; }
   const std::shared_ptr<net::Transport>& transport() const noexcept { return transport_; }
+  /// The transport for topic `name`: the fleet layer's own topics (horus.fleet.*) get the
+  /// transport's control instance where it has one (TransportInfo::open_control: their own
+  /// sockets and receive threads, so heartbeats do not wait behind data), others the data one.
+  Result<std::shared_ptr<net::Transport>> transport_for(std::string_view name);
 
   /// Serves `b` from now on (a holder or a watcher); gives it its bit on the board.
   void add(Bridge& b);
@@ -93,6 +97,7 @@ class Engine {
 
   const net::TransportInfo& info_;
   std::shared_ptr<net::Transport> transport_;
+  std::shared_ptr<net::Transport> control_transport_;  // opened by the first horus.fleet.* topic (mutex_)
   shm::EngineBell bell_;
   const int creator_pid_;
 

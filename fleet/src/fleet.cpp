@@ -6,6 +6,7 @@
 #include <atomic>
 #include <map>
 #include <mutex>
+#include <numeric>
 #include <thread>
 
 #include "fleet_internal.hpp"
@@ -60,6 +61,7 @@ struct Fleet::State {
   std::uint64_t self = fleet::host_id();
   std::uint32_t misses = 3;
   fleet::detail::Presence presence;  // keeps this host announced while the Fleet lives
+  Clock::time_point last_check{};    // check()'s previous run (the executor's thread)
 
   mutable std::mutex mutex;
   std::map<std::uint64_t, Record> hosts;
@@ -181,11 +183,22 @@ struct Fleet::State {
   }
 
   // Loss: `misses` heartbeat periods without a sign of life, plus one period of tolerance.
+  // An observer whose own executor was held up (this 20 ms check ran a heartbeat period late:
+  // the executor was busy or its thread was not scheduled) may have heartbeats waiting, unread,
+  // in the topic: it judges nothing until the executor has had a turn to read them, so a busy
+  // observer does not report live hosts lost.
   void check() {
     const auto now = Clock::now();
+    const auto since = now - last_check;
+    last_check = now;
     std::vector<FleetEvent> events;
     {
       std::lock_guard lock(mutex);
+      const auto shortest = std::accumulate(hosts.begin(), hosts.end(), std::chrono::milliseconds(100),
+                                            [](std::chrono::milliseconds m, const auto& h) {
+                                              return h.second.host.period.count() > 0 ? std::min(m, h.second.host.period) : m;
+                                            });
+      if (since > shortest) return;
       for (auto& [id, r] : hosts) {
         const auto period = r.host.period.count() > 0 ? r.host.period : std::chrono::milliseconds(100);
         if (r.host.state != HostState::Lost && now - r.last_seen > period * (misses + 1)) {

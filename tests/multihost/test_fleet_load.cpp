@@ -96,14 +96,17 @@ TEST_P(FleetLoad, ThreeHostsOfFiftyTopicsAtOneKilohertzLoseNothingAndHoldTheirMe
         EXPECT_EQ(dups, 0ULL) << line;
         ++froms;
       } else if (k == "hosts") {
-        // Every host is alive at the end. Lost events on the way are reported, not failed:
-        // three saturated hosts on two vCPUs delay heartbeats past 400 ms (the closing note's
-        // figures), which a host with CPUs of its own does not see.
+        // Every host is alive at the end, and on DDS none was ever reported lost on the way:
+        // heartbeats leave from a thread of their own, travel on the fleet layer's own
+        // participant (Fast DDS) and a busy observer judges only after reading what came. LCM
+        // (one multicast socket, best effort) may lose heartbeats with the data: reported.
         std::string a, l;
         int alive = 0, lost = 0;
         w >> a >> alive >> l >> lost;
         EXPECT_EQ(alive, 3) << "host " << i + 1 << ": " << line;
         std::printf("host %d: %d lost event(s) during the run\n", i + 1, lost);
+        if (GetParam() != horus::Backend::Lcm)
+          EXPECT_EQ(lost, 0) << "host " << i + 1 << " reported a live host lost under load: " << line;
       }
     }
     EXPECT_EQ(froms, 2) << out;

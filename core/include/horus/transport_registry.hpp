@@ -35,6 +35,12 @@ struct TransportInfo {
   /// The process's transport (created on first use, then shared), configured from this
   /// process's environment (HORUS_DOMAIN_ID, HORUS_LCM_URL, ...).
   Result<std::shared_ptr<Transport>> (*open)() = nullptr;
+  /// Optional: a second instance for the fleet layer's own topics (heartbeats, announcements)
+  /// with sockets and receive threads of its own, so that under load they do not wait behind
+  /// the data in one socket and one thread (Fast DDS: a second participant). nullptr: open()
+  /// serves them too (Cyclone DDS's participants of a domain share one network stack; LCM one
+  /// multicast socket).
+  Result<std::shared_ptr<Transport>> (*open_control)() = nullptr;
 };
 
 /// Adds a transport. Registering the same name again with the same functions does nothing;

@@ -29,6 +29,8 @@ void register_fastdds();
 Result<std::shared_ptr<net::Transport>> cyclone_transport(const net::Config& config);
 
 /// Fast DDS (C++ API): UDPv4 only (no shared-memory transport, no data sharing), XCDR1.
-Result<std::shared_ptr<net::Transport>> fastdds_transport(const net::Config& config);
+/// `control`: the second participant of the process, for the fleet layer's own topics
+/// (net::TransportInfo::open_control).
+Result<std::shared_ptr<net::Transport>> fastdds_transport(const net::Config& config, bool control = false);
 
 }  // namespace horus::dds
