@@ -105,8 +105,9 @@ TEST_P(FleetLoad, ThreeHostsOfFiftyTopicsAtOneKilohertzLoseNothingAndHoldTheirMe
         w >> a >> alive >> l >> lost;
         EXPECT_EQ(alive, 3) << "host " << i + 1 << ": " << line;
         std::printf("host %d: %d lost event(s) during the run\n", i + 1, lost);
-        if (GetParam() != horus::Backend::Lcm)
+        if (GetParam() != horus::Backend::Lcm) {
           EXPECT_EQ(lost, 0) << "host " << i + 1 << " reported a live host lost under load: " << line;
+        }
       }
     }
     EXPECT_EQ(froms, 2) << out;
