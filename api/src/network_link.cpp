@@ -9,6 +9,7 @@
 #include <atomic>
 
 #include "horus/detail/topic_core.hpp"
+#include "horus/log.hpp"
 
 namespace horus::detail {
 
@@ -81,13 +82,20 @@ bool network_holds_bridge(const TopicCore& core) noexcept {
 std::uint64_t network_errors(const TopicCore& core) noexcept { return core.net ? core.net->errors() : 0; }
 
 std::uint64_t network_decode_failures(const TopicCore& core) noexcept {
-  return core.net ? core.net->decode_failures() : 0;
+  return core.net_decode_failures.load(std::memory_order_relaxed);
 }
 
+// The transport's thread, possibly before connect_network() has stored core.net (samples may
+// arrive as soon as the bridge's endpoint exists): only the core's own counter is used.
 void report_network_decode_failure(TopicCore& core, const std::string& what) {
   // Host-wide too, in the segment: any process (horus topic info, horus::Fleet) can see it.
   if (core.segment) core.segment->bridge().malformed.fetch_add(1, std::memory_order_relaxed);
-  if (core.net) core.net->report_decode_failure(what);
+  const auto n = core.net_decode_failures.fetch_add(1, std::memory_order_relaxed) + 1;
+  if (n != 1 && n % 1024 != 0) return;
+  const auto* info = net::find_transport(core.backend.transport());
+  const bool lcm = info != nullptr && info->format == net::WireFormat::Lcm;
+  log().error("topic '{}': a {} sample from the network does not decode as {} ({}); dropped ({} so far)", core.name,
+              core.type_name, lcm ? "an LCM message" : "XCDR1", what, n);
 }
 
 }  // namespace horus::detail

@@ -105,8 +105,6 @@ class PassiveLink final : public horus::detail::NetworkLink {
     return bridge().matched_subscribers.load(std::memory_order_relaxed);
   }
   std::uint64_t errors() const noexcept override { return 0; }
-  std::uint64_t decode_failures() const noexcept override { return 0; }
-  void report_decode_failure(const std::string&) noexcept override {}
 
  private:
   shm::BridgeState& bridge() const noexcept { return core_.segment->bridge(); }
@@ -587,17 +585,6 @@ std::uint32_t Bridge::remote_subscribers() const noexcept {
     }
   }
   return state().matched_subscribers.load(std::memory_order_relaxed);
-}
-
-void Bridge::report_decode_failure(const std::string& what) noexcept {
-  const auto n = decode_failures_.fetch_add(1, std::memory_order_relaxed) + 1;
-  if (n == 1 || n % 1024 == 0) {
-    try {
-      log().error("topic '{}': a {} sample from the network does not decode as {} ({}); dropped ({} so far)",
-                  core_.name, core_.type_name, format_ == net::WireFormat::Lcm ? "an LCM message" : "XCDR1", what, n);
-    } catch (...) {
-    }
-  }
 }
 
 }  // namespace horus::fleet::detail

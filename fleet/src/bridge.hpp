@@ -75,8 +75,6 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
   std::uint32_t remote_publishers() const noexcept override;
   std::uint32_t remote_subscribers() const noexcept override;
   std::uint64_t errors() const noexcept override { return errors_.load(std::memory_order_relaxed); }
-  std::uint64_t decode_failures() const noexcept override { return decode_failures_.load(std::memory_order_relaxed); }
-  void report_decode_failure(const std::string& what) noexcept override;
 
   // -- net::Listener (the transport's threads) --------------------------------------
   void on_sample(const net::Sample& sample) override;
@@ -157,7 +155,6 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
   std::uint64_t seen_owner_ = ~std::uint64_t{0};  // the claim word at the control thread's last look
   bool retry_claim_ = false;                   // a takeover failed: retry_at_
   Clock::time_point retry_at_{};
-  std::atomic<std::uint64_t> decode_failures_{0};
   std::uint64_t write_retries_ = 0;        // reliable writes that waited for slow readers
   std::atomic<std::uint64_t> errors_{0};   // incompatible endpoints reported
   std::uint64_t send_failures_ = 0;        // for the log's rate

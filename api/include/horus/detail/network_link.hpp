@@ -91,9 +91,6 @@ class NetworkLink {
   virtual std::uint32_t remote_subscribers() const noexcept = 0;
   /// Problems this process's bridge reported (incompatible endpoints).
   virtual std::uint64_t errors() const noexcept = 0;
-  virtual std::uint64_t decode_failures() const noexcept = 0;
-  /// Logs (first and every 1024th) a received sample that did not decode, and counts it.
-  virtual void report_decode_failure(const std::string& what) noexcept = 0;
 };
 
 /// What the fleet layer installs: makes the bridge of a fleet topic's first handle in this

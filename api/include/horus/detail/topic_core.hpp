@@ -55,6 +55,8 @@ struct TopicCore {
   // Fleet topics: how this process's handles hand their messages to the network while it
   // holds the host's bridge (doorbell.hpp, InlineExport; set by the bridge).
   shm::InlineExport inline_export;
+  // Fleet topics: samples from the network that did not decode (the transport's thread).
+  std::atomic<std::uint64_t> net_decode_failures{0};
   // Fleet topics: this process's network bridge (horus/detail/network_link.hpp: the host's
   // bridge when this process holds it, else a watcher that takes over). Declared last: it goes
   // first, so the engine stops serving it and its callbacks end before the ring is gone.
