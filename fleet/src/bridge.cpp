@@ -463,7 +463,8 @@ void Bridge::on_sample(const net::Sample& sample) {
   // The import wakes the host's handles, not the export (it skips these messages); once they
   // fill half the ring, let the engine pass over them, so that the export cursor never falls a
   // ring behind (that would count as losses nobody had).
-  if (import_lag() > core_.ring.capacity() / 2) engine_->notify(*this);
+  // Through the doorbell's bridge class: one wake-up per time the engine armed it, not per sample.
+  if (import_lag() > core_.ring.capacity() / 2) core_.ring.wake_waiters(shm::Doorbell::kArmedBridge);
 }
 
 std::uint64_t Bridge::import_lag() const noexcept {
