@@ -175,8 +175,7 @@ Result<std::unique_ptr<horus::detail::NetworkLink>> Bridge::open(horus::detail::
   if (claim == shm::ShmSegment::BridgeClaim::Claimed || claim == shm::ShmSegment::BridgeClaim::TookOver) {
     if (auto ok = b->become_holder(claim == shm::ShmSegment::BridgeClaim::TookOver); !ok) {
       b->segment().release_bridge();
-      b->engine_.reset();
-      return std::unexpected(std::move(ok.error()));
+      return std::unexpected(std::move(ok.error()));  // ~Bridge: never added, remove() finds nothing
     }
   }
   b->engine_->add(*b);
@@ -295,9 +294,7 @@ void Bridge::attach() noexcept {
   shm::engine_join(core_.ring.doorbell(), core_.ring.subscriber(port_->entry()).waiting, forward_);
   attached_.store(true, std::memory_order_release);
   if (!gated_.load(std::memory_order_acquire)) {
-    core_.inline_export.ctx = this;
-    core_.inline_export.run = &Bridge::export_inline_trampoline;
-    core_.inline_export.active.store(true, std::memory_order_release);
+    activate_inline();
   }
   engine_->recheck(*this);  // what the host's publishers wrote before: export it now
 }
@@ -326,19 +323,13 @@ Clock::time_point Bridge::control(Clock::time_point now, bool gone) noexcept {
       }
       if (matched < gate_readers_ && now < gate_until_) return now + std::chrono::milliseconds(1);
       gated_.store(false, std::memory_order_release);
-      if (attached_.load(std::memory_order_acquire)) {
-        core_.inline_export.ctx = this;
-        core_.inline_export.run = &Bridge::export_inline_trampoline;
-        core_.inline_export.active.store(true, std::memory_order_release);
-      }
+      if (attached_.load(std::memory_order_acquire)) activate_inline();
       engine_->notify(*this);
     }
     // The matched counts come with the transport's on_matched, receiving follows the host's
     // subscribers through the doorbell (service()): nothing to do on a timer.
     return Clock::time_point::max();
   }
-  // A watcher: claim when nobody holds the bridge, or its holder is gone (pidfd), or a holder
-  // it cannot watch (no pidfd) may be gone; the claim word tells a holder that left.
   // A watcher is due when something happened (engine.cpp): its holder's pidfd fired, a claim was
   // given up on the host, or it was just added; it looks at the claim word and claims when
   // nobody (alive) holds the bridge.
@@ -373,6 +364,13 @@ pid_t Bridge::watched_pid() const noexcept {
 
 void Bridge::export_inline_trampoline(void* self) noexcept { static_cast<Bridge*>(self)->export_inline(); }
 
+void Bridge::activate_inline() noexcept {
+  core_.inline_export.ctx = this;
+  core_.inline_export.run = &Bridge::export_inline_trampoline;
+  core_.inline_export.generation = shm::fork_generation();
+  core_.inline_export.active.store(true, std::memory_order_release);
+}
+
 // A publishing thread of this process, right after its send: exports unless another thread
 // does (it looks again when it stops, release_export()).
 void Bridge::export_inline() noexcept {
@@ -399,10 +397,46 @@ void Bridge::release_export() noexcept {
   }
 }
 
+// One attempt on an engine thread (the engine comes back in 10 ms: one reader that lags never
+// holds up the other topics, the import pump or the control thread); on a publishing thread,
+// until it goes out or the topic closes (back-pressure, as a raw reliable write).
+bool Bridge::flush_stash() noexcept {
+  if (!backlog_.load(std::memory_order_acquire)) return true;
+  const net::BodyWriter writer{[](void* c, std::span<std::byte> body) {
+                                 const auto& s = *static_cast<const std::vector<std::byte>*>(c);
+                                 std::memcpy(body.data(), s.data(), body.size());
+                               },
+                               &stash_};
+  for (;;) {
+    auto ok = endpoint_->write(stash_.size(), writer);
+    if (ok) {
+      state().exported.fetch_add(1, std::memory_order_relaxed);
+      break;
+    }
+    if (ok.error().code() != Errc::Timeout) {
+      state().dropped.fetch_add(1, std::memory_order_relaxed);
+      break;
+    }
+    ++write_retries_;
+    if (stop_.load(std::memory_order_relaxed)) {
+      state().dropped.fetch_add(1, std::memory_order_relaxed);  // closing: it will not go out
+      break;
+    }
+    if (t_engine_thread) {
+      engine_->recheck(*this, false);
+      return false;
+    }
+  }
+  state().inflight.store(0, std::memory_order_relaxed);
+  backlog_.store(false, std::memory_order_release);
+  return true;
+}
+
 void Bridge::drain() noexcept {
   const horus::detail::ExportSink sink{this, [](void* c, const void* msg) { return static_cast<Bridge*>(c)->send(msg); }};
   try {
-    while (port_->export_pending(port_->lane(), sink) != 0) {
+    if (!flush_stash()) return;
+    while (!backlog_.load(std::memory_order_relaxed) && port_->export_pending(port_->lane(), sink) != 0) {
     }
   } catch (const std::exception& e) {
     log().error("topic '{}': exporting to {} failed: {}", core_.name, info_.name, e.what());
@@ -441,7 +475,18 @@ bool Bridge::send(const void* msg) {
   state().inflight.store(1, std::memory_order_relaxed);
   auto ok = endpoint_->write(*n, writer);
   // Reliable: a writer that timed out waiting for its readers to catch up keeps the message
-  // and tries again (back-pressure, not a loss), until the topic closes.
+  // and tries again (back-pressure, not a loss), until the topic closes. On an engine thread
+  // the message waits in the stash instead, and this topic exports nothing else until it went
+  // out (flush_stash), so the engine goes on serving the other topics meanwhile.
+  if (!ok && ok.error().code() == Errc::Timeout && qos_.reliability == net::Reliability::Reliable &&
+      !stop_.load(std::memory_order_relaxed) && t_engine_thread) {
+    ++write_retries_;
+    stash_.resize(*n);
+    ops_.encode(format_, msg, stash_);
+    backlog_.store(true, std::memory_order_release);
+    engine_->recheck(*this, false);
+    return false;  // stop after this message: it is in the stash
+  }
   while (!ok && ok.error().code() == Errc::Timeout && qos_.reliability == net::Reliability::Reliable &&
          !stop_.load(std::memory_order_relaxed)) {
     ++write_retries_;

@@ -16,8 +16,8 @@
 // engine to resume at once; in this process the handle's open() resumes it itself.
 //
 // Takeover. Watchers (every other process with the topic open) let their engine's control
-// thread watch the holder: a pidfd per holder process, and a 50 ms look at the claim word (a
-// holder that closes the topic and lives on). The successor adopts the entry and the lane its
+// thread watch the holder: a pidfd per holder process, and the host's count of claims given up
+// (a holder that closes the topic and lives on; engine_board.hpp). The successor adopts the entry and the lane its
 // predecessor recorded in the segment (the reaper leaves them), so it exports exactly what the
 // predecessor had not read; a message the predecessor died exporting counts as dropped. Until the
 // remote readers that matched the predecessor match the successor (at most 1 s), its export
@@ -34,6 +34,7 @@
 #include <mutex>
 #include <string>
 #include <unordered_map>
+#include <vector>
 
 #include "engine.hpp"
 #include "fleet_internal.hpp"
@@ -90,8 +91,9 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
   /// held any more.
   bool pump_held() noexcept;
   bool holding() const noexcept { return held_.load(std::memory_order_acquire); }
-  /// The control thread: claims a bridge nobody (alive) holds, opens the gate, publishes the
-  /// matched counts; returns when it wants to be called next. `gone`: the holder's pidfd fired.
+  /// The control thread: claims a bridge nobody (alive) holds, opens a successor's gate; returns
+  /// when it wants to be called next (max: only when something happens). `gone`: the holder's
+  /// pidfd fired, or it has none.
   Clock::time_point control(Clock::time_point now, bool gone) noexcept;
   /// The process holding the bridge, for a watcher (0: nobody, or this process holds it).
   pid_t watched_pid() const noexcept;
@@ -119,6 +121,8 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
 
   // Export: one exporter at a time; the one that stops looks again (release_export).
   static void export_inline_trampoline(void* self) noexcept;
+  void activate_inline() noexcept;
+  bool flush_stash() noexcept;  // the message a write left for later (backlog_): true once sent
   void export_inline() noexcept;
   void drain() noexcept;
   void release_export() noexcept;
@@ -156,6 +160,10 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
   bool retry_claim_ = false;                   // a takeover failed: retry_at_
   Clock::time_point retry_at_{};
   std::uint64_t write_retries_ = 0;        // reliable writes that waited for slow readers
+  // A reliable write that timed out on an engine thread: the encoded message waits here (the
+  // exporter's, under export_busy_) and the topic exports nothing else until it went out.
+  std::vector<std::byte> stash_;
+  std::atomic<bool> backlog_{false};
   std::atomic<std::uint64_t> errors_{0};   // incompatible endpoints reported
   std::uint64_t send_failures_ = 0;        // for the log's rate
   std::uint64_t export_lost_seen_ = 0;

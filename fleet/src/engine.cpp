@@ -99,6 +99,7 @@ Engine::~Engine() {
     control_thread_.detach();
     new std::shared_ptr<net::Transport>(std::move(transport_));
     new std::shared_ptr<net::Transport>(std::move(control_transport_));
+    new shm::EngineBell(std::move(bell_));  // the parent's slot on the board stays the parent's
     return;
   }
   stop_.store(true, std::memory_order_release);
@@ -113,7 +114,7 @@ Engine::~Engine() {
 
 Result<std::shared_ptr<net::Transport>> Engine::transport_for(std::string_view name) {
   if (!name.starts_with(kFleetTopicPrefix) || info_.open_control == nullptr) return transport_;
-  std::lock_guard lock(mutex_);
+  std::lock_guard lock(control_transport_mutex_);  // not mutex_: opening a participant takes a while
   if (!control_transport_) {
     auto t = info_.open_control();
     if (!t) return std::unexpected(std::move(t.error()));
@@ -152,17 +153,20 @@ std::uint64_t Engine::forward(const Bridge& b) const noexcept { return bell_.for
 
 void Engine::notify(const Bridge& b) noexcept { bell_.notify(b.index); }
 
-void Engine::recheck(const Bridge& b) {
+void Engine::recheck(const Bridge& b, bool now) {
   {
     std::lock_guard lock(mutex_);
     recheck_.push_back(b.index);
   }
-  bell_.notify(b.index);
+  if (now) bell_.notify(b.index);
+  else bell_.poke();  // the export thread takes the later look into its deadline
 }
 
 void Engine::pump(Bridge& b) {
   {
     std::lock_guard lock(mutex_);
+    // Only a bridge still served: one being removed (its endpoint not yet closed) stays out.
+    if (b.index >= by_index_.size() || by_index_[b.index] != &b) return;
     if (std::find(held_.begin(), held_.end(), &b) == held_.end()) held_.push_back(&b);
   }
   bell_.poke();
@@ -190,6 +194,7 @@ void Engine::unpin(const std::vector<Bridge*>& bridges) noexcept {
 // --- the export thread ----------------------------------------------------------------------------
 
 void Engine::run_export() {
+  t_engine_thread = true;
   std::vector<std::uint32_t> bits;
   std::vector<std::pair<Clock::time_point, std::uint32_t>> rechecks;  // (when, index)
   while (!stop_.load(std::memory_order_acquire)) {
@@ -227,15 +232,15 @@ void Engine::run_export() {
       // found it listed and did not add it again: keep it for the next pass.
       if (!b->pump_held() && !b->holding()) done.push_back(b);
     }
-    unpin(held);
     if (!done.empty()) {
       std::lock_guard lock(mutex_);
-      for (Bridge* b : done)
+      for (Bridge* b : done)  // still pinned: not freed meanwhile
         if (!b->holding()) std::erase(held_, b);
       pumping = !held_.empty();
     } else {
       pumping = !held.empty();
     }
+    unpin(held);
     auto deadline = Clock::time_point::max();
     if (pumping) deadline = Clock::now() + kPumpPeriod;
     for (const auto& r : rechecks) deadline = std::min(deadline, r.first);
@@ -246,7 +251,7 @@ void Engine::run_export() {
 
 // --- the control thread ------------------------------------------------------------------------
 
-void Engine::watch_holders(const std::vector<Bridge*>&) {
+void Engine::watch_holders() {
   std::unordered_set<pid_t> want;
   {
     std::lock_guard lock(mutex_);
@@ -280,6 +285,7 @@ void Engine::watch_holders(const std::vector<Bridge*>&) {
 // fires, or a claim is given up somewhere on the host (the board's release count, looked at
 // every 50 ms: one load). So an idle process visits its topics about once a second, not 20 times.
 void Engine::run_control() {
+  t_engine_thread = true;
   using Entry = std::pair<Clock::time_point, std::uint64_t>;  // (due, serial)
   std::priority_queue<Entry, std::vector<Entry>, std::greater<>> due;
   std::unordered_set<pid_t> gone;
@@ -299,7 +305,9 @@ void Engine::run_control() {
     const auto wait = std::chrono::ceil<std::chrono::milliseconds>(next - Clock::now()).count();
     const int timeout_ms = static_cast<int>(std::clamp<long long>(wait, 0, 60'000));
     epoll_event events[16];
-    const int n = epoll_fd_ >= 0 ? ::epoll_wait(epoll_fd_, events, 16, timeout_ms) : 0;
+    int n = 0;
+    if (epoll_fd_ >= 0) n = ::epoll_wait(epoll_fd_, events, 16, timeout_ms);
+    else std::this_thread::sleep_for(std::chrono::milliseconds(std::min(timeout_ms, 50)));  // no epoll: poll
     if (stop_.load(std::memory_order_acquire)) break;
     now = Clock::now();
     for (int i = 0; i < n; ++i) {
@@ -350,7 +358,7 @@ void Engine::run_control() {
     }
     gone.clear();
     if (watch_dirty) {
-      watch_holders(work);
+      watch_holders();
       watch_dirty = false;
     }
     unpin(work);

@@ -8,10 +8,11 @@
 //                   transport held back for room (every 200 us while any are held).
 //   control thread  sleeps in epoll on the pidfds of the processes holding the bridges this
 //                   process only watches (one pidfd per holder, not per topic), an eventfd and
-//                   its timers: takeover (a holder that exited, or closed the topic: a 50 ms look
-//                   at the claim words of the watched topics), the matched counts the holder
-//                   publishes into the segments, and the jobs others give it (the fleet agent's
-//                   announcements).
+//                   its timers: takeover (a holder that exited: its pidfd; or that closed the
+//                   topic: the board's count of claims given up, one load every 50 ms), the gate
+//                   of a successor, and the jobs others give it (the fleet agent's announcements).
+//                   Matched counts come with the transport's events, receiving follows the
+//                   doorbell: an idle engine visits no topic.
 //
 // Nothing of the engine runs per message in the publishing process while it holds the topic's
 // bridge: its handles export inline (Bridge::export_inline); the engine wakes for what the
@@ -42,6 +43,9 @@ namespace horus::fleet::detail {
 class Bridge;
 using Clock = std::chrono::steady_clock;
 
+/// True on an engine's threads: they never wait on the network without bound (bridge.cpp).
+inline thread_local bool t_engine_thread = false;
+
 class Engine {
  public:
   /// This process's engine for `info` (made at the first call, kept while held).
@@ -67,7 +71,7 @@ class Engine {
   void notify(const Bridge& b) noexcept;
   /// `b` was attached: look at it now and once more 10 ms later (a send that raced the
   /// engine's registration as a waiter is seen then: doorbell.hpp's race).
-  void recheck(const Bridge& b);
+  void recheck(const Bridge& b, bool now = true);
   /// `b`'s transport holds samples back for room: pump them until it does not.
   void pump(Bridge& b);
   /// Wakes the control thread (a watcher should look at its claim now).
@@ -92,12 +96,13 @@ class Engine {
   template <class Pick>
   std::vector<Bridge*> pinned(Pick&& pick);
   static void unpin(const std::vector<Bridge*>& bridges) noexcept;
-  void watch_holders(const std::vector<Bridge*>& watchers);
+  void watch_holders();  // one pidfd per process holding a bridge this process watches
   Clock::time_point run_jobs(Clock::time_point now);
 
   const net::TransportInfo& info_;
   std::shared_ptr<net::Transport> transport_;
-  std::shared_ptr<net::Transport> control_transport_;  // opened by the first horus.fleet.* topic (mutex_)
+  std::mutex control_transport_mutex_;
+  std::shared_ptr<net::Transport> control_transport_;  // opened by the first horus.fleet.* topic
   shm::EngineBell bell_;
   const int creator_pid_;
 

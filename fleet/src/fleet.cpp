@@ -198,7 +198,8 @@ struct Fleet::State {
                                             [](std::chrono::milliseconds m, const auto& h) {
                                               return h.second.host.period.count() > 0 ? std::min(m, h.second.host.period) : m;
                                             });
-      if (since > shortest) return;
+      // The check runs every 20 ms: late by more than twice that and a heartbeat period, it stalled.
+      if (since > std::max<Clock::duration>(std::chrono::milliseconds(40), shortest)) return;
       for (auto& [id, r] : hosts) {
         const auto period = r.host.period.count() > 0 ? r.host.period : std::chrono::milliseconds(100);
         if (r.host.state != HostState::Lost && now - r.last_seen > period * (misses + 1)) {

@@ -1,4 +1,4 @@
-// What the fleet agent (fleet_agent.cpp) and horus::Fleet (fleet.cpp) share: how the fleet
+// What the fleet agent (agent.cpp), the bridges (bridge.cpp) and horus::Fleet (fleet.cpp) share: how the fleet
 // layer's topics are opened, and this host's identity.
 #pragma once
 

@@ -1,7 +1,8 @@
 // BridgePort<T>: the handle a fleet topic's bridge uses (horus/detail/network_link.hpp), made
 // from the same local port and slot codec as a user's handle. Two ports, so the transport's
-// thread (import: decode and write into the bridge's lane) and the bridge's thread (export:
-// read every lane but that one) never share a codec's scratch state.
+// thread (import: decode and write into the bridge's lane) and the exporter (export: read every
+// lane but that one; the engine's export thread or a publishing thread, one at a time) never
+// share a codec's scratch state.
 // Internal to horus: users include <horus/topic.hpp>.
 #pragma once
 

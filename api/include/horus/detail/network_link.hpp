@@ -33,7 +33,7 @@ struct ExportSink {
 
 /// The bridge's own handle of the topic: a lane it imports into and a subscriber entry it
 /// exports from. Made per type (bridge_port.hpp); used by one bridge, the import side on the
-/// transport's thread and the export side on the bridge's thread (they share no state).
+/// transport's thread and the export side by one exporter at a time (they share no state).
 class BridgePort {
  public:
   virtual ~BridgePort() = default;

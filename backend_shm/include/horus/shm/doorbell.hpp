@@ -11,11 +11,10 @@
 //            epoch in the bits above goes up) and makes the one FUTEX_WAKE. Later publishers
 //            find it clear and make no syscall until a waiter has looked at the ring again and
 //            re-armed it, so a waiter that is busy draining messages costs its publishers nothing.
-//            Two classes of waiters, one bit each: handles (kArmedReader) and the export thread
-//            of a fleet topic's bridge (kArmedBridge), which sleeps in FUTEX_WAIT_BITSET with its
-//            own bit. The bridge's import, writing what came from the network, rings the handles
-//            only (it would wake the export thread for a message the bridge skips: its own); every
-//            other publisher rings both. The bridge class is a process's network engine
+//            Two classes of waiters, one bit each: handles (kArmedReader) and the network engine
+//            that bridges a fleet topic (kArmedBridge). The bridge's import, writing what came
+//            from the network, rings the handles only (it would wake the engine for a message
+//            the bridge skips: its own); every other publisher rings both. The bridge class is a process's network engine
 //            (fleet/), which holds many topics and sleeps on a word of its own: `forward` names it
 //            (engine_board.hpp), and the publisher that clears kArmedBridge wakes it there.
 //
@@ -83,14 +82,22 @@ struct WaitShare {
 
 /// A fleet topic whose bridge this process holds: its publishers hand each message to the
 /// network themselves (fleet/: inline export) instead of waking the engine. Process memory; a
-/// RingWriter with one set calls `run` after each send while `active`, and then wakes only the
-/// reader class (the engine stays asleep). `active` implies the engine is registered as a
+/// RingWriter with one set wakes only the reader class after each send while `active` (the
+/// engine stays asleep), then calls `run`. `active` implies the engine is registered as a
 /// waiter, so every send reaches RingWriter::wake().
+/// A forked child's copy is never active: `generation` is fork_generation() of the process that
+/// activated it (the child's sends ring the bridge class instead, which reaches the parent).
 struct InlineExport {
   std::atomic<bool> active{false};
   void (*run)(void* ctx) noexcept = nullptr;
   void* ctx = nullptr;
+  std::uint32_t generation = 0;
 };
+
+/// How many fork()s lie between the first process and this one (a pthread_atfork child handler
+/// counts them): one relaxed load tells a forked child's copy of process state from the parent's.
+extern std::atomic<std::uint32_t> g_fork_generation;
+inline std::uint32_t fork_generation() noexcept { return g_fork_generation.load(std::memory_order_relaxed); }
 
 /// Sends that find waiters registered but the doorbell not armed, before a publisher looks for
 /// waiters that died (a waiter draining messages is registered and unarmed too).
@@ -112,8 +119,8 @@ struct WaitItem {
   WaitShare* share = nullptr;
   bool (*ready)(const void* ctx) noexcept = nullptr;
   const void* ctx = nullptr;
-  /// The waiter's class: Doorbell::kArmedBridge only for a bridge's export thread, waiting on
-  /// this one item (wait_any with several items waits as a reader).
+  /// The waiter's class: kArmedReader (a network engine waits as kArmedBridge, not through
+  /// wait_any: engine_join); wait_any with several items waits as a reader.
   std::uint32_t armed = Doorbell::kArmedReader;
 };
 

@@ -127,7 +127,7 @@ class EngineBell {
   std::string name_;
 };
 
-/// The board's shm name for namespace `ns` ("/horus.<ns>.engines.v1").
+/// The board's shm name for namespace `ns` ("/horus.<ns>@engines.v1": no topic name has '@').
 std::string engine_board_name(const std::string& ns);
 
 }  // namespace horus::shm

@@ -197,7 +197,7 @@ class RingWriter {
   // kStaleCheck sends may be a waiter that died (doorbell.hpp).
   void wake() noexcept {
     InlineExport* const ex = inline_export_;
-    if (ex != nullptr && ex->active.load(std::memory_order_acquire)) {
+    if (ex != nullptr && ex->active.load(std::memory_order_acquire) && ex->generation == fork_generation()) {
       // This process bridges the topic: the readers first (their latency), then the network.
       const bool woke = ring_.wake_waiters(wake_classes_ & ~Doorbell::kArmedBridge);
       ex->run(ex->ctx);
