@@ -114,13 +114,14 @@ int child(const std::string& backend, int topics, double idle_s) {
     std::this_thread::sleep_for(std::chrono::microseconds(200));
   }
   for (auto& s : subs) (void)s.recv();
-  // Let discovery and the first announcements settle before measuring rest.
+  // Let discovery and the first announcements settle before measuring rest (a benchmark's
+  // warm-up, not a wait for a condition: what it measures is the process at rest).
   std::this_thread::sleep_for(std::chrono::seconds(2));
   const int after = thread_count();
   const auto t_before = thread_ticks();
   const Usage u0 = usage();
   const auto i0 = Clock::now();
-  std::this_thread::sleep_for(std::chrono::duration<double>(idle_s));
+  std::this_thread::sleep_for(std::chrono::duration<double>(idle_s));  // the measured window itself
   const Usage u1 = usage();
   const auto t_after = thread_ticks();
   // Where the CPU went, by thread name (stderr: the parent prints it under the row).

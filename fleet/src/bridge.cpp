@@ -613,24 +613,14 @@ std::uint64_t Bridge::dropped() const noexcept { return state().dropped.load(std
 
 // Remote writers (readers) the host's bridge matched: asked of the endpoint in the holding
 // process, read from the segment (published by the holder's engine) in the others.
-std::uint32_t Bridge::remote_publishers() const noexcept {
+std::uint32_t Bridge::remote(bool writers) const noexcept {
   if (endpoint_ready_.load(std::memory_order_acquire)) {
     try {
-      return endpoint_->matched_publishers();
+      return writers ? endpoint_->matched_publishers() : endpoint_->matched_subscribers();
     } catch (...) {
     }
   }
-  return state().matched_publishers.load(std::memory_order_relaxed);
-}
-
-std::uint32_t Bridge::remote_subscribers() const noexcept {
-  if (endpoint_ready_.load(std::memory_order_acquire)) {
-    try {
-      return endpoint_->matched_subscribers();
-    } catch (...) {
-    }
-  }
-  return state().matched_subscribers.load(std::memory_order_relaxed);
+  return (writers ? state().matched_publishers : state().matched_subscribers).load(std::memory_order_relaxed);
 }
 
 }  // namespace horus::fleet::detail

@@ -73,8 +73,8 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
   // -- NetworkLink (user threads) ------------------------------------------------
   Result<void> join(const TopicOptions& options) override;
   std::uint64_t dropped() const noexcept override;
-  std::uint32_t remote_publishers() const noexcept override;
-  std::uint32_t remote_subscribers() const noexcept override;
+  std::uint32_t remote_publishers() const noexcept override { return remote(true); }
+  std::uint32_t remote_subscribers() const noexcept override { return remote(false); }
   std::uint64_t errors() const noexcept override { return errors_.load(std::memory_order_relaxed); }
 
   // -- net::Listener (the transport's threads) --------------------------------------
@@ -118,6 +118,7 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
   std::uint32_t host_subscribers() const noexcept;
   void update_receiving() noexcept;
   void publish_matches() noexcept;
+  std::uint32_t remote(bool writers) const noexcept;  // remote writers (true) or readers matched
 
   // Export: one exporter at a time; the one that stops looks again (release_export).
   static void export_inline_trampoline(void* self) noexcept;

@@ -85,9 +85,6 @@ class Engine {
   /// Makes the job with this id due now.
   void wake_job(std::uint64_t id);
 
-  /// Threads this engine runs (2), for the benchmark's accounting.
-  static constexpr int kThreads = 2;
-
  private:
   Engine(const net::TransportInfo& info, std::shared_ptr<net::Transport> transport, shm::EngineBell bell);
   void run_export();
