@@ -81,7 +81,8 @@ std::string where_text(const Backend& b) {
   const std::string t(b.transport());
 #ifdef HORUS_CLI_HAVE_LCM
   if (t == "lcm") {
-    auto url = lcm::url_from_environment();
+    auto c = net::config_from_environment();
+    auto url = c ? lcm::url_from(*c) : Result<std::string>(std::unexpected(c.error()));
     return fmt::format("fleet (lcm, {})", url ? *url : url.error().message());
   }
 #endif

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "horus/backend.hpp"
+#include "horus/config.hpp"
 #include "horus/network.hpp"
 #include "horus/transport_registry.hpp"
 #include "horus/wire/dynamic.hpp"
@@ -22,7 +23,12 @@ class Reader final : public RemoteReader, public net::Listener {
   ~Reader() override { endpoint_.reset(); }  // no callback after this
 
   bool start(const net::TransportInfo& info, const net::EndpointSpec& spec, std::string& error) {
-    auto t = info.open();
+    auto config = net::config_from_environment();
+    if (!config) {
+      error = config.error().message();
+      return false;
+    }
+    auto t = info.open(*config);
     if (!t) {
       error = t.error().message();
       return false;

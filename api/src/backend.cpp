@@ -3,11 +3,11 @@
 
 #include <algorithm>
 #include <array>
-#include <cstdlib>
 #include <string>
 #include <vector>
 
 #include "horus/backend.hpp"
+#include "horus/environment.hpp"
 #include "horus/names.hpp"
 #include "horus/transport_registry.hpp"
 
@@ -51,10 +51,10 @@ std::string valid_backends() {
 }
 }  // namespace
 
-Result<Backend> backend_from_environment() {
-  const char* env = std::getenv("HORUS_BACKEND");
-  if (env == nullptr || *env == '\0') return Backend::SharedMemory;
-  const std::string_view v(env);
+Result<Backend> backend_from_environment() { return backend_from(Environment::read().backend); }
+
+Result<Backend> backend_from(std::string_view v) {
+  if (v.empty()) return Backend::SharedMemory;
   if (v == "auto" || v == "shm") return Backend::SharedMemory;
   if (v == "inproc") return Backend::InProcess;
   if (const auto* t = net::find_transport(v)) return Backend::network(t->name);

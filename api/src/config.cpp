@@ -10,7 +10,6 @@
 #include <cerrno>
 #include <charconv>
 #include <cstring>
-#include <cstdlib>
 #include <fstream>
 #include <list>
 #include <mutex>
@@ -18,6 +17,7 @@
 #include <sstream>
 #include <utility>
 
+#include "horus/environment.hpp"
 #include "horus/names.hpp"
 #include "horus/shm/ring_layout.hpp"
 #include "horus/transport_registry.hpp"
@@ -353,33 +353,44 @@ const TopicRule* Config::match(std::string_view topic) const noexcept {
   return nullptr;
 }
 
-Result<const Config*> config_from_environment() {
-  // Read once per value of HORUS_CONFIG (a program sets it before its first topic; a test may
-  // change it). Configurations stay alive: choices made earlier keep pointing at theirs.
+namespace {
+// The file HORUS_CONFIG names, read once per value of the variable (a program sets it before its
+// first topic; a test may change it). Configurations stay alive: choices made earlier keep
+// pointing at theirs.
+Result<const Config*> file_from(const Environment& env) {
   static std::mutex mutex;
   static std::optional<std::string> cached_path;
   static std::optional<Result<const Config*>> cached;
   static std::list<Config> loaded;
-  const char* env = std::getenv("HORUS_CONFIG");
-  const std::string path = env != nullptr ? env : "";
+  const std::string& path = env.config;
   std::lock_guard lock(mutex);
   if (cached_path == path && cached) return *cached;
   cached_path = path;
-  if (path.empty()) {
-    net::set_file_defaults({});
-    return *(cached = Result<const Config*>(nullptr));
-  }
+  if (path.empty()) return *(cached = Result<const Config*>(nullptr));
   auto c = Config::load(path);
-  if (!c) {
-    net::set_file_defaults({});
+  if (!c)
     return *(cached = Result<const Config*>(
                  std::unexpected(Error(Errc::Config, "HORUS_CONFIG=" + path + ": " + c.error().message()))));
-  }
-  const Config& config = loaded.emplace_back(std::move(*c));
-  const auto& n = config.network();
-  net::set_file_defaults({n.domain_id, n.localhost_only, n.lcm_url, "configuration file '" + config.file() + "'"});
-  return *(cached = Result<const Config*>(&config));
+  return *(cached = Result<const Config*>(&loaded.emplace_back(std::move(*c))));
 }
+
+net::FileDefaults file_defaults(const Config* config) {
+  if (config == nullptr) return {};
+  const auto& n = config->network();
+  return {n.domain_id, n.localhost_only, n.lcm_url, "configuration file '" + config->file() + "'"};
+}
+}  // namespace
+
+Result<const Config*> config_from_environment() { return file_from(Environment::read()); }
+
+namespace net {
+Result<Config> config_from_environment() {
+  const Environment env = Environment::read();
+  auto config = file_from(env);
+  if (!config) return std::unexpected(config.error());
+  return config_from(env, file_defaults(*config));
+}
+}  // namespace net
 
 Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code, const Config* config) {
   TopicChoice c;
@@ -390,8 +401,8 @@ Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code, con
   if (code.backend) {
     c.backend = *code.backend;
     c.backend_from = Source::Code;
-  } else if (const char* env = std::getenv("HORUS_BACKEND"); env != nullptr && *env != '\0') {
-    auto b = backend_from_environment();
+  } else if (const std::string env = Environment::read().backend; !env.empty()) {
+    auto b = backend_from(env);
     if (!b) return std::unexpected(b.error());
     c.backend = *b;
     c.backend_from = Source::Environment;
@@ -453,7 +464,8 @@ Result<TopicOptions> resolve_topic_options(std::string_view topic, const TopicOp
 }
 
 Result<FleetSettings> fleet_settings() {
-  auto config = config_from_environment();
+  const Environment env = Environment::read();
+  auto config = file_from(env);
   if (!config) return std::unexpected(config.error());
   FleetSettings out;
   if (*config != nullptr) {
@@ -464,8 +476,8 @@ Result<FleetSettings> fleet_settings() {
     if (f.misses) out.misses = *f.misses;
     if (const auto& b = (*config)->network().backend) out.transport = *b;
   }
-  if (const char* env = std::getenv("HORUS_FLEET_HEARTBEAT_MS"); env != nullptr && *env != '\0') {
-    const std::string_view text(env);
+  if (!env.fleet_heartbeat_ms.empty()) {
+    const std::string_view text(env.fleet_heartbeat_ms);
     std::uint64_t v = 0;
     auto [p, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
     if (ec != std::errc() || p != text.data() + text.size() || v < kMinHeartbeatMs || v > kMaxHeartbeatMs)
@@ -474,8 +486,8 @@ Result<FleetSettings> fleet_settings() {
                                             text, kMinHeartbeatMs, kMaxHeartbeatMs));
     out.heartbeat = std::chrono::milliseconds(v);
   }
-  if (const char* env = std::getenv("HORUS_BACKEND"); env != nullptr && *env != '\0') {
-    auto b = backend_from_environment();
+  if (!env.backend.empty()) {
+    auto b = backend_from(env.backend);
     if (!b) return std::unexpected(b.error());
     if (b->scope() == Scope::Fleet) out.transport = std::string(b->transport());
   }

@@ -227,7 +227,7 @@ Result<std::shared_ptr<net::Transport>> cyclone_transport(const net::Config& con
       "Cyclone DDS domain " + std::to_string(config.domain_id) +
           ": the previous transport of this domain did not shut down within 10 s");
   if (!got) return std::unexpected(std::move(got.error()));
-  if (const net::Config& other = (*got)->config(); !(other == config))
+  if (const net::Config& other = (*got)->config(); other.localhost_only != config.localhost_only)
     return fail(Errc::ConfigMismatch,
                 "Cyclone DDS domain " + std::to_string(config.domain_id) +
                     " is already used in this process with localhost_only=" + (other.localhost_only ? "true" : "false") +
@@ -238,11 +238,8 @@ Result<std::shared_ptr<net::Transport>> cyclone_transport(const net::Config& con
 
 void register_cyclonedds() {
   (void)net::register_transport(
-      {"cyclonedds", net::WireFormat::Xcdr1, &topic_name, []() -> Result<std::shared_ptr<net::Transport>> {
-         auto config = net::config_from_environment();
-         if (!config) return std::unexpected(std::move(config.error()));
-         return cyclone_transport(*config);
-       }});
+      {"cyclonedds", net::WireFormat::Xcdr1, &topic_name,
+       [](const net::Config& config) -> Result<std::shared_ptr<net::Transport>> { return cyclone_transport(config); }});
 }
 
 }  // namespace horus::dds

@@ -288,15 +288,10 @@ Result<std::shared_ptr<net::Transport>> fastdds_transport(const net::Config& con
 
 void register_fastdds() {
   (void)net::register_transport(
-      {"fastdds", net::WireFormat::Xcdr1, &topic_name, []() -> Result<std::shared_ptr<net::Transport>> {
-         auto config = net::config_from_environment();
-         if (!config) return std::unexpected(std::move(config.error()));
-         return fastdds_transport(*config);
-       },
-       []() -> Result<std::shared_ptr<net::Transport>> {
-         auto config = net::config_from_environment();
-         if (!config) return std::unexpected(std::move(config.error()));
-         return fastdds_transport(*config, true);
+      {"fastdds", net::WireFormat::Xcdr1, &topic_name,
+       [](const net::Config& config) -> Result<std::shared_ptr<net::Transport>> { return fastdds_transport(config); },
+       [](const net::Config& config) -> Result<std::shared_ptr<net::Transport>> {
+         return fastdds_transport(config, true);
        }});
 }
 

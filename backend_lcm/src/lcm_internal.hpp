@@ -1,5 +1,5 @@
 // The pieces of the LCM transport (private to backend_lcm):
-//   lcm_url.cpp        URL parsing and the environment (check_url, url_from_environment),
+//   lcm_url.cpp        URL parsing and the environment (check_url, url_from),
 //                      channel names (check_channel, channel_name)
 //   lcm_drops.cpp      kernel drop counting: this process's UDP sockets in /proc/self/net/udp
 //   lcm_engine.cpp     the instance: the publishing and receiving lcm_t and the receive thread

@@ -194,8 +194,8 @@ Result<std::shared_ptr<net::Transport>> lcm_transport(std::string_view url) {
 
 void register_lcm() {
   (void)net::register_transport(
-      {"lcm", net::WireFormat::Lcm, &channel_name, []() -> Result<std::shared_ptr<net::Transport>> {
-         auto url = url_from_environment();
+      {"lcm", net::WireFormat::Lcm, &channel_name, [](const net::Config& config) -> Result<std::shared_ptr<net::Transport>> {
+         auto url = url_from(config);
          if (!url) return std::unexpected(std::move(url.error()));
          return lcm_transport(*url);
        }});

@@ -1,5 +1,5 @@
 // LCM URLs and channel names for the LCM transport: check_url (what liblcm's lcm_create would
-// only complain about on stderr), url_from_environment (HORUS_LCM_URL, LCM_DEFAULT_URL),
+// only complain about on stderr), url_from (the URL of a net::Config),
 // check_channel and channel_name, provider_hint (what to check when LCM cannot start). Nothing here
 // touches the network.
 #include <algorithm>
@@ -252,20 +252,11 @@ Result<void> check_url(std::string_view url) {
   return {};
 }
 
-Result<std::string> url_from_environment() {
-  for (const char* name : {"HORUS_LCM_URL", "LCM_DEFAULT_URL"}) {
-    const char* value = std::getenv(name);
-    if (value == nullptr || *value == '\0') continue;
-    if (auto ok = check_url(value); !ok)
-      return fail(Errc::Config, "environment variable " + std::string(name) + ": " + ok.error().message());
-    return std::string(value);
-  }
-  if (auto file = net::file_defaults(); file.lcm_url) {
-    if (auto ok = check_url(*file.lcm_url); !ok)
-      return fail(Errc::Config, file.origin + ", network.lcm_url: " + ok.error().message());
-    return *file.lcm_url;
-  }
-  return std::string(kDefaultUrl);
+Result<std::string> url_from(const net::Config& config) {
+  if (config.lcm_url.empty()) return std::string(kDefaultUrl);
+  if (auto ok = check_url(config.lcm_url); !ok)
+    return fail(Errc::Config, config.lcm_url_origin + ": " + ok.error().message());
+  return config.lcm_url;
 }
 
 Result<std::string> check_channel(std::string_view channel) {

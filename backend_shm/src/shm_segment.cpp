@@ -24,6 +24,7 @@
 #include <thread>
 #include <utility>
 
+#include "horus/environment.hpp"
 #include "segment_internal.hpp"
 
 namespace horus::shm {
@@ -136,10 +137,10 @@ std::string describe_scope(std::uint32_t scope, std::string_view transport) {
 
 }  // namespace
 
-std::expected<std::string, SegmentError> shm_namespace() {
-  const char* env = std::getenv("HORUS_NAMESPACE");
-  if (env == nullptr || *env == '\0') return "u" + std::to_string(::getuid());
-  const std::string_view ns(env);
+std::expected<std::string, SegmentError> shm_namespace() { return shm_namespace(Environment::read().shm_namespace); }
+
+std::expected<std::string, SegmentError> shm_namespace(std::string_view ns) {
+  if (ns.empty()) return "u" + std::to_string(::getuid());
   if (ns.size() > 64)
     return std::unexpected(SegmentError{SegmentError::Kind::InvalidName,
                                         "HORUS_NAMESPACE '" + std::string(ns) + "' has " + std::to_string(ns.size()) +
@@ -152,10 +153,10 @@ std::expected<std::string, SegmentError> shm_namespace() {
   return std::string(ns);
 }
 
-std::expected<mode_t, SegmentError> shm_mode_from_environment() {
-  const char* env = std::getenv("HORUS_SHM_MODE");
-  if (env == nullptr || *env == '\0') return static_cast<mode_t>(0600);
-  const std::string_view v(env);
+std::expected<mode_t, SegmentError> shm_mode_from_environment() { return shm_mode(Environment::read().shm_mode); }
+
+std::expected<mode_t, SegmentError> shm_mode(std::string_view v) {
+  if (v.empty()) return static_cast<mode_t>(0600);
   unsigned mode = 0;
   bool ok = v.size() <= 4;
   for (char c : v) {

@@ -1,12 +1,13 @@
 #include "horus/log.hpp"
 
+#include "horus/environment.hpp"
+
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <pthread.h>
 
 #include <array>
-#include <cstdlib>
 #include <string_view>
 
 namespace horus::detail {
@@ -21,8 +22,8 @@ std::shared_ptr<spdlog::logger> make_logger() {
                    [] { spdlog::details::console_mutex::mutex().unlock(); },
                    [] { spdlog::details::console_mutex::mutex().unlock(); });
   logger->set_level(spdlog::level::info);
-  const char* env = std::getenv("HORUS_LOG_LEVEL");
-  if (env != nullptr && *env != '\0') {
+  const std::string env = Environment::read().log_level;
+  if (!env.empty()) {
     constexpr std::array<std::string_view, 7> names{"trace", "debug", "info", "warn", "error", "critical", "off"};
     bool ok = false;
     for (std::size_t i = 0; i < names.size(); ++i) {

@@ -1,10 +1,8 @@
 #include "horus/network.hpp"
 
-#include <fmt/format.h>
+#include "horus/environment.hpp"
 
-#include <cstdlib>
-#include <mutex>
-#include <utility>
+#include <fmt/format.h>
 
 namespace horus::net {
 
@@ -16,28 +14,12 @@ std::string_view to_string(Durability d) noexcept {
   return d == Durability::TransientLocal ? "transient local" : "volatile";
 }
 
-namespace {
-std::mutex g_file_mutex;
-FileDefaults g_file;  // guarded by g_file_mutex
-}  // namespace
-
-void set_file_defaults(FileDefaults defaults) {
-  std::lock_guard lock(g_file_mutex);
-  g_file = std::move(defaults);
-}
-
-FileDefaults file_defaults() {
-  std::lock_guard lock(g_file_mutex);
-  return g_file;
-}
-
-Result<Config> config_from_environment() {
+Result<Config> config_from(const Environment& env, const FileDefaults& file) {
   Config config;
-  const FileDefaults file = file_defaults();
   config.domain_id = file.domain_id.value_or(0);
   config.localhost_only = file.localhost_only.value_or(false);
-  if (const char* env = std::getenv("HORUS_DOMAIN_ID"); env != nullptr && *env != '\0') {
-    const std::string_view v(env);
+  if (!env.domain_id.empty()) {
+    const std::string_view v(env.domain_id);
     std::uint32_t id = 0;
     bool ok = v.size() <= 3;
     for (char c : v) {
@@ -50,8 +32,8 @@ Result<Config> config_from_environment() {
                                             v, kMaxDomainId, kMaxDomainId));
     config.domain_id = id;
   }
-  if (const char* env = std::getenv("HORUS_DDS_LOCALHOST"); env != nullptr && *env != '\0') {
-    const std::string_view v(env);
+  if (!env.dds_localhost.empty()) {
+    const std::string_view v(env.dds_localhost);
     if (v == "1" || v == "true" || v == "yes" || v == "on") {
       config.localhost_only = true;
     } else if (v == "0" || v == "false" || v == "no" || v == "off") {
@@ -61,6 +43,17 @@ Result<Config> config_from_environment() {
                                             "0, false, no, off (the LAN)",
                                             v));
     }
+  }
+  // The URL is checked by the LCM transport, which knows its syntax; the origin names it.
+  if (!env.horus_lcm_url.empty()) {
+    config.lcm_url = env.horus_lcm_url;
+    config.lcm_url_origin = "environment variable HORUS_LCM_URL";
+  } else if (!env.lcm_default_url.empty()) {
+    config.lcm_url = env.lcm_default_url;
+    config.lcm_url_origin = "environment variable LCM_DEFAULT_URL";
+  } else if (file.lcm_url) {
+    config.lcm_url = *file.lcm_url;
+    config.lcm_url_origin = file.origin + ", network.lcm_url";
   }
   return config;
 }

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "horus/detail/bridge_port.hpp"
+#include "horus/environment.hpp"
 #include "horus/log.hpp"
 #include "horus/shm/doorbell.hpp"
 
@@ -80,10 +81,11 @@ void EchoLedger::expire(Clock::time_point now) {
 
 // HORUS_BRIDGE: "0" keeps this process from ever bridging a fleet topic (it still uses them
 // through shared memory; another process of the host bridges); "1" or unset: it may.
-Result<bool> may_bridge_from_environment() {
-  const char* v = std::getenv("HORUS_BRIDGE");
-  if (v == nullptr || *v == '\0' || std::string_view(v) == "1") return true;
-  if (std::string_view(v) == "0") return false;
+Result<bool> may_bridge_from_environment() { return may_bridge(Environment::read().bridge); }
+
+Result<bool> may_bridge(std::string_view v) {
+  if (v.empty() || v == "1") return true;
+  if (v == "0") return false;
   return fail(Errc::Config, fmt::format("HORUS_BRIDGE='{}' is not valid; expected 0 (this process never bridges "
                                         "fleet topics to the network) or 1 (it may; the default)",
                                         v));

@@ -181,5 +181,7 @@ Result<void> check_qos(const std::string& topic, const net::Qos& have, const Top
 
 /// HORUS_BRIDGE: whether this process may bridge fleet topics (0: never; 1 or unset: it may).
 Result<bool> may_bridge_from_environment();
+/// Whether `value` (of HORUS_BRIDGE) lets this process bridge; empty: yes.
+Result<bool> may_bridge(std::string_view value);
 
 }  // namespace horus::fleet::detail

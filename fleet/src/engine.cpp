@@ -13,6 +13,7 @@
 #include <unordered_set>
 
 #include "bridge.hpp"
+#include "horus/config.hpp"
 #include "fleet_internal.hpp"
 #include "horus/detail/topic_core.hpp"
 #include "horus/log.hpp"
@@ -58,7 +59,9 @@ Result<std::shared_ptr<Engine>> Engine::of(const net::TransportInfo& info) {
   std::lock_guard lock(r.mutex);
   if (auto it = r.engines.find(info.name); it != r.engines.end())
     if (auto e = it->second.lock()) return e;
-  auto transport = info.open();
+  auto config = net::config_from_environment();
+  if (!config) return std::unexpected(std::move(config.error()));
+  auto transport = info.open(*config);
   if (!transport) return std::unexpected(std::move(transport.error()));
   auto ns = shm::shm_namespace();
   if (!ns) return fail(Errc::Config, ns.error().message);
@@ -68,13 +71,15 @@ Result<std::shared_ptr<Engine>> Engine::of(const net::TransportInfo& info) {
   if (!bell)
     return fail(bell.error().kind == shm::SegmentError::Kind::LimitReached ? Errc::LimitReached : Errc::Io,
                 "the " + std::string(info.name) + " network engine of this process: " + bell.error().message);
-  std::shared_ptr<Engine> e(new Engine(info, std::move(*transport), std::move(*bell)));
+  std::shared_ptr<Engine> e(new Engine(info, *config, std::move(*transport), std::move(*bell)));
   r.engines[std::string(info.name)] = e;
   return e;
 }
 
-Engine::Engine(const net::TransportInfo& info, std::shared_ptr<net::Transport> transport, shm::EngineBell bell)
+Engine::Engine(const net::TransportInfo& info, net::Config config, std::shared_ptr<net::Transport> transport,
+               shm::EngineBell bell)
     : info_(info),
+      config_(std::move(config)),
       transport_(std::move(transport)),
       bell_(std::move(bell)),
       creator_pid_(horus::detail::current_pid()),
@@ -116,7 +121,7 @@ Result<std::shared_ptr<net::Transport>> Engine::transport_for(std::string_view n
   if (!name.starts_with(kFleetTopicPrefix) || info_.open_control == nullptr) return transport_;
   std::lock_guard lock(control_transport_mutex_);  // not mutex_: opening a participant takes a while
   if (!control_transport_) {
-    auto t = info_.open_control();
+    auto t = info_.open_control(config_);
     if (!t) return std::unexpected(std::move(t.error()));
     control_transport_ = std::move(*t);
   }

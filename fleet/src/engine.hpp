@@ -86,7 +86,8 @@ class Engine {
   void wake_job(std::uint64_t id);
 
  private:
-  Engine(const net::TransportInfo& info, std::shared_ptr<net::Transport> transport, shm::EngineBell bell);
+  Engine(const net::TransportInfo& info, net::Config config, std::shared_ptr<net::Transport> transport,
+         shm::EngineBell bell);
   void run_export();
   void run_control();
   // Pins (under mutex_) the bridges `pick` selects; the caller unpins them.
@@ -97,6 +98,7 @@ class Engine {
   Clock::time_point run_jobs(Clock::time_point now);
 
   const net::TransportInfo& info_;
+  const net::Config config_;  // the settings the transports opened with (and the control instance opens with)
   std::shared_ptr<net::Transport> transport_;
   std::mutex control_transport_mutex_;
   std::shared_ptr<net::Transport> control_transport_;  // opened by the first horus.fleet.* topic

@@ -135,7 +135,7 @@ int raw_writer(const std::string& wire_topic, const std::string& type, Clock::ti
   const bool lcm = backend != nullptr && std::string_view(backend) == "lcm";
 #ifdef HORUS_HAVE_LCM
   if (lcm) {
-    auto url = horus::lcm::url_from_environment();
+    auto url = horus::lcm::url_from(*config);
     if (!url) return 3;
     t = horus::lcm::lcm_transport(*url);
   }

@@ -80,7 +80,9 @@ int send_garbage(int n) {
   const auto backend = horus::backend_from_environment();
   if (!backend || !horus::is_network(*backend)) return 4;
   const auto* info = horus::net::find_transport(backend->transport());
-  auto transport = info->open();
+  const auto config = horus::net::config_from_environment();
+  if (!config) return 4;
+  auto transport = info->open(*config);
   auto wire = horus::wire_name(*backend, horus::fleet::kAnnounceTopic);
   if (!transport || !wire) return 4;
   horus::net::EndpointSpec spec;

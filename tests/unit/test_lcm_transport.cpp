@@ -25,6 +25,7 @@
 
 #include <gtest/gtest.h>
 
+#include "horus/environment.hpp"
 #include "horus/lcm/transport.hpp"
 
 #include <lcm/eventlog.h>
@@ -312,40 +313,49 @@ TEST(LcmUrl, LcmTransportRefusesABadUrlWithoutStartingLcm) {
   EXPECT_NE(t.error().message().find("not a multicast address"), std::string::npos);
 }
 
+namespace {
+// The URL the environment alone names (net::config_from with no configuration file).
+horus::Result<std::string> url_from_environment() {
+  auto config = horus::net::config_from(horus::Environment::read(), {});
+  if (!config) return std::unexpected(config.error());
+  return horus::lcm::url_from(*config);
+}
+}  // namespace
+
 TEST(LcmUrl, EnvironmentPrecedence) {
   {
     EnvGuard a("HORUS_LCM_URL", nullptr), b("LCM_DEFAULT_URL", nullptr);
-    const auto url = horus::lcm::url_from_environment();
+    const auto url = url_from_environment();
     ASSERT_TRUE(url) << url.error().message();
     EXPECT_EQ(*url, horus::lcm::kDefaultUrl);
   }
   {
     EnvGuard a("HORUS_LCM_URL", ""), b("LCM_DEFAULT_URL", "");
-    const auto url = horus::lcm::url_from_environment();
+    const auto url = url_from_environment();
     ASSERT_TRUE(url);
     EXPECT_EQ(*url, horus::lcm::kDefaultUrl);
   }
   {
     EnvGuard a("HORUS_LCM_URL", nullptr), b("LCM_DEFAULT_URL", "memq://");
-    const auto url = horus::lcm::url_from_environment();
+    const auto url = url_from_environment();
     ASSERT_TRUE(url);
     EXPECT_EQ(*url, "memq://");
   }
   {
     EnvGuard a("HORUS_LCM_URL", ""), b("LCM_DEFAULT_URL", "memq://");
-    const auto url = horus::lcm::url_from_environment();
+    const auto url = url_from_environment();
     ASSERT_TRUE(url);
     EXPECT_EQ(*url, "memq://");
   }
   {
     EnvGuard a("HORUS_LCM_URL", "udpm://239.1.2.3:9999?ttl=1"), b("LCM_DEFAULT_URL", "memq://");
-    const auto url = horus::lcm::url_from_environment();
+    const auto url = url_from_environment();
     ASSERT_TRUE(url);
     EXPECT_EQ(*url, "udpm://239.1.2.3:9999?ttl=1");
   }
   {
     EnvGuard a("HORUS_LCM_URL", "udpm://10.0.0.1:7667"), b("LCM_DEFAULT_URL", "memq://");
-    const auto url = horus::lcm::url_from_environment();
+    const auto url = url_from_environment();
     ASSERT_FALSE(url);
     EXPECT_EQ(url.error().code(), Errc::Config);
     EXPECT_NE(url.error().message().find("HORUS_LCM_URL"), std::string::npos) << url.error().message();
@@ -353,7 +363,7 @@ TEST(LcmUrl, EnvironmentPrecedence) {
   }
   {
     EnvGuard a("HORUS_LCM_URL", nullptr), b("LCM_DEFAULT_URL", "bogus");
-    const auto url = horus::lcm::url_from_environment();
+    const auto url = url_from_environment();
     ASSERT_FALSE(url);
     EXPECT_NE(url.error().message().find("LCM_DEFAULT_URL"), std::string::npos) << url.error().message();
     EXPECT_EQ(url.error().message().find("HORUS_LCM_URL"), std::string::npos) << url.error().message();

@@ -88,6 +88,8 @@ struct TopicOptions {
 /// cyclonedds|fastdds|lcm; unset means auto = shm); an error names a bad value and lists the
 /// valid ones.
 Result<Backend> backend_from_environment();
+/// The backend that `value` (of HORUS_BACKEND) selects; empty: auto.
+Result<Backend> backend_from(std::string_view value);
 
 /// The name a fleet topic has on its transport (a DDS topic name "horus/fleet/robot_1/pose", an
 /// LCM channel "fleet.robot_1.pose"), by the transport's own rule; the topic name itself for

@@ -102,8 +102,18 @@ bool topic_pattern_matches(std::string_view pattern, std::string_view topic) noe
 
 /// The process's configuration: the file HORUS_CONFIG names, read once per value of the
 /// variable (later calls return the same result); nullptr when HORUS_CONFIG is unset or empty.
-/// Its network section becomes the transports' defaults (net::set_file_defaults).
+/// Its network section is the transports' default (net::config_from_environment()).
 Result<const Config*> config_from_environment();
+
+namespace net {
+/// The process's network settings, which the fleet layer passes to TransportInfo::open: the
+/// environment (HORUS_DOMAIN_ID, HORUS_DDS_LOCALHOST, HORUS_LCM_URL, LCM_DEFAULT_URL) over the
+/// configuration file's `network:` section (net::config_from). An error names the variable or
+/// the file.
+Result<Config> config_from_environment();
+}  // namespace net
+/// Same as net::config_from_environment() (the name horus has always had).
+inline Result<net::Config> network_config_from_environment() { return net::config_from_environment(); }
 
 /// What a topic gets, setting by setting, and from where.
 struct TopicChoice {

@@ -39,30 +39,43 @@ struct Qos {
   std::uint32_t depth = 16;  // history depth (KEEP_LAST), from the topic's capacity
 };
 
-/// Process-wide settings of a transport (one participant per distinct Config).
+/// Process-wide settings of a transport (one participant per distinct DDS domain and
+/// localhost_only; one LCM instance per URL). Made by the configuration (api/, from the
+/// environment and the configuration file) and passed to TransportInfo::open.
 struct Config {
-  std::uint32_t domain_id = 0;  // DDS domain (HORUS_DOMAIN_ID)
-  bool localhost_only = false;  // loopback only, no multicast (HORUS_DDS_LOCALHOST=1)
+  std::uint32_t domain_id = 0;  // DDS domain (HORUS_DOMAIN_ID, network.domain_id)
+  bool localhost_only = false;  // loopback only, no multicast (HORUS_DDS_LOCALHOST=1, network.localhost_only)
+  /// The LCM URL (HORUS_LCM_URL, LCM_DEFAULT_URL, network.lcm_url); empty: LCM's default.
+  std::string lcm_url;
+  /// Where lcm_url came from, for errors ("environment variable HORUS_LCM_URL",
+  /// "configuration file 'f.yaml', network.lcm_url"); empty when lcm_url is.
+  std::string lcm_url_origin;
   bool operator==(const Config&) const = default;
 };
 
-/// Defaults from the configuration file's `network:` section (horus/config.hpp), used where
-/// the environment says nothing. `origin` names where they came from, for errors.
+/// The configuration file's `network:` section (horus/config.hpp), used where the environment
+/// says nothing. `origin` names the file, for errors.
 struct FileDefaults {
   std::optional<std::uint32_t> domain_id;
   std::optional<bool> localhost_only;
   std::optional<std::string> lcm_url;
   std::string origin;
 };
-/// Set once the configuration file is read, before the first transport opens.
-void set_file_defaults(FileDefaults defaults);
-FileDefaults file_defaults();
 
-/// The DDS settings of this process: HORUS_DOMAIN_ID (0 to kMaxDomainId) and
-/// HORUS_DDS_LOCALHOST (1/true/yes/on: loopback only, no multicast; 0/false/no/off: the LAN);
-/// where one is unset, the configuration file's value (file_defaults()), else 0 and the LAN.
-/// An error names the variable, its value and what is expected.
-Result<Config> config_from_environment();
+}  // namespace horus::net
+
+namespace horus {
+struct Environment;
+}
+
+namespace horus::net {
+
+/// The network settings from the environment's HORUS_DOMAIN_ID (0 to kMaxDomainId),
+/// HORUS_DDS_LOCALHOST (1/true/yes/on: loopback only, no multicast; 0/false/no/off: the LAN),
+/// HORUS_LCM_URL and LCM_DEFAULT_URL; where one is unset, the file's value, else domain 0, the
+/// LAN and LCM's default URL. An error names the variable, its value and what is expected.
+/// (The process's settings: horus::net::config_from_environment() in horus/config.hpp.)
+Result<Config> config_from(const Environment& env, const FileDefaults& file);
 
 /// One topic as a backend sees it.
 struct EndpointSpec {
@@ -158,8 +171,3 @@ class Transport {
 };
 
 }  // namespace horus::net
-
-namespace horus {
-/// Same as net::config_from_environment() (the name horus has always had).
-inline Result<net::Config> network_config_from_environment() { return net::config_from_environment(); }
-}  // namespace horus

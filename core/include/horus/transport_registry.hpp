@@ -32,15 +32,15 @@ struct TransportInfo {
   /// Errc::InvalidName naming the topic and the transport's rule. The topic name has passed
   /// validate_topic_name.
   Result<std::string> (*wire_name)(std::string_view topic) = nullptr;
-  /// The process's transport (created on first use, then shared), configured from this
-  /// process's environment (HORUS_DOMAIN_ID, HORUS_LCM_URL, ...).
-  Result<std::shared_ptr<Transport>> (*open)() = nullptr;
+  /// The transport of `config` (created on first use, then shared per configuration). The
+  /// caller passes the process's settings (horus::net::config_from_environment()).
+  Result<std::shared_ptr<Transport>> (*open)(const Config& config) = nullptr;
   /// Optional: a second instance for the fleet layer's own topics (heartbeats, announcements)
   /// with sockets and receive threads of its own, so that under load they do not wait behind
   /// the data in one socket and one thread (Fast DDS: a second participant). nullptr: open()
   /// serves them too (Cyclone DDS's participants of a domain share one network stack; LCM one
   /// multicast socket).
-  Result<std::shared_ptr<Transport>> (*open_control)() = nullptr;
+  Result<std::shared_ptr<Transport>> (*open_control)(const Config& config) = nullptr;
 };
 
 /// Adds a transport. Registering the same name again with the same functions does nothing;

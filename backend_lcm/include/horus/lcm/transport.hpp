@@ -62,9 +62,10 @@ inline constexpr std::size_t kMaxMessageSize = std::size_t{1} << 28;
 ///   tcpq://[HOST[:PORT]]        an LCM TCP queue server (default 127.0.0.1:7700), no options
 Result<void> check_url(std::string_view url);
 
-/// The URL to use: HORUS_LCM_URL if set and non-empty, else LCM_DEFAULT_URL if set and
-/// non-empty, else kDefaultUrl. Checked with check_url; the error names the variable.
-Result<std::string> url_from_environment();
+/// The URL of `config` (HORUS_LCM_URL, else LCM_DEFAULT_URL, else the file's network.lcm_url:
+/// net::config_from), or kDefaultUrl when it names none. Checked with check_url; the error
+/// names where the URL came from.
+Result<std::string> url_from(const net::Config& config);
 
 /// `channel` as an LCM channel name, or Errc::InvalidName when it is empty, longer than
 /// kMaxChannelLength bytes or contains a NUL byte.

@@ -131,10 +131,14 @@ struct SegmentError {
 /// The shared-memory namespace: HORUS_NAMESPACE, else "u<uid>" (one per user, so two users
 /// on one host never share or collide). Letters, digits, '_' and '-', 1 to 64 characters.
 std::expected<std::string, SegmentError> shm_namespace();
+/// The namespace that `value` (of HORUS_NAMESPACE) names; empty: "u<uid>".
+std::expected<std::string, SegmentError> shm_namespace(std::string_view value);
 /// The mode of segments this process creates: HORUS_SHM_MODE (octal, e.g. 0660 to share a
 /// namespace with the group; owner read and write are always kept), else 0600. An error names a
 /// malformed value and what is expected.
 std::expected<mode_t, SegmentError> shm_mode_from_environment();
+/// The mode that `value` (of HORUS_SHM_MODE) names; empty: 0600.
+std::expected<mode_t, SegmentError> shm_mode(std::string_view value);
 /// "/horus.<namespace>.<topic>": the name given to shm_open (the file is /dev/shm/horus....).
 std::string segment_name(std::string_view ns, std::string_view topic);
 

@@ -1,0 +1,31 @@
+// The environment variables horus reads, read in one place.
+//
+// Only core/src/environment.cpp calls getenv. The configuration (api/src/config.cpp) combines a
+// snapshot with the configuration file and passes the result down as parameters: a transport
+// opens with a net::Config, the fleet layer with FleetSettings. An empty string means unset
+// (horus treats `VAR=` as unset everywhere).
+#pragma once
+
+#include <string>
+
+namespace horus {
+
+struct Environment {
+  std::string config;              // HORUS_CONFIG: the configuration file
+  std::string backend;             // HORUS_BACKEND: auto, shm, inproc, cyclonedds, fastdds, lcm
+  std::string domain_id;           // HORUS_DOMAIN_ID: the DDS domain
+  std::string dds_localhost;       // HORUS_DDS_LOCALHOST: DDS on loopback only
+  std::string horus_lcm_url;       // HORUS_LCM_URL: the LCM URL of horus's topics
+  std::string lcm_default_url;     // LCM_DEFAULT_URL: liblcm's own variable, when HORUS_LCM_URL is unset
+  std::string fleet_heartbeat_ms;  // HORUS_FLEET_HEARTBEAT_MS: the fleet layer's heartbeat period
+  std::string bridge;              // HORUS_BRIDGE: 0 keeps this process from bridging fleet topics
+  std::string shm_namespace;       // HORUS_NAMESPACE: the shared-memory namespace
+  std::string shm_mode;            // HORUS_SHM_MODE: the mode of new segments
+  std::string log_level;           // HORUS_LOG_LEVEL: the library logger's level
+
+  /// The variables as they are now.
+  static Environment read();
+  bool operator==(const Environment&) const = default;
+};
+
+}  // namespace horus

@@ -1,0 +1,30 @@
+#include "horus/environment.hpp"
+
+#include <cstdlib>
+
+namespace horus {
+
+namespace {
+std::string variable(const char* name) {
+  const char* v = std::getenv(name);
+  return v != nullptr ? std::string(v) : std::string();
+}
+}  // namespace
+
+Environment Environment::read() {
+  Environment e;
+  e.config = variable("HORUS_CONFIG");
+  e.backend = variable("HORUS_BACKEND");
+  e.domain_id = variable("HORUS_DOMAIN_ID");
+  e.dds_localhost = variable("HORUS_DDS_LOCALHOST");
+  e.horus_lcm_url = variable("HORUS_LCM_URL");
+  e.lcm_default_url = variable("LCM_DEFAULT_URL");
+  e.fleet_heartbeat_ms = variable("HORUS_FLEET_HEARTBEAT_MS");
+  e.bridge = variable("HORUS_BRIDGE");
+  e.shm_namespace = variable("HORUS_NAMESPACE");
+  e.shm_mode = variable("HORUS_SHM_MODE");
+  e.log_level = variable("HORUS_LOG_LEVEL");
+  return e;
+}
+
+}  // namespace horus
