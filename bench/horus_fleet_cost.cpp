@@ -31,7 +31,9 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include "horus/discovery/registry.hpp"
 #include "horus/horus.hpp"
+#include "horus/shm/shm_segment.hpp"
 
 namespace {
 
@@ -133,6 +135,18 @@ int child(const std::string& backend, int topics, double idle_s) {
     if (d > 0) threads += fmt::format(" {}={:.1f}", name, static_cast<double>(d) * tick_ms / idle_s);
   }
   const double secs = std::chrono::duration<double>(Clock::now() - i0).count();
+  // What one look at the host's topics costs (the fleet layer's announcer makes one every
+  // announce period): a warm scan of the namespace, its segments already mapped.
+  {
+    horus::discovery::Scanner scanner(horus::shm::shm_namespace().value_or(""));
+    (void)scanner.scan();
+    constexpr int kScans = 5;
+    const auto s0 = Clock::now();
+    std::size_t seen = 0;
+    for (int i = 0; i < kScans; ++i) seen += scanner.scan().size();
+    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - s0).count() / kScans;
+    threads += fmt::format(" | one scan of {} topics {:.2f} ms", seen / kScans, ms);
+  }
   std::printf("RESULT %s %d %d %d %.3f %.3f %.1f\n", backend.c_str(), topics, before, after, open_s,
               (u1.cpu_s - u0.cpu_s) * 1000.0 / secs, static_cast<double>(u1.switches - u0.switches) / secs);
   std::printf("THREADS%s\n", threads.c_str());

@@ -429,6 +429,8 @@ std::expected<ShmSegment, SegmentError> ShmSegment::open(std::string_view ns, st
       if (e.pid.load(std::memory_order_acquire) != 0) continue;
       e.start_time.store(self_start, std::memory_order_relaxed);
       e.pid.store(static_cast<std::uint32_t>(self), std::memory_order_release);
+      if (seg.header_->participant_hwm.load(std::memory_order_relaxed) < i + 1)
+        seg.header_->participant_hwm.store(i + 1, std::memory_order_release);
       seg.slot_ = i;
       if (seg.pool_) seg.pool_.admit(i);
       return seg;

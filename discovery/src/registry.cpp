@@ -84,8 +84,12 @@ std::optional<TopicEntry> read_entry(const std::string& file, const std::string&
       e.bridge_pid = holder;
   }
 
+  // Only the entries that may be in use (high-water marks): a scan of a thousand segments
+  // touches a few cache lines of each, not every entry of every table.
   std::map<pid_t, Process> procs;
-  for (const auto& p : h.participants) {
+  const std::uint32_t participants = std::min(h.participant_hwm.load(std::memory_order_acquire), shm::kMaxParticipants);
+  for (std::uint32_t i = 0; i < participants; ++i) {
+    const auto& p = h.participants[i];
     const auto pid = static_cast<pid_t>(p.pid.load(std::memory_order_acquire));
     if (pid == 0) continue;
     auto& proc = procs[pid];
@@ -93,7 +97,8 @@ std::optional<TopicEntry> read_entry(const std::string& file, const std::string&
     proc.alive = live.alive(pid, p.start_time.load(std::memory_order_relaxed));
     proc.bridge = pid == e.bridge_pid;
   }
-  for (std::uint32_t l = 0; l < shm::kMaxPublishers; ++l) {
+  const std::uint32_t lanes = std::min(ring.header().lane_hwm.load(std::memory_order_acquire), shm::kMaxPublishers);
+  for (std::uint32_t l = 0; l < lanes; ++l) {
     const std::uint64_t owner = ring.lane(l).owner.load(std::memory_order_acquire);
     if (owner == 0) continue;
     if (owner == import_token) {  // the bridge's import lane: not a user's handle
@@ -103,7 +108,8 @@ std::optional<TopicEntry> read_entry(const std::string& file, const std::string&
     auto it = procs.find(shm::token_pid(owner));
     if (it != procs.end()) ++it->second.publishers;
   }
-  for (std::uint32_t i = 0; i < shm::kMaxSubscribers; ++i) {
+  const std::uint32_t subs = std::min(ring.header().sub_hwm.load(std::memory_order_acquire), shm::kMaxSubscribers);
+  for (std::uint32_t i = 0; i < subs; ++i) {
     const auto& s = ring.subscriber(i);
     if (s.state.load(std::memory_order_acquire) != shm::SubscriberEntry::kActive) continue;
     const std::uint64_t owner = s.owner.load(std::memory_order_acquire);

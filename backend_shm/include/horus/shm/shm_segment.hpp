@@ -39,9 +39,10 @@
 namespace horus::shm {
 
 inline constexpr std::uint64_t kSegmentMagic = 0x3147'4553'5355'524FULL;  // "ORUSSEG1"
-inline constexpr std::uint32_t kSegmentVersion = 5;  // 2: the large-data pool; 3: the bridge claim;
+inline constexpr std::uint32_t kSegmentVersion = 6;  // 2: the large-data pool; 3: the bridge claim;
                                                      // 4: the topic's scope and the bridge's state;
-                                                     // 5: the type's signature, the bridge's malformed count
+                                                     // 5: the type's signature, the bridge's malformed count;
+                                                     // 6: the participants' high-water mark
 inline constexpr std::size_t kMaxTypeName = 255;
 inline constexpr std::size_t kMaxTransportName = 15;
 inline constexpr std::size_t kMaxSignature = 256 * 1024;  // a type's signature text, at most
@@ -99,6 +100,9 @@ struct alignas(kCacheLine) SegmentHeader {
   char transport[kMaxTransportName + 1];         // a fleet topic's network transport ("cyclonedds")
   std::uint64_t signature_offset;                // sizeof(SegmentHeader): the signature follows the header
   std::uint64_t signature_size;                  // its bytes (0: none given), at most kMaxSignature
+  // Participants [0, participant_hwm) may be in use (raised under the file lock by a joining
+  // process, never lowered): a reader of the table (discovery's scans) looks at those only.
+  std::atomic<std::uint32_t> participant_hwm;
   BridgeState bridge;
   Participant participants[kMaxParticipants];
 };
