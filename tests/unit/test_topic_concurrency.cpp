@@ -301,11 +301,15 @@ TEST(TopicConcurrency, AProcessWithAFleetTopicAnnouncesItsHostToAFleetOnAnotherT
   ASSERT_TRUE(f) << f.error().message();
   std::atomic<int> events{0};
   (*f)->on_change([&](const horus::FleetEvent&) { events.fetch_add(1); });
+  // The Fleet's thread may have reported this host (joined, its topics) before the callback
+  // was registered: a topic opened now changes the host's announcement once more, after it.
+  auto later = Topic<Stamp>::open(unique_name("conc.announced_later"), fleet);
+  ASSERT_TRUE(later) << later.error().message();
   std::optional<horus::FleetHost> self;
   const auto deadline = std::chrono::steady_clock::now() + 10s;
   while (std::chrono::steady_clock::now() < deadline) {
     self = (*f)->host(horus::fleet::host_name());
-    if (self && self->announced && self->heartbeats >= 5 &&
+    if (self && self->announced && self->heartbeats >= 5 && events.load() >= 1 &&
         std::any_of(self->topics.begin(), self->topics.end(), [&](const auto& t) { return t.name == name; }))
       break;
     std::this_thread::sleep_for(10ms);
