@@ -1,8 +1,11 @@
-// The instance of the LCM transport: the lcm_t that publishes, the one that receives (the same
-// one except for udpm, where it exists while an endpoint receives) and one receive
-// thread (Engine::run) that polls {the receiving lcm fd, an eventfd that wakes or stops it} and
-// calls lcm_handle(), which runs the handlers of one message in that thread. Every listener call is made by that thread while it holds
-// Engine::handle_mutex_, through the endpoint's gate (horus/transport/endpoint_gate.hpp).
+// The instance of the LCM transport: the lcm_t that publishes, what receives (udpm: horus's own
+// receiver, lcm_udpm_rx.cpp, which exists while an endpoint receives; otherwise the same lcm_t)
+// and one receive thread. With udpm the thread reads the socket and dispatches itself (no
+// liblcm receive thread, no pipe: one thread woken per message, as in a raw LCM program); with
+// the other providers the thread (Engine::run) polls {the receiving lcm fd, an eventfd that
+// wakes or stops it} and calls lcm_handle(), which runs the handlers of one message in that
+// thread. Every listener call is made by that thread while it holds Engine::handle_mutex_,
+// through the endpoint's gate (horus/transport/endpoint_gate.hpp).
 //
 // Subscribing and unsubscribing. liblcm 1.3.1 cannot unsubscribe safely while another thread is
 // inside lcm_handle(): lcm_dispatch_handlers() walks the channel's handler array by index with
@@ -35,6 +38,7 @@ namespace horus::lcm::detail {
 namespace {
 
 constexpr int kPollTimeoutMs = 100;
+constexpr int kNativePollTimeoutMs = 1000;
 constexpr auto kDropCheckPeriod = std::chrono::milliseconds(100);
 
 thread_local const Engine* tl_receive_engine = nullptr;  // set on each engine's receive thread
@@ -59,9 +63,9 @@ std::int64_t unix_us() noexcept {
 // True (and counted, reported on the first and every 4096th) when the message waited too long
 // in LCM's queue. recv_utime is the kernel's receive time (SO_TIMESTAMP, the system clock); an
 // age over a minute is a clock step, not a backlog.
-bool drop_if_stale(Subscription& sub, const lcm_recv_buf_t& rb, net::EndpointGate::Calls& calls) {
+bool drop_if_stale(Subscription& sub, std::int64_t recv_utime, net::EndpointGate::Calls& calls) {
   if (sub.max_queue_age_us <= 0) return false;
-  const std::int64_t age = unix_us() - rb.recv_utime;
+  const std::int64_t age = unix_us() - recv_utime;
   if (age <= sub.max_queue_age_us || age > 60'000'000) return false;
   calls.lost(1);
   if (sub.stale++ % 4096 == 0)
@@ -72,17 +76,21 @@ bool drop_if_stale(Subscription& sub, const lcm_recv_buf_t& rb, net::EndpointGat
   return true;
 }
 
-void on_message(const lcm_recv_buf_t* rb, const char* /*channel*/, void* user) {
-  auto* raw = static_cast<Subscription*>(user);
-  if (!raw->gate.is_open() || raw->paused.load(std::memory_order_acquire)) return;
+// One message to one subscription, on the receive thread.
+void deliver(Subscription& raw, std::span<const std::byte> body, std::int64_t recv_utime) {
+  if (!raw.gate.is_open() || raw.paused.load(std::memory_order_acquire)) return;
   // The listener may close its own endpoint: the gate stays alive until the call leaves it.
-  const std::shared_ptr<Subscription> sub = raw->shared_from_this();
+  const std::shared_ptr<Subscription> sub = raw.shared_from_this();
   sub->gate.run([&](net::EndpointGate::Calls& calls) {
     if (sub->paused.load(std::memory_order_acquire)) return;
-    if (drop_if_stale(*sub, *rb, calls)) return;
-    const std::span<const std::byte> body(static_cast<const std::byte*>(rb->data), rb->data_size);
+    if (drop_if_stale(*sub, recv_utime, calls)) return;
     calls.sample(net::Sample{body, false});  // LCM encodes big-endian
   });
+}
+
+void on_message(const lcm_recv_buf_t* rb, const char* /*channel*/, void* user) {
+  deliver(*static_cast<Subscription*>(user), std::span<const std::byte>(static_cast<const std::byte*>(rb->data), rb->data_size),
+          rb->recv_utime);
 }
 
 }  // namespace
@@ -140,6 +148,17 @@ Result<void> Engine::start_receiving_now() {
 }
 
 Result<lcm_t*> Engine::receiver_locked() {
+  if (native()) {
+    if (rx_ == nullptr) {
+      auto rx = UdpmReceiver::open(url_, info_);
+      if (!rx) return std::unexpected(std::move(rx.error()));
+      rx_ = std::move(*rx);
+      recv_gen_.fetch_add(1, std::memory_order_acq_rel);
+      lcm_fd_.store(rx_->fd(), std::memory_order_release);
+      poke();  // the receive thread polls the socket from now on
+    }
+    return pub_;
+  }
   if (recv_ != nullptr) return recv_;
   // udpm: LCM's receive socket is created by lcm_get_fileno(); the sockets on its port that
   // appear meanwhile are ours (creations of receive sockets are serialized by this lock).
@@ -183,6 +202,13 @@ Result<lcm_t*> Engine::receiver_locked() {
 Result<void> Engine::lcm_subscribe_locked(Subscription& sub, const std::string& channel) {
   auto lcm = receiver_locked();
   if (!lcm) return fail(lcm.error().code(), sub.label() + ": " + lcm.error().message());
+  if (native()) {
+    auto& list = channels_[channel];
+    list.push_back(sub.shared_from_this());
+    sub.channel = channel;
+    sub.listening = true;
+    return {};
+  }
   lcm_subscription_t* handle = lcm_subscribe(*lcm, regex_escape(channel).c_str(), &on_message, &sub);
   if (handle == nullptr) {
     stop_receiving_if_idle_locked();  // an instance created for nothing goes again
@@ -212,12 +238,17 @@ void Engine::set_receiving(const std::shared_ptr<Subscription>& sub, const std::
   if (!sub->gate.is_open()) return;
   if (on) {
     std::erase(deferred_, sub);  // an unsubscribe still waiting for lcm_handle to return
-    if (sub->handle != nullptr) return;
+    if (receives(*sub)) return;
     try {
       if (auto ok = lcm_subscribe_locked(*sub, channel); !ok)
         sub->report(ok.error().message() + "; nothing arrives on this channel until it is resumed again");
     } catch (...) {
     }
+    return;
+  }
+  if (sub->listening) {  // the native receiver's table: dispatch walks a copy, so at once
+    unlist_locked(*sub);
+    stop_receiving_if_idle_locked();
     return;
   }
   if (sub->handle == nullptr) return;
@@ -237,6 +268,11 @@ void Engine::unsubscribe(const std::shared_ptr<Subscription>& sub) noexcept {
   sub->gate.close();
   HandleLock lock(*this);
   std::erase(subs_, sub);
+  if (sub->listening) {
+    unlist_locked(*sub);
+    stop_receiving_if_idle_locked();
+    return;
+  }
   if (sub->handle == nullptr) return;
   if (lock.on_receive_thread()) {
     // Inside lcm_handle (a listener closed an endpoint): unsubscribe once it returns.
@@ -271,8 +307,16 @@ void Engine::run_deferred_locked() noexcept {
 // the group's datagrams, this process's own included). Called with handle_mutex_ held, outside
 // lcm_handle.
 void Engine::stop_receiving_if_idle_locked() noexcept {
-  // Never inside lcm_handle (a handler of this very instance is running): the receive thread
-  // calls this again once lcm_handle has returned (run_deferred_locked).
+  // Never inside lcm_handle or the native receiver's drain (a handler of this very instance is
+  // running): the receive thread calls this again once it has returned (run_deferred_locked).
+  if (native()) {
+    if (rx_ == nullptr || !channels_.empty() || in_handle_) return;
+    lcm_fd_.store(-1, std::memory_order_release);
+    recv_gen_.fetch_add(1, std::memory_order_acq_rel);
+    poke();  // the receive thread stops polling the socket (it checks it again under the lock)
+    rx_.reset();
+    return;
+  }
   if (info_.provider != Provider::Udpm || recv_ == nullptr || !deferred_.empty() || in_handle_) return;
   for (const auto& sub : subs_)
     if (sub->handle != nullptr) return;
@@ -282,6 +326,28 @@ void Engine::stop_receiving_if_idle_locked() noexcept {
   lcm_t* const lcm = std::exchange(recv_, nullptr);
   drop_inode_ = 0;
   lcm_destroy(lcm);
+}
+
+void Engine::unlist_locked(Subscription& sub) noexcept {
+  sub.listening = false;
+  auto it = channels_.find(sub.channel);
+  if (it == channels_.end()) return;
+  std::erase_if(it->second, [&](const auto& s) { return s.get() == &sub; });
+  if (it->second.empty()) channels_.erase(it);
+}
+
+// On the receive thread, inside the native receiver's drain: listeners may open or close
+// endpoints meanwhile (the table changes; the copy walked here does not).
+void Engine::dispatch_native_locked(const UdpmMessage& m) noexcept {
+  auto it = channels_.find(m.channel);
+  if (it == channels_.end()) return;  // our own datagrams of a channel nobody here reads, say
+  try {
+    scratch_.assign(it->second.begin(), it->second.end());
+  } catch (...) {
+    return;
+  }
+  for (const auto& sub : scratch_) deliver(*sub, m.data, m.recv_utime);
+  scratch_.clear();
 }
 
 // Called with handle_mutex_ held. Listener code may open or close endpoints meanwhile.
@@ -313,7 +379,8 @@ void Engine::loop() noexcept {
     }
     const bool poll_lcm = lcm_open && lcm_fd >= 0;
     pollfd fds[2] = {{event_fd_, POLLIN, 0}, {lcm_fd, POLLIN, 0}};
-    const int n = ::poll(fds, poll_lcm ? 2 : 1, kPollTimeoutMs);
+    // The native receiver has nothing to do on a timer (its drops come with the datagrams).
+    const int n = ::poll(fds, poll_lcm ? 2 : 1, native() ? kNativePollTimeoutMs : kPollTimeoutMs);
     if (n < 0 && errno != EINTR) {
       const int err = errno;
       std::unique_lock lock = lock_for_dispatch();
@@ -328,6 +395,17 @@ void Engine::loop() noexcept {
       [[maybe_unused]] const ssize_t r = ::read(event_fd_, &value, sizeof value);
     }
     if (stop_.load(std::memory_order_acquire)) break;
+    if (n > 0 && poll_lcm && native() && (fds[1].revents & (POLLIN | POLLERR)) != 0) {
+      std::unique_lock lock = lock_for_dispatch();
+      // The receiver may have gone (nobody receives any more) while we polled its socket.
+      if (rx_ == nullptr || recv_gen_.load(std::memory_order_relaxed) != gen) continue;
+      in_handle_ = true;
+      const std::uint64_t lost = rx_->drain([this](const UdpmMessage& m) { dispatch_native_locked(m); }, 64);
+      in_handle_ = false;
+      if (lost != 0) report_kernel_drops_locked(lost);
+      run_deferred_locked();
+      continue;  // no lcm_handle, no /proc look: the socket says what it lost
+    }
     if (n > 0 && poll_lcm && (fds[1].revents & (POLLIN | POLLHUP | POLLERR)) != 0) {
       std::unique_lock lock = lock_for_dispatch();
       // The instance may have gone (nobody receives any more) while we polled its descriptor.
@@ -373,6 +451,11 @@ void Engine::account_drops() noexcept {
   const std::uint32_t delta = *drops - last_drops_;  // the counter is 32-bit and wraps
   last_drops_ = *drops;
   if (delta == 0) return;
+  report_kernel_drops_locked(delta);
+  run_deferred_locked();
+}
+
+void Engine::report_kernel_drops_locked(std::uint64_t delta) noexcept {
   std::vector<std::shared_ptr<Subscription>> subs;
   try {
     subs = subs_;
@@ -394,7 +477,6 @@ void Engine::account_drops() noexcept {
                     "net.core.rmem_max");
     });
   }
-  run_deferred_locked();
 }
 
 }  // namespace horus::lcm::detail

@@ -2,11 +2,13 @@
 //   lcm_url.cpp        URL parsing and the environment (check_url, url_from),
 //                      channel names (check_channel, channel_name)
 //   lcm_drops.cpp      kernel drop counting: this process's UDP sockets in /proc/self/net/udp
-//   lcm_engine.cpp     the instance: the publishing and receiving lcm_t and the receive thread
-//                      (Engine), subscriptions
+//   lcm_udpm_rx.cpp    horus's own receiver of LCM's UDP multicast protocol (UdpmReceiver)
+//   lcm_engine.cpp     the instance: the publishing lcm_t, what receives (the udpm receiver, or a
+//                      liblcm instance), the receive thread (Engine), subscriptions
 //   lcm_transport.cpp  the endpoint, the transport, the per-URL cache, registration
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -15,8 +17,10 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include <lcm/lcm.h>
@@ -34,8 +38,11 @@ enum class Provider { Udpm, Memq, File, Tcpq };
 
 struct UrlInfo {
   Provider provider = Provider::Udpm;
-  std::uint16_t port = 0;  // udpm
-  bool file_read = true;   // file: mode r (the default)
+  std::uint16_t port = 0;                 // udpm
+  std::array<std::uint8_t, 4> group{};    // udpm: the multicast group
+  std::uint32_t recv_buf_size = 0;        // udpm: the receive socket's buffer (0: the system's)
+  bool transmit_only = false;             // udpm: never receives
+  bool file_read = true;                  // file: mode r (the default)
 };
 
 /// Checks `url` and says what it is (Errc::Config naming the problem otherwise).
@@ -64,6 +71,55 @@ std::vector<std::uint64_t> udp_sockets_on_port(std::uint16_t port);
 /// The kernel's drops counter of socket `inode` (`table` is scratch space), if readable.
 std::optional<std::uint32_t> socket_drops(std::uint64_t inode, std::string& table);
 
+// ---- udpm receive (lcm_udpm_rx.cpp) ----------------------------------------------------------
+
+/// A complete LCM message as it arrived; valid during the call only.
+struct UdpmMessage {
+  std::string_view channel;
+  std::span<const std::byte> data;
+  std::int64_t recv_utime;  // the kernel's receive time of its (last) datagram, system clock, us
+};
+
+/// horus's own receiver of LCM's UDP multicast protocol (LC02 datagrams, LC03 fragments),
+/// read by the engine's receive thread itself. liblcm's udpm receives in a thread of its own
+/// and hands each message to the thread that calls lcm_handle through a pipe: one more thread
+/// woken per message. Sending stays liblcm's (lcm_publish). One socket bound to the URL's port
+/// (SO_REUSEADDR, as liblcm's), joined to its group only (IP_MULTICAST_ALL off), with the
+/// kernel's drop count (SO_RXQ_OVFL) and receive time (SO_TIMESTAMP) of each datagram.
+class UdpmReceiver {
+ public:
+  /// Errc::Io naming the step that failed (no multicast route: joining the group fails).
+  static Result<std::unique_ptr<UdpmReceiver>> open(const std::string& url, const UrlInfo& info);
+  UdpmReceiver(const UdpmReceiver&) = delete;
+  UdpmReceiver& operator=(const UdpmReceiver&) = delete;
+  ~UdpmReceiver();
+
+  int fd() const noexcept { return fd_; }
+  /// Reads up to `budget` datagrams the socket holds now (never blocks) and calls `deliver` for
+  /// each complete message. Returns what was lost meanwhile: datagrams the kernel dropped for a
+  /// full buffer, and messages abandoned in reassembly (a sender that moved on, limits).
+  std::uint64_t drain(const std::function<void(const UdpmMessage&)>& deliver, int budget);
+
+ private:
+  struct Partial {
+    std::uint32_t seqno = 0;
+    std::string channel;
+    std::vector<std::byte> data;
+    std::vector<bool> seen;  // per fragment
+    std::uint32_t remaining = 0;
+    std::int64_t last_us = 0;
+  };
+  explicit UdpmReceiver(int fd);
+  std::uint64_t take(std::span<const std::byte> datagram, std::uint64_t sender, std::int64_t recv_us,
+                     const std::function<void(const UdpmMessage&)>& deliver);
+
+  const int fd_;
+  std::vector<std::byte> buffer_;                       // one datagram
+  std::uint32_t kernel_drops_ = 0;                      // SO_RXQ_OVFL's last value
+  std::unordered_map<std::uint64_t, Partial> partials_;  // by sender (address, port)
+  std::uint64_t partial_bytes_ = 0;
+};
+
 // ---- the instance (lcm_engine.cpp) ------------------------------------------------------------
 
 /// How long a message may wait in LCM's receive queue (udpm). liblcm's own thread reads the
@@ -79,6 +135,10 @@ struct Subscription : std::enable_shared_from_this<Subscription> {
   Subscription(net::Listener& l, std::string label) : gate(l, std::move(label)) {}
   net::EndpointGate gate;                // closed first by ~LcmEndpoint: no listener call after
   lcm_subscription_t* handle = nullptr;  // guarded by the engine's handle lock
+  // udpm: in the engine's table of its own receiver (the counterpart of `handle`), and the
+  // channel it is filed under; guarded by the engine's handle lock.
+  bool listening = false;
+  std::string channel;
   std::atomic<bool> paused{false};       // set_receiving(false): samples are not delivered
   // udpm: a message that waited longer than this in LCM's receive queue is dropped and counted
   // (0: no limit). Receive thread only, like the counts below.
@@ -136,6 +196,18 @@ class Engine {
   /// The receiving instance, created (udpm) and announced to the receive thread on first use.
   /// Called with handle_mutex_ held.
   Result<lcm_t*> receiver_locked();
+  /// udpm (unless transmit_only): horus's own receiver serves the subscriptions, not a liblcm
+  /// receiving instance.
+  bool native() const noexcept { return info_.provider == Provider::Udpm && !info_.transmit_only; }
+  /// Whether `sub` receives now (an LCM subscription, or a place in the native receiver's table).
+  static bool receives(const Subscription& sub) noexcept { return sub.handle != nullptr || sub.listening; }
+  /// Takes `sub` out of the native receiver's table. Called with handle_mutex_ held.
+  void unlist_locked(Subscription& sub) noexcept;
+  /// Hands a message of the native receiver to the subscriptions of its channel.
+  void dispatch_native_locked(const UdpmMessage& m) noexcept;
+  /// Datagrams the kernel dropped: every subscription of the process counts them (LCM does
+  /// not say of which channel). Called with handle_mutex_ held.
+  void report_kernel_drops_locked(std::uint64_t count) noexcept;
   /// lcm_subscribe on the receiving instance. Called with handle_mutex_ held.
   Result<void> lcm_subscribe_locked(Subscription& sub, const std::string& channel);
   std::unique_lock<std::mutex> lock_for_dispatch();
@@ -160,6 +232,15 @@ class Engine {
   std::atomic<int> waiting_{0};                          // threads waiting for handle_mutex_
   std::vector<std::shared_ptr<Subscription>> subs_;      // open endpoints; guarded by handle_mutex_
   std::vector<std::shared_ptr<Subscription>> deferred_;  // to unsubscribe; guarded by handle_mutex_
+  // udpm: horus's own receiver while an endpoint receives, and its subscriptions by channel;
+  // guarded by handle_mutex_.
+  struct ChannelHash {
+    using is_transparent = void;
+    std::size_t operator()(std::string_view s) const noexcept { return std::hash<std::string_view>{}(s); }
+  };
+  std::unique_ptr<UdpmReceiver> rx_;
+  std::unordered_map<std::string, std::vector<std::shared_ptr<Subscription>>, ChannelHash, std::equal_to<>> channels_;
+  std::vector<std::shared_ptr<Subscription>> scratch_;  // the receive thread's copy of a channel's list
 
   // The receive socket's drop accounting (set with recv_); guarded by handle_mutex_.
   std::uint64_t drop_inode_ = 0;

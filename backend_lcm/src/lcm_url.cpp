@@ -128,6 +128,7 @@ Result<UrlInfo> check_udpm(std::string_view url, std::string_view rest) {
   const auto p = parse_decimal(port, 65535);
   if (!p || *p == 0) return fail(Errc::Config, url_error(url, "port " + std::string(port) + " is out of range 1..65535", kUdpmExpected));
   info.port = static_cast<std::uint16_t>(*p);
+  info.group = *ip;
   if (q == std::string_view::npos) return info;
 
   auto options = parse_options(url, rest.substr(q + 1), kUdpmOptionsExpected);
@@ -142,9 +143,11 @@ Result<UrlInfo> check_udpm(std::string_view url, std::string_view rest) {
         return fail(Errc::Config, url_error(url, "recv_buf_size=" + std::string(value) + " is not a positive integer (bytes, at most " +
                                                      std::to_string(INT_MAX) + ")",
                                             kUdpmOptionsExpected));
+      info.recv_buf_size = static_cast<std::uint32_t>(*v);
     } else if (key == "transmit_only") {
       if (value != "true" && value != "false")
         return fail(Errc::Config, url_error(url, "transmit_only=" + std::string(value) + " is neither true nor false", kUdpmOptionsExpected));
+      info.transmit_only = value == "true";
     } else {
       return fail(Errc::Config, url_error(url, "unknown udpm option '" + std::string(key) + "'", kUdpmOptionsExpected));
     }

@@ -2,6 +2,9 @@
 // (in-process) and udpm:// (multicast on this host, ttl=0) round trips, exact channel matching,
 // own-sample delivery, the size limit, endpoint shutdown under traffic, large messages and the
 // kernel-drop accounting. Every wait is bounded by a deadline.
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -889,6 +892,101 @@ TEST(LcmUdpm, MessagesThatWaitedTooLongInLcmsQueueAreDroppedAndCounted) {
   const auto errors = slow.errors();
   ASSERT_FALSE(errors.empty());
   EXPECT_NE(errors[0].find("ms in LCM's receive queue"), std::string::npos) << errors[0];
+}
+
+// LCM's UDP multicast protocol written by hand (LC02 and LC03 datagrams) into horus's receiver:
+// fragments after the first reassemble in any order; what is not LCM or contradicts itself is
+// ignored; a message its sender abandoned (it went on to another) is counted as lost; nothing
+// else arrives, and in the order it completed.
+TEST(LcmUdpm, HandMadeDatagramsReassembleInAnyOrderAndMalformedOnesAreIgnored) {
+  const std::string url = udpm_url(4, "ttl=0&recv_buf_size=4194304");
+  ASSIGN_UDPM_OR_SKIP(t, url);
+  Collector got;
+  const std::string ch = channel("handmade");
+  auto rx = open_endpoint(*t, ch, got);
+  ASSERT_TRUE(rx);
+  const int fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  ASSERT_GE(fd, 0);
+  const unsigned char ttl = 0, loop = 1;
+  ::setsockopt(fd, IPPROTO_IP, IP_MULTICAST_TTL, &ttl, sizeof ttl);
+  ::setsockopt(fd, IPPROTO_IP, IP_MULTICAST_LOOP, &loop, sizeof loop);
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  const std::size_t colon = url.rfind(':'), q = url.find('?');
+  to.sin_port = htons(static_cast<std::uint16_t>(std::stoi(url.substr(colon + 1, q - colon - 1))));
+  ASSERT_EQ(::inet_pton(AF_INET, "239.255.76.67", &to.sin_addr), 1);
+  auto be32 = [](std::vector<std::byte>& d, std::uint32_t v) {
+    for (int s = 24; s >= 0; s -= 8) d.push_back(static_cast<std::byte>((v >> s) & 0xff));
+  };
+  auto be16 = [](std::vector<std::byte>& d, std::uint16_t v) {
+    d.push_back(static_cast<std::byte>(v >> 8));
+    d.push_back(static_cast<std::byte>(v & 0xff));
+  };
+  auto text = [](std::vector<std::byte>& d, std::string_view s, bool nul) {
+    for (char c : s) d.push_back(static_cast<std::byte>(c));
+    if (nul) d.push_back(std::byte{0});
+  };
+  auto put = [&](const std::vector<std::byte>& d) {
+    ASSERT_EQ(::sendto(fd, d.data(), d.size(), 0, reinterpret_cast<const sockaddr*>(&to), sizeof to),
+              static_cast<ssize_t>(d.size()));
+  };
+  auto short_message = [&](std::uint32_t seq, std::string_view channel_name, std::span<const std::byte> body) {
+    std::vector<std::byte> d;
+    be32(d, 0x4c433032);
+    be32(d, seq);
+    text(d, channel_name, true);
+    d.insert(d.end(), body.begin(), body.end());
+    return d;
+  };
+  auto fragment = [&](std::uint32_t seq, std::uint32_t size, std::uint32_t offset, std::uint16_t number, std::uint16_t count,
+                      std::span<const std::byte> part) {
+    std::vector<std::byte> d;
+    be32(d, 0x4c433033);
+    be32(d, seq);
+    be32(d, size);
+    be32(d, offset);
+    be16(d, number);
+    be16(d, count);
+    if (number == 0) text(d, ch, true);
+    d.insert(d.end(), part.begin(), part.end());
+    return d;
+  };
+  const auto a = pattern(100, 1), b = pattern(3000, 2), c = pattern(700, 3), lost_one = pattern(2000, 4);
+  const std::span<const std::byte> bs(b);
+  put(short_message(1, ch, a));
+  // Not LCM, or contradicting itself: ignored.
+  put(std::vector<std::byte>(4, std::byte{0x4c}));
+  put(short_message(2, ch, a));  // the same body again is another message (LCM does not deduplicate)
+  {
+    auto bad_magic = short_message(3, ch, a);
+    bad_magic[3] = std::byte{0x39};
+    put(bad_magic);
+    std::vector<std::byte> no_nul;
+    be32(no_nul, 0x4c433032);
+    be32(no_nul, 4);
+    text(no_nul, std::string(80, 'x'), false);
+    put(no_nul);
+    put(fragment(5, 100, 0, 0, 0, a));     // no fragments
+    put(fragment(6, 100, 0, 3, 2, a));     // fragment 3 of 2
+    put(fragment(7, 100, 200, 1, 2, a));   // past the message's end (its first fragment missing too)
+  }
+  // Three fragments: the first, then the third, then the second.
+  put(fragment(8, 3000, 0, 0, 3, bs.subspan(0, 1000)));
+  put(fragment(8, 3000, 2000, 2, 3, bs.subspan(2000)));
+  put(fragment(8, 3000, 1000, 1, 3, bs.subspan(1000, 1000)));
+  // A message abandoned by its sender (the next one starts): lost, counted.
+  put(fragment(9, 2000, 0, 0, 2, std::span<const std::byte>(lost_one).subspan(0, 1000)));
+  put(fragment(10, 700, 0, 0, 1, c));
+  ::close(fd);
+  ASSERT_TRUE(got.wait_for_count(4, 3s)) << got.count() << " of 4 messages arrived";
+  std::this_thread::sleep_for(100ms);  // nothing more may come
+  const auto samples = got.samples();
+  ASSERT_EQ(samples.size(), 4u);
+  EXPECT_EQ(samples[0], a);
+  EXPECT_EQ(samples[1], a);
+  EXPECT_EQ(samples[2], b);
+  EXPECT_EQ(samples[3], c);
+  EXPECT_EQ(got.lost(), 1u);
 }
 
 }  // namespace
