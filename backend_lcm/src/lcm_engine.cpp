@@ -76,11 +76,9 @@ bool drop_if_stale(Subscription& sub, std::int64_t recv_utime, net::EndpointGate
   return true;
 }
 
-// One message to one subscription, on the receive thread.
-void deliver(Subscription& raw, std::span<const std::byte> body, std::int64_t recv_utime) {
-  if (!raw.gate.is_open() || raw.paused.load(std::memory_order_acquire)) return;
-  // The listener may close its own endpoint: the gate stays alive until the call leaves it.
-  const std::shared_ptr<Subscription> sub = raw.shared_from_this();
+// One message to one subscription, on the receive thread. The caller holds `sub` alive: the
+// listener may close its own endpoint, and the gate stays alive until the call leaves it.
+void deliver(const std::shared_ptr<Subscription>& sub, std::span<const std::byte> body, std::int64_t recv_utime) {
   sub->gate.run([&](net::EndpointGate::Calls& calls) {
     if (sub->paused.load(std::memory_order_acquire)) return;
     if (drop_if_stale(*sub, recv_utime, calls)) return;
@@ -89,8 +87,10 @@ void deliver(Subscription& raw, std::span<const std::byte> body, std::int64_t re
 }
 
 void on_message(const lcm_recv_buf_t* rb, const char* /*channel*/, void* user) {
-  deliver(*static_cast<Subscription*>(user), std::span<const std::byte>(static_cast<const std::byte*>(rb->data), rb->data_size),
-          rb->recv_utime);
+  auto* raw = static_cast<Subscription*>(user);
+  if (!raw->gate.is_open() || raw->paused.load(std::memory_order_acquire)) return;
+  deliver(raw->shared_from_this(),
+          std::span<const std::byte>(static_cast<const std::byte*>(rb->data), rb->data_size), rb->recv_utime);
 }
 
 }  // namespace
@@ -346,7 +346,8 @@ void Engine::dispatch_native_locked(const UdpmMessage& m) noexcept {
   } catch (...) {
     return;
   }
-  for (const auto& sub : scratch_) deliver(*sub, m.data, m.recv_utime);
+  for (const auto& sub : scratch_)  // the copy holds each alive (no shared_from_this per message)
+    if (sub->gate.is_open() && !sub->paused.load(std::memory_order_acquire)) deliver(sub, m.data, m.recv_utime);
   scratch_.clear();
 }
 
