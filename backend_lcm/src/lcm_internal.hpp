@@ -94,7 +94,10 @@ class UdpmReceiver {
   UdpmReceiver& operator=(const UdpmReceiver&) = delete;
   ~UdpmReceiver();
 
-  int fd() const noexcept { return fd_; }
+  /// What the receive thread polls: an epoll descriptor holding the socket, readable while a
+  /// datagram waits. Not the socket itself: a thread in poll() on a descriptor keeps its socket
+  /// alive, so closing it (the last endpoint stopped receiving) would not free the port at once.
+  int fd() const noexcept { return epoll_fd_; }
   /// Reads up to `budget` datagrams the socket holds now (never blocks) and calls `deliver` for
   /// each complete message. Returns what was lost meanwhile: datagrams the kernel dropped for a
   /// full buffer, and messages abandoned in reassembly (a sender that moved on, limits).
@@ -113,7 +116,8 @@ class UdpmReceiver {
   std::uint64_t take(std::span<const std::byte> datagram, std::uint64_t sender, std::int64_t recv_us,
                      const std::function<void(const UdpmMessage&)>& deliver);
 
-  const int fd_;
+  const int fd_;        // the socket
+  const int epoll_fd_;  // holds fd_ (see fd())
   std::vector<std::byte> buffer_;                       // one datagram
   std::uint32_t kernel_drops_ = 0;                      // SO_RXQ_OVFL's last value
   std::unordered_map<std::uint64_t, Partial> partials_;  // by sender (address, port)

@@ -10,6 +10,7 @@
 // the same sender abandons it (counted as lost).
 #include <arpa/inet.h>
 #include <netinet/in.h>
+#include <sys/epoll.h>
 #include <sys/socket.h>
 #include <sys/time.h>
 #include <unistd.h>
@@ -89,12 +90,20 @@ Result<std::unique_ptr<UdpmReceiver>> UdpmReceiver::open(const std::string& url,
   // Only this group's datagrams, not those of every group another socket of the host joined on
   // this port (Linux's default).
   (void)::setsockopt(fd, IPPROTO_IP, IP_MULTICAST_ALL, &zero, sizeof zero);
+  if (rx->epoll_fd_ < 0) return fail_with("epoll_create1()");
+  epoll_event ev{};
+  ev.events = EPOLLIN;
+  ev.data.fd = fd;
+  if (::epoll_ctl(rx->epoll_fd_, EPOLL_CTL_ADD, fd, &ev) != 0) return fail_with("epoll_ctl()");
   return rx;
 }
 
-UdpmReceiver::UdpmReceiver(int fd) : fd_(fd), buffer_(kDatagramMax) {}
+UdpmReceiver::UdpmReceiver(int fd) : fd_(fd), epoll_fd_(::epoll_create1(EPOLL_CLOEXEC)), buffer_(kDatagramMax) {}
 
-UdpmReceiver::~UdpmReceiver() { ::close(fd_); }
+UdpmReceiver::~UdpmReceiver() {
+  ::close(fd_);  // gone at once: the receive thread may be polling epoll_fd_, which does not hold it
+  if (epoll_fd_ >= 0) ::close(epoll_fd_);
+}
 
 std::uint64_t UdpmReceiver::drain(const std::function<void(const UdpmMessage&)>& deliver, int budget) {
   std::uint64_t lost = 0;
