@@ -17,6 +17,7 @@ packages=(
   liblcm-dev liblcm-bin   # the lcm backend; lcm-gen, lcm-logger, lcm-logplayer for the interop tests
   libyaml-cpp-dev   # HORUS_CONFIG: the per-topic configuration file (api/src/config.cpp)
   iproute2   # ip netns: the multi-host tests make hosts out of network namespaces
+  nftables   # nft: the multi-host fault tests drop multicast and packets on namespace links
   libzstd-dev liblz4-dev zlib1g-dev   # MCAP recordings: zstd and lz4 chunks, CRC-32 (record/)
   nodejs   # the independent MCAP readers of the recording tests (tests/interop/mcap_js)
   gnuplot-nox   # horus bench ping --plot: the latency histogram and CDF as PNG

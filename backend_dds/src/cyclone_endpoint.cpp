@@ -156,6 +156,7 @@ CycloneEndpoint::~CycloneEndpoint() {
   core_->close();                                                         // no more listener calls at all
   // Deleting the reader and writer waits for a listener callback in progress.
   if (reader_ > 0) dds_delete(reader_);
+  if (writer_ > 0 && core_->spec().qos.reliability == net::Reliability::Reliable) transport_->linger(writer_);
   if (writer_ > 0) dds_delete(writer_);
   if (topic_ > 0) dds_delete(topic_);
 }

@@ -9,15 +9,18 @@
 // net::RemoteTypes does the bookkeeping).
 //
 // One CycloneEndpoint per open() (cyclone_endpoint.cpp).
+#include <chrono>
 #include <cstdint>
 #include <cstring>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
 
 #include "cyclone_internal.hpp"
+#include "horus/detail/repeat_filter.hpp"
 #include "horus/dds/transports.hpp"
 #include "horus/transport_registry.hpp"
 
@@ -68,12 +71,35 @@ std::string domain_xml(const net::Config& config) {
   // the kernel grants (net.core.rmem_max / wmem_max).
   xml +=
       "<Internal>"
+      // One receive thread for every socket, woken through a pipe to stop: with a thread per
+      // socket Cyclone stops each by sending it a datagram, which never arrives when the link is
+      // down, the interface gone or multicast filtered, and dds_delete waits forever.
+      "<MultipleReceiveThreads>false</MultipleReceiveThreads>"
+      // CycloneTransport::linger waits for acknowledgements instead, with one bound per process.
+      "<WriterLingerDuration>0s</WriterLingerDuration>"
       "<SocketReceiveBufferSize min=\"default\" max=\"8MiB\"/>"
       "<SocketSendBufferSize min=\"64KiB\" max=\"4MiB\"/>"
       "</Internal>"
       "<SharedMemory><Enable>false</Enable></SharedMemory>"
       "</Domain></CycloneDDS>";
   return xml;
+}
+
+// Cyclone's own warnings and errors (a send that fails while a link is down, every second) go
+// to horus's log, each kind of line once until it has been quiet a while; it would print them
+// on stderr. The sink is the process's (Cyclone has one): set once, before the first domain.
+void cyclone_log_sink(void*, const dds_log_data_t* data) {
+  if (data == nullptr || data->message == nullptr) return;
+  const std::string_view text(data->message, data->size);  // without Cyclone's header (time, thread)
+  const auto level = (data->priority & (DDS_LC_FATAL | DDS_LC_ERROR)) != 0 ? spdlog::level::err
+                     : (data->priority & DDS_LC_WARNING) != 0              ? spdlog::level::warn
+                                                                           : spdlog::level::debug;
+  horus::detail::log_transport_line(level, "Cyclone DDS", text);
+}
+
+void route_cyclone_log() {
+  static std::once_flag once;
+  std::call_once(once, [] { dds_set_log_sink(&cyclone_log_sink, nullptr); });
 }
 
 // A built-in topic instance as a remote-endpoint id.
@@ -95,6 +121,15 @@ CycloneTransport::~CycloneTransport() {
     if (dds_get_children(domain_, nullptr, 0) == 0) dds_delete(domain_);
   }
   // ticket_, destroyed last, frees the domain id in the cache.
+}
+
+void CycloneTransport::linger(dds_entity_t writer) noexcept {
+  constexpr auto kLinger = std::chrono::milliseconds(300);
+  constexpr auto kNoLinger = std::chrono::seconds(5);
+  const auto now = std::chrono::steady_clock::now().time_since_epoch();
+  if (now.count() < no_linger_until_ns_.load(std::memory_order_relaxed)) return;
+  if (dds_wait_for_acks(writer, std::chrono::nanoseconds(kLinger).count()) == DDS_RETCODE_TIMEOUT)
+    no_linger_until_ns_.store(std::chrono::nanoseconds(now + kNoLinger).count(), std::memory_order_relaxed);
 }
 
 void CycloneTransport::on_publication(dds_entity_t reader, void* arg) {
@@ -152,6 +187,7 @@ Result<std::shared_ptr<CycloneTransport>> CycloneTransport::create(net::CacheTic
   auto t = std::make_shared<CycloneTransport>(Private{}, std::move(ticket), config);
   const std::string where = "Cyclone DDS domain " + std::to_string(config.domain_id) +
                             " (localhost_only=" + (config.localhost_only ? "true" : "false") + ")";
+  route_cyclone_log();
   const std::string xml = domain_xml(config);
   t->domain_ = dds_create_domain(config.domain_id, xml.c_str());
   if (t->domain_ < 0) {

@@ -45,6 +45,7 @@
 #include <fastrtps/utils/IPLocator.h>
 
 #include "fastdds_internal.hpp"
+#include "horus/detail/repeat_filter.hpp"
 #include "horus/dds/transports.hpp"
 #include "horus/transport_registry.hpp"
 
@@ -65,12 +66,31 @@ net::RemoteTypes::Id remote_id(const rtps::GUID_t& guid) {
   return id;
 }
 
+// Fast DDS's warnings and errors go to horus's log (its default consumer writes to stdout),
+// each kind of line once until it has been quiet a while (a link that stays down).
+class HorusLogConsumer final : public fd::LogConsumer {
+ public:
+  void Consume(const fd::Log::Entry& entry) override {
+    auto level = entry.kind == fd::Log::Kind::Error     ? spdlog::level::err
+                 : entry.kind == fd::Log::Kind::Warning ? spdlog::level::warn
+                                                        : spdlog::level::debug;
+    // Not worth a warning: a reliable writer whose readers lag (the back-pressure the bridge
+    // handles), and a reader that lets go of a writer when its participant is deleted (every
+    // process's end).
+    for (const char* routine : {"Full WriterCache", "Automatically unmatching"})
+      if (entry.message.find(routine) != std::string::npos) level = spdlog::level::debug;
+    std::string text = entry.message;
+    if (entry.context.category != nullptr) text = std::string(entry.context.category) + ": " + text;
+    horus::detail::log_transport_line(level, "Fast DDS", text);
+  }
+};
+
 void quiet_fastdds_log() {
   static std::once_flag once;
   std::call_once(once, [] {
-    // The library must not print: Fast DDS's default consumer writes to stdout.
-    fd::Log::SetVerbosity(fd::Log::Kind::Error);
     fd::Log::ClearConsumers();
+    fd::Log::RegisterConsumer(std::make_unique<HorusLogConsumer>());
+    fd::Log::SetVerbosity(fd::Log::Kind::Warning);
   });
 }
 

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <array>
+#include <cerrno>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -182,8 +183,12 @@ class Engine {
   void request_stop() noexcept;
   void poke() noexcept;  // wakes the receive thread
 
-  int publish(const char* channel, const void* data, unsigned size) noexcept {
-    return lcm_publish(pub_, channel, data, size);  // internally locked in every provider
+  /// lcm_publish; `error` is errno after a failure (0 when liblcm left none).
+  int publish(const char* channel, const void* data, unsigned size, int& error) noexcept {
+    errno = 0;
+    const int rc = lcm_publish(pub_, channel, data, size);  // internally locked in every provider
+    error = rc == 0 ? 0 : errno;
+    return rc;
   }
 
   /// Registers an endpoint's subscription; `receive` false: it starts paused (set_receiving).

@@ -60,7 +60,8 @@ class LcmEndpoint final : public net::Endpoint {
       return fail(Errc::Io, sub_->label() + ": out of memory for a body of " + std::to_string(body_size) + " bytes");
     }
     writer.fill(writer.context, std::span<std::byte>(buffer.data(), body_size));
-    const int rc = engine_->publish(channel_.c_str(), buffer.data(), static_cast<unsigned>(body_size));
+    int error = 0;
+    const int rc = engine_->publish(channel_.c_str(), buffer.data(), static_cast<unsigned>(body_size), error);
     if (buffer.size() > kKeepBufferLimit) std::vector<std::byte>().swap(buffer);
     if (rc == 0) return {};
     std::string why;
@@ -68,8 +69,8 @@ class LcmEndpoint final : public net::Endpoint {
       why = " (the URL reads a log: file:// URLs publish only with mode=w or mode=a)";
     else if (rc > 0)
       why = " (only " + std::to_string(rc) + " bytes of the datagram were sent)";
-    else
-      why = " (liblcm printed the reason on stderr)";
+    else if (error != 0)
+      why = ": " + std::string(std::strerror(error));
     return fail(Errc::Io, sub_->label() + ": lcm_publish of " + std::to_string(body_size) + " bytes to LCM URL '" +
                               engine_->url() + "' failed" + why);
   }

@@ -376,6 +376,7 @@ void Bridge::activate_inline() noexcept {
 // A publishing thread of this process, right after its send: exports unless another thread
 // does (it looks again when it stops, release_export()).
 void Bridge::export_inline() noexcept {
+  if (backlog_.load(std::memory_order_acquire)) return;  // the engine retries the stash
   if (export_busy_.exchange(true, std::memory_order_acquire)) return;
   drain();
   release_export();
@@ -393,17 +394,20 @@ void Bridge::release_export() noexcept {
 #if !defined(__SANITIZE_THREAD__)
     std::atomic_thread_fence(std::memory_order_seq_cst);
 #endif
-    if (gated_.load(std::memory_order_acquire) || !has_export_work()) return;
+    if (gated_.load(std::memory_order_acquire) || backlog_.load(std::memory_order_acquire) || !has_export_work())
+      return;
     if (export_busy_.exchange(true, std::memory_order_acquire)) return;
     drain();
   }
 }
 
-// One attempt on an engine thread (the engine comes back in 10 ms: one reader that lags never
-// holds up the other topics, the import pump or the control thread); on a publishing thread,
-// until it goes out or the topic closes (back-pressure, as a raw reliable write).
+// One attempt, on an engine thread (the engine comes back in 10 ms: one reader that lags never
+// holds up the other topics, the import pump or the control thread). A publishing thread never
+// retries a stash: it would wait as long as an unreachable reader stays matched (until its
+// lease ends, 10 s and more), and a process could not even end.
 bool Bridge::flush_stash() noexcept {
   if (!backlog_.load(std::memory_order_acquire)) return true;
+  if (!t_engine_thread && !stop_.load(std::memory_order_relaxed)) return false;
   const net::BodyWriter writer{[](void* c, std::span<std::byte> body) {
                                  const auto& s = *static_cast<const std::vector<std::byte>*>(c);
                                  std::memcpy(body.data(), s.data(), body.size());
@@ -422,6 +426,7 @@ bool Bridge::flush_stash() noexcept {
     ++write_retries_;
     if (stop_.load(std::memory_order_relaxed)) {
       state().dropped.fetch_add(1, std::memory_order_relaxed);  // closing: it will not go out
+      gave_up_ = true;
       break;
     }
     if (t_engine_thread) {
@@ -452,12 +457,22 @@ void Bridge::drain() noexcept {
 bool Bridge::send(const void* msg) {
   auto report = [&](const Error& error) {
     state().dropped.fetch_add(1, std::memory_order_relaxed);
+    if (error.code() == Errc::Io) {  // the network: once for the transport, not per topic
+      engine_->send_failed(core_.name, error);
+      return true;
+    }
     if (++send_failures_ == 1 || send_failures_ % 1024 == 0)
       log().error("topic '{}': the {} backend did not send a {} sample: {} ({} so far; counted in "
                   "dropped_count())",
                   core_.name, info_.name, core_.type_name, error.message(), send_failures_);
     return true;  // go on with the next message
   };
+  // Closing, and a reliable write timed out: the readers do not take (a link is down); what is
+  // left is counted, not written (one bounded wait per message could hold the close for minutes).
+  if (gave_up_) {
+    state().dropped.fetch_add(1, std::memory_order_relaxed);
+    return true;
+  }
   auto n = ops_.encoded_size(format_, msg);
   if (!n) return report(n.error());
   struct Context {
@@ -476,12 +491,14 @@ bool Bridge::send(const void* msg) {
                                &ctx};
   state().inflight.store(1, std::memory_order_relaxed);
   auto ok = endpoint_->write(*n, writer);
-  // Reliable: a writer that timed out waiting for its readers to catch up keeps the message
-  // and tries again (back-pressure, not a loss), until the topic closes. On an engine thread
-  // the message waits in the stash instead, and this topic exports nothing else until it went
-  // out (flush_stash), so the engine goes on serving the other topics meanwhile.
+  // Reliable: a writer that timed out waiting for its readers to catch up (its own bounded
+  // wait, 100 ms) keeps the message (back-pressure, not a loss): it waits in the stash, this
+  // topic exports nothing else until it went out, and the engine's export thread tries again
+  // every 10 ms (flush_stash). Meanwhile the host's ring fills up, so that send_blocking and
+  // try_send feel the back-pressure as they do locally; a publishing thread never waits more
+  // than one bounded write for a reader that may be gone (a link down).
   if (!ok && ok.error().code() == Errc::Timeout && qos_.reliability == net::Reliability::Reliable &&
-      !stop_.load(std::memory_order_relaxed) && t_engine_thread) {
+      !stop_.load(std::memory_order_relaxed)) {
     ++write_retries_;
     stash_.resize(*n);
     ops_.encode(format_, msg, stash_);
@@ -489,15 +506,12 @@ bool Bridge::send(const void* msg) {
     engine_->recheck(*this, false);
     return false;  // stop after this message: it is in the stash
   }
-  while (!ok && ok.error().code() == Errc::Timeout && qos_.reliability == net::Reliability::Reliable &&
-         !stop_.load(std::memory_order_relaxed)) {
-    ++write_retries_;
-    ok = endpoint_->write(*n, writer);
-  }
+  if (!ok && ok.error().code() == Errc::Timeout && stop_.load(std::memory_order_relaxed)) gave_up_ = true;
   state().inflight.store(0, std::memory_order_relaxed);
   if (!ok) [[unlikely]]
     return report(ok.error());
   state().exported.fetch_add(1, std::memory_order_relaxed);
+  engine_->send_worked();
   return true;
 }
 

@@ -165,6 +165,7 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
   // exporter's, under export_busy_) and the topic exports nothing else until it went out.
   std::vector<std::byte> stash_;
   std::atomic<bool> backlog_{false};
+  bool gave_up_ = false;  // closing, a write timed out: the rest is counted as dropped (exporter's)
   std::atomic<std::uint64_t> errors_{0};   // incompatible endpoints reported
   std::uint64_t send_failures_ = 0;        // for the log's rate
   std::uint64_t export_lost_seen_ = 0;

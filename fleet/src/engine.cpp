@@ -196,6 +196,31 @@ void Engine::unpin(const std::vector<Bridge*>& bridges) noexcept {
   for (Bridge* b : bridges) b->pins.fetch_sub(1, std::memory_order_acq_rel);
 }
 
+// --- send failures -------------------------------------------------------------------------------
+
+void Engine::send_failed(std::string_view topic, const Error& error) {
+  std::lock_guard lock(sends_mutex_);
+  ++failed_sends_;
+  if (sends_failing_.exchange(true, std::memory_order_relaxed)) return;  // reported for this outage
+  failure_ = error.message();
+  failing_since_ = Clock::now();
+  log().error("the {} transport cannot send (first on topic '{}'): {}; messages that do not go out are counted in "
+              "their topics' dropped_count(); reported again when sending works",
+              info_.name, topic, failure_);
+}
+
+void Engine::send_recovered() noexcept {
+  std::lock_guard lock(sends_mutex_);
+  if (!sends_failing_.exchange(false, std::memory_order_relaxed)) return;
+  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - failing_since_).count();
+  try {
+    log().info("the {} transport sends again after {} ms; {} messages were not sent meanwhile", info_.name, ms,
+               failed_sends_);
+  } catch (...) {
+  }
+  failed_sends_ = 0;
+}
+
 // --- the export thread ----------------------------------------------------------------------------
 
 void Engine::run_export() {

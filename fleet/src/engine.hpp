@@ -77,6 +77,15 @@ class Engine {
   /// Wakes the control thread (a watcher should look at its claim now).
   void kick() noexcept;
 
+  /// A send of topic `topic` failed in the transport (Errc::Io: the network refused it, a link
+  /// is down): logged once for the transport, not per topic and message; the messages are
+  /// counted in their topics' dropped_count(). send_worked() after a failure logs the recovery.
+  void send_failed(std::string_view topic, const Error& error);
+  void send_worked() noexcept {
+    if (sends_failing_.load(std::memory_order_relaxed)) [[unlikely]]
+      send_recovered();
+  }
+
   /// A job of the control thread: called when due, returns when it is due next.
   using Job = std::function<Clock::time_point(Clock::time_point now)>;
   std::uint64_t add_job(Job job);
@@ -112,6 +121,12 @@ class Engine {
   std::vector<std::uint64_t> added_;    // bridges the control thread has not seen yet (serials)
   std::uint64_t next_serial_ = 1;
   std::atomic<bool> stop_{false};
+  std::atomic<bool> sends_failing_{false};  // send_failed() since the last send that worked
+  std::mutex sends_mutex_;
+  std::uint64_t failed_sends_ = 0;          // in the current outage
+  std::string failure_;                     // its first error
+  Clock::time_point failing_since_{};
+  void send_recovered() noexcept;
 
   // The control thread's.
   int epoll_fd_ = -1;

@@ -11,7 +11,8 @@
 // and exits 0 when every message of every publisher arrived exactly once and in order, 1 when
 // not, 2 on a usage error, 3 when the topic does not open. A listener with <publishers> = 0
 // listens 3 s after <start_unix_ms> and exits 0 when it received nothing; with -1 it stays
-// until <seconds> passed (a process that only keeps the topic open: a bridge candidate).
+// until <seconds> passed (a process that only keeps the topic open: a bridge candidate). Its
+// last line is "main returns at <unix_ms>".
 #include <poll.h>
 #include <unistd.h>
 
@@ -110,10 +111,17 @@ int main(int argc, char** argv) {
       std::this_thread::sleep_for(2ms);
     }
   }
+  // The moment main returns (the handles close after it): a test measures how long the process
+  // takes to end from here, whatever the network does.
+  auto returning = [](int code) {
+    std::printf("main returns at %lld\n", static_cast<long long>(unix_ms()));
+    std::fflush(stdout);
+    return code;
+  };
   const bool stay = publishers < 0;
   if (stay) {  // a bridge candidate: keeps the topic open (and reads it) until the deadline
     while (Clock::now() < deadline) (void)sub->recv_for(50ms);
-    return 0;
+    return returning(0);
   }
   const std::uint64_t want = static_cast<std::uint64_t>(publishers) * static_cast<std::uint64_t>(count);
   const auto quiet_until = Clock::now() + (publishers == 0 ? 3s : 0s);  // a listener listens a while
@@ -132,5 +140,5 @@ int main(int argc, char** argv) {
   std::fflush(stdout);
   const bool exact = tally.received == want && tally.next.size() == static_cast<std::size_t>(publishers) &&
                      tally.duplicates == 0 && tally.out_of_order == 0 && missing == 0;
-  return exact ? 0 : 1;
+  return returning(exact ? 0 : 1);
 }

@@ -93,9 +93,25 @@ class HostProcess {
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
+    ended_ms_ = std::chrono::duration_cast<std::chrono::milliseconds>(
+                    std::chrono::system_clock::now().time_since_epoch())
+                    .count();
     pid_ = -1;
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   }
+  /// True once it ended (looks without waiting; records when, as wait() does).
+  bool ended() {
+    if (pid_ <= 0) return true;
+    int status = 0;
+    if (::waitpid(pid_, &status, WNOHANG) != pid_) return false;
+    ended_ms_ = std::chrono::duration_cast<std::chrono::milliseconds>(
+                    std::chrono::system_clock::now().time_since_epoch())
+                    .count();
+    pid_ = -1;
+    return true;
+  }
+  /// When wait() or ended() saw it end (Unix time in ms, within 5 ms); -1 when it has not (or was killed).
+  long long ended_unix_ms() const noexcept { return ended_ms_; }
   /// Gives up the process (not killed, its output file kept); its pid.
   pid_t release() noexcept {
     out_.clear();
@@ -119,6 +135,7 @@ class HostProcess {
   pid_t pid_ = -1;
   std::string out_;
   int stdin_ = -1;
+  long long ended_ms_ = -1;
 };
 
 /// Starts argv (found on PATH) with its stdout and stderr written to `out`, its stdin `stdin_fd`
@@ -141,7 +158,8 @@ inline HostProcess start_logged(std::vector<std::string> args, const std::string
 
 class NetnsLan {
  public:
-  explicit NetnsLan(int hosts) {
+  /// `tag` (a lower-case letter or empty) tells apart the LANs of one test process.
+  explicit NetnsLan(int hosts, const std::string& tag = "") {
     if (::geteuid() != 0) {
       why_ = "needs root to create network namespaces (ip netns)";
       return;
@@ -151,7 +169,7 @@ class NetnsLan {
       return;
     }
     remove_stale();
-    prefix_ = "hx" + std::to_string(::getpid());
+    prefix_ = "hx" + std::to_string(::getpid()) + tag;
     subnet_ = "10.213." + std::to_string(::getpid() % 250 + 1);
     bridge_ns_ = prefix_ + "b";
     if (!sh({"ip", "netns", "add", bridge_ns_}) ||
@@ -207,6 +225,14 @@ class NetnsLan {
   /// The namespace and address of host i (0-based).
   const std::string& host(int i) const { return hosts_.at(static_cast<std::size_t>(i)); }
   std::string address(int i) const { return subnet_ + "." + std::to_string(i + 1); }
+
+  /// Deletes the LAN itself (the bridge's namespace): every host's eth0 goes with its veth peer,
+  /// as when a host's network adapter is pulled. True when it was deleted.
+  bool remove_lan() {
+    if (bridge_ns_.empty() || !sh({"ip", "netns", "del", bridge_ns_})) return false;
+    bridge_ns_.clear();
+    return true;
+  }
 
   /// The pid of the process that holds host i's namespaces.
   pid_t holder(int i) const { return holders_.at(static_cast<std::size_t>(i)); }

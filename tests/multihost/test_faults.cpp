@@ -1,0 +1,211 @@
+// A process ends on time whatever the network does (issue: faults never hang or leak). On each
+// backend, pairs of namespace hosts (netns.hpp: each host its own network, /dev/shm and hostname)
+// exchange a reliable fleet topic, and one fault hits each pair while the publisher sends:
+//   - the publisher host's link goes down;
+//   - its interface is deleted (a USB Wi-Fi adapter pulled);
+//   - the LAN itself is deleted (both hosts' interfaces go);
+//   - multicast is dropped on both hosts from the start (nftables): they never meet;
+//   - the subscriber dies (SIGKILL): a peer gone without a goodbye.
+// Every process that returns from main must end within 1 s of it; the CLI (`horus fleet`
+// watching, `horus topic echo`) within 1 s of SIGTERM on a host whose link is down. What the
+// transports print goes through horus's log (no raw line on stderr), and a failure that repeats
+// is reported once, not per message or per second. Skips when not root or without `ip netns`.
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "horus/topic.hpp"
+#include "netns.hpp"
+
+namespace {
+
+using namespace std::chrono_literals;
+
+long long unix_ms() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+// "main returns at T" in a horus_fleet_member's output; -1 when missing.
+long long main_returned(const std::string& out) {
+  const auto at = out.rfind("main returns at ");
+  return at == std::string::npos ? -1 : std::atoll(out.c_str() + at + 16);
+}
+
+// Lines that neither the program nor horus's logger wrote (a transport printing on its own).
+std::vector<std::string> foreign_lines(const std::string& out) {
+  std::vector<std::string> foreign;
+  std::istringstream in(out);
+  std::string l;
+  while (std::getline(in, l)) {
+    if (l.empty() || l.starts_with("open:") || l.starts_with("received ") || l.starts_with("main returns at ") ||
+        l.starts_with("horus_fleet_member: ") || l.starts_with("[20"))
+      continue;
+    foreign.push_back(l);
+  }
+  return foreign;
+}
+
+// How many times the most repeated line of horus's log appears (its time stamp left out).
+std::size_t most_repeated_log_line(const std::string& out) {
+  std::map<std::string, std::size_t> count;
+  std::size_t most = 0;
+  std::istringstream in(out);
+  std::string l;
+  while (std::getline(in, l))
+    if (l.starts_with("[20") && l.size() > 26) most = std::max(most, ++count[l.substr(26)]);
+  return most;
+}
+
+enum class Fault { LinkDown, InterfaceDeleted, LanDeleted, MulticastDropped, PeerKilled };
+
+const char* name(Fault f) {
+  switch (f) {
+    case Fault::LinkDown: return "the publisher's link down";
+    case Fault::InterfaceDeleted: return "the publisher's interface deleted";
+    case Fault::LanDeleted: return "the LAN deleted";
+    case Fault::MulticastDropped: return "multicast dropped";
+    case Fault::PeerKilled: return "the subscriber killed";
+  }
+  return "?";
+}
+
+bool drop_multicast(const horus_test::NetnsLan& lan, int host) {
+  // The table goes with the namespace.
+  return horus_test::run_command({"ip", "netns", "exec", lan.host(host), "nft", "add table inet horus_test"}) == 0 &&
+         horus_test::run_command({"ip", "netns", "exec", lan.host(host), "nft",
+                                  "add chain inet horus_test out { type filter hook output priority 0 ; }"}) == 0 &&
+         horus_test::run_command({"ip", "netns", "exec", lan.host(host), "nft",
+                                  "add chain inet horus_test in { type filter hook input priority 0 ; }"}) == 0 &&
+         horus_test::run_command({"ip", "netns", "exec", lan.host(host), "nft",
+                                  "add rule inet horus_test out ip daddr 224.0.0.0/4 drop"}) == 0 &&
+         horus_test::run_command({"ip", "netns", "exec", lan.host(host), "nft",
+                                  "add rule inet horus_test in ip daddr 224.0.0.0/4 drop"}) == 0;
+}
+
+bool have_nft() { return horus_test::run_command({"nft", "--version"}) == 0; }
+
+struct Pair {
+  Fault fault;
+  std::unique_ptr<horus_test::NetnsLan> lan;
+  std::unique_ptr<horus_test::HostProcess> pub, sub, fleet_cli, echo_cli;
+};
+
+std::unique_ptr<horus_test::HostProcess> held(horus_test::HostProcess p) {
+  return std::make_unique<horus_test::HostProcess>(std::move(p));
+}
+
+class Faults : public ::testing::TestWithParam<horus::Backend> {};
+
+TEST_P(Faults, EveryProcessEndsWithinOneSecondOfMainReturningWhateverTheNetworkDoes) {
+  if (!horus::backend_available(GetParam()))
+    GTEST_SKIP() << "this build has no " << horus::to_string(GetParam()) << " backend";
+  if (::geteuid() != 0) GTEST_SKIP() << "needs root for namespace hosts";
+  if (!have_nft()) GTEST_SKIP() << "needs nftables (nft) to drop multicast; scripts/install-deps.sh installs it";
+  const std::vector<Fault> faults = {Fault::LinkDown, Fault::InterfaceDeleted, Fault::LanDeleted,
+                                     Fault::MulticastDropped, Fault::PeerKilled};
+  std::vector<Pair> pairs;
+  const std::string topic = "fleet.faults_" + std::to_string(::getpid());
+  const long long start = unix_ms() + 2500;  // the publishers start sending then, for 3 s
+  for (std::size_t i = 0; i < faults.size(); ++i) {
+    Pair p{faults[i], std::make_unique<horus_test::NetnsLan>(2, std::string(1, static_cast<char>('a' + i))), {}, {}, {}, {}};
+    if (!p.lan->ok()) GTEST_SKIP() << "no namespace hosts: " << p.lan->why();
+    if (p.fault == Fault::MulticastDropped) {
+      ASSERT_TRUE(drop_multicast(*p.lan, 0) && drop_multicast(*p.lan, 1));
+    }
+    // Each pair its own LAN: the same domain and LCM group do not meet across LANs.
+    const std::vector<std::string> env = {
+        "HORUS_BACKEND=" + std::string(horus::to_string(GetParam())),
+        "HORUS_DOMAIN_ID=" + std::to_string(1 + (::getpid() + 31) % 200), "HORUS_DDS_LOCALHOST=0",
+        "HORUS_LCM_URL=udpm://239.255.76.68:" + std::to_string(20000 + (::getpid() * 7 + 5) % 20000) + "?ttl=1",
+        "HORUS_FLEET_HEARTBEAT_MS=100"};
+    // The publisher: 1500 messages 2 ms apart (send_blocking, reliable); main returns at +5 s.
+    p.pub = held(p.lan->spawn(0, {FLEET_MEMBER, topic, "fleet", "1", "1500", std::to_string(start), "1", "5"}, env));
+    p.sub = held(p.lan->spawn(1, {FLEET_MEMBER, topic, "fleet", "0", "1500", std::to_string(start), "1", "6"}, env));
+    if (p.fault == Fault::LinkDown) {
+      p.fleet_cli = held(p.lan->spawn(0, {HORUS_CLI, "fleet"}, env));
+      p.echo_cli = held(p.lan->spawn(0, {HORUS_CLI, "topic", "echo", topic}, env));
+    }
+    pairs.push_back(std::move(p));
+  }
+  // The faults, 1 s into the traffic.
+  std::this_thread::sleep_for(std::chrono::milliseconds(std::max(0LL, start + 1000 - unix_ms())));
+  for (Pair& p : pairs) {
+    switch (p.fault) {
+      case Fault::LinkDown:
+        EXPECT_EQ(horus_test::run_command({"ip", "-n", p.lan->host(0), "link", "set", "eth0", "down"}), 0);
+        break;
+      case Fault::InterfaceDeleted:
+        EXPECT_EQ(horus_test::run_command({"ip", "-n", p.lan->host(0), "link", "del", "eth0"}), 0);
+        break;
+      case Fault::LanDeleted: EXPECT_TRUE(p.lan->remove_lan()); break;
+      case Fault::MulticastDropped: break;
+      case Fault::PeerKilled: ::kill(p.sub->pid(), SIGKILL); break;
+    }
+  }
+  // The CLI on the host whose link is down: SIGTERM 1.5 s after the fault; it ends within 1 s.
+  std::this_thread::sleep_for(1500ms);
+  long long cli_term = 0;
+  for (Pair& p : pairs) {
+    if (p.fault != Fault::LinkDown) continue;
+    ASSERT_GT(p.fleet_cli->pid(), 0) << "horus fleet ended before SIGTERM:\n" << p.fleet_cli->output();
+    ASSERT_GT(p.echo_cli->pid(), 0) << "horus topic echo ended before SIGTERM:\n" << p.echo_cli->output();
+    cli_term = unix_ms();
+    ::kill(p.fleet_cli->pid(), SIGTERM);
+    ::kill(p.echo_cli->pid(), SIGTERM);
+    const auto cli_deadline = std::chrono::steady_clock::now() + 10s;
+    while (!(p.fleet_cli->ended() & p.echo_cli->ended()) && std::chrono::steady_clock::now() < cli_deadline)
+      std::this_thread::sleep_for(2ms);
+    EXPECT_GE(p.fleet_cli->ended_unix_ms(), 0) << "horus fleet did not end within 10 s of SIGTERM";
+    EXPECT_LE(p.fleet_cli->ended_unix_ms() - cli_term, 1000) << "horus fleet ended late after SIGTERM";
+    EXPECT_GE(p.echo_cli->ended_unix_ms(), 0) << "horus topic echo did not end within 10 s of SIGTERM";
+    EXPECT_LE(p.echo_cli->ended_unix_ms() - cli_term, 1000) << "horus topic echo ended late after SIGTERM";
+  }
+  // Every process is watched at once (a process that ended is seen within a few ms).
+  const auto deadline = std::chrono::steady_clock::now() + 20s;
+  for (bool all_ended = false; !all_ended && std::chrono::steady_clock::now() < deadline;) {
+    all_ended = true;
+    for (Pair& p : pairs) all_ended = p.pub->ended() & p.sub->ended() && all_ended;
+    if (!all_ended) std::this_thread::sleep_for(2ms);
+  }
+  for (Pair& p : pairs) {
+    const std::string what = std::string(horus::to_string(GetParam())) + ", " + name(p.fault);
+    const std::string pub_out = p.pub->output(), sub_out = p.sub->output();
+    const std::string all = what + "\n--- publisher:\n" + pub_out + "\n--- subscriber:\n" + sub_out;
+    std::vector<std::pair<const horus_test::HostProcess*, const std::string*>> ends = {{p.pub.get(), &pub_out}};
+    if (p.fault != Fault::PeerKilled) ends.emplace_back(p.sub.get(), &sub_out);
+    for (const auto& [proc, out] : ends) {
+      const long long returned = main_returned(*out);
+      ASSERT_GE(returned, 0) << "main never returned (" << what << ")\n" << all;
+      ASSERT_GE(proc->ended_unix_ms(), 0) << "the process did not end within 20 s (" << what << ")\n" << all;
+      std::printf("%s: the %s ended %lld ms after main returned\n", what.c_str(),
+                  proc == p.pub.get() ? "publisher" : "subscriber", proc->ended_unix_ms() - returned);
+      EXPECT_LE(proc->ended_unix_ms() - returned, 1000)
+          << "the process ended " << proc->ended_unix_ms() - returned << " ms after main returned (" << what << ")\n"
+          << all;
+      EXPECT_EQ(foreign_lines(*out), std::vector<std::string>{}) << "lines outside horus's log (" << what << ")\n"
+                                                                 << all;
+      EXPECT_LE(most_repeated_log_line(*out), 2u) << "a log line repeats (" << what << ")\n" << all;
+    }
+    // Without multicast they never met: nothing arrived (the publisher's own handle excepted).
+    if (p.fault == Fault::MulticastDropped) {
+      EXPECT_NE(sub_out.find("received 0 from 0 publishers"), std::string::npos) << all;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, Faults,
+                         ::testing::Values(horus::Backend::CycloneDds, horus::Backend::FastDds, horus::Backend::Lcm),
+                         [](const auto& param_info) { return std::string(horus::to_string(param_info.param)); });
+
+}  // namespace
