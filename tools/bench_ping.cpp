@@ -113,7 +113,8 @@ std::string no_pong_error(const PingResult& r, const std::string& prefix, const 
            "show 224.0.0.0/4),";
   else
     msg += ",\n  the same DDS domain (HORUS_DOMAIN_ID or network.domain_id), HORUS_DDS_LOCALHOST unset (loopback "
-           "only reaches this host),\n  multicast between the hosts (SPDP discovery on 239.255.0.1),";
+           "only reaches this host),\n  multicast between the hosts (SPDP discovery on 239.255.0.1; on Wi-Fi "
+           "that filters multicast, list the other hosts in HORUS_PEERS=10.0.0.2,robot-3 or network.peers on both),";
   msg += "\n  and that no firewall drops UDP between them";
   msg += remote ? "; pongs on this host do not count (--remote)." : ".";
   return msg;

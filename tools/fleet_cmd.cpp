@@ -15,6 +15,7 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <utility>
 
 #include "horus/config.hpp"
 #include "horus/fleet.hpp"
@@ -115,6 +116,34 @@ void print_fleet_table(const horus::Fleet& fleet) {
   if (const auto bad = fleet.malformed(); bad != 0) fmt::print("{} malformed announcement(s) ignored\n", bad);
 }
 
+// When no other host answered: what to check, on stderr (the table or JSON stays parseable).
+void hint_when_alone(const horus::Fleet& fleet, int wait_ms) {
+  for (const auto& h : fleet.hosts())
+    if (!h.self) return;
+  std::string msg = fmt::format("horus fleet: no other host answered within {} ms on {}.\n", wait_ms, fleet.transport());
+  const auto net = horus::net::config_from_environment();
+  if (fleet.transport() == "lcm") {
+    msg += "  Check that the other hosts use the same LCM URL with ttl=1 (the default ttl=0 never leaves a host), a "
+           "multicast route on every host (ip route show 224.0.0.0/4), and a network that passes multicast (LCM "
+           "has no unicast discovery: on Wi-Fi that filters multicast, use cyclonedds or fastdds with "
+           "HORUS_PEERS).\n";
+  } else if (net && !net->peers.empty()) {
+    std::string list;
+    for (const auto& p : net->peers) list += (list.empty() ? "" : ", ") + p;
+    msg += fmt::format("  Discovery is unicast to the peers ({}: {}): check that they run horus on the same DDS "
+                       "domain ({}) with peers that name this host, and that no firewall drops UDP between them.\n",
+                       net->peers_origin, list, net->domain_id);
+  } else {
+    msg += fmt::format(
+        "  Check that the other hosts use the same DDS domain ({}), HORUS_DDS_LOCALHOST unset, a multicast route "
+        "(ip route show 224.0.0.0/4), and a network that passes multicast (discovery goes to 239.255.0.1).\n"
+        "  Wi-Fi access points often filter multicast: list the other hosts in HORUS_PEERS=10.0.0.2,robot-3 (or "
+        "network.peers in the configuration file) on every host, for unicast discovery.\n",
+        net ? net->domain_id : 0u);
+  }
+  fmt::print(stderr, "{}", msg);
+}
+
 }  // namespace
 
 int cmd_fleet(const std::string& backend, bool json, bool once, int wait_ms, double duration_s,
@@ -135,11 +164,14 @@ int cmd_fleet(const std::string& backend, bool json, bool once, int wait_ms, dou
   if (once) {
     if (json) fmt::print("{}\n", fleet_json(*fleet).dump(2));
     else print_fleet_table(*fleet);
+    std::fflush(stdout);
+    hint_when_alone(*fleet, wait_ms);
     return 0;
   }
   const auto end = clock_type::now() + std::chrono::duration_cast<clock_type::duration>(
                                            std::chrono::duration<double>(duration_s > 0 ? duration_s : 1e9));
   const bool tty = ::isatty(1) != 0;
+  bool hinted = false;
   while (!stop.load() && clock_type::now() < end) {
     if (json) {
       fmt::print("{}\n", fleet_json(*fleet).dump());
@@ -149,6 +181,7 @@ int cmd_fleet(const std::string& backend, bool json, bool once, int wait_ms, dou
       if (!tty) fmt::print("\n");
     }
     std::fflush(stdout);
+    if (!std::exchange(hinted, true)) hint_when_alone(*fleet, wait_ms);
     const auto next = clock_type::now() + std::chrono::seconds(1);
     while (!stop.load() && clock_type::now() < std::min(next, end)) std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }

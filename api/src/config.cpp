@@ -38,7 +38,7 @@ namespace {
 
 constexpr std::array<std::string_view, 3> kTopLevelKeys{"network", "fleet", "topics"};
 constexpr std::array<std::string_view, 4> kFleetKeys{"announce", "heartbeat_ms", "announce_ms", "misses"};
-constexpr std::array<std::string_view, 4> kNetworkKeys{"backend", "domain_id", "localhost_only", "lcm_url"};
+constexpr std::array<std::string_view, 5> kNetworkKeys{"backend", "domain_id", "localhost_only", "lcm_url", "peers"};
 constexpr std::array<std::string_view, 6> kRuleKeys{"match", "scope", "backend", "reliability", "durability", "capacity"};
 
 template <std::size_t N>
@@ -143,6 +143,20 @@ class Parser {
       if (!s) return std::unexpected(s.error());
       if (s->empty()) return bad(v, "network.lcm_url", "empty; expected an LCM URL such as \"udpm://239.255.76.67:7667?ttl=1\"");
       out.lcm_url = *s;
+    }
+    if (const auto v = n["peers"]) {
+      constexpr std::string_view kExpected = "a list of host names or IPv4 addresses, such as [10.0.0.2, robot-3]";
+      if (!v.IsSequence()) return bad(v, "network.peers", fmt::format("expected {}, found {}", kExpected, kind(v)));
+      std::vector<std::string> peers;
+      for (std::size_t i = 0; i < v.size(); ++i) {
+        const std::string key = fmt::format("network.peers[{}]", i);
+        auto s = scalar(v[i], key, "a host name or an IPv4 address");
+        if (!s) return std::unexpected(s.error());
+        if (const std::string why = net::check_peer(*s); !why.empty())
+          return bad(v[i], key, fmt::format("'{}' {}; expected {}", *s, why, kExpected));
+        peers.push_back(*s);
+      }
+      out.peers = std::move(peers);
     }
     return {};
   }
@@ -377,7 +391,7 @@ Result<const Config*> file_from(const Environment& env) {
 net::FileDefaults file_defaults(const Config* config) {
   if (config == nullptr) return {};
   const auto& n = config->network();
-  return {n.domain_id, n.localhost_only, n.lcm_url, "configuration file '" + config->file() + "'"};
+  return {n.domain_id, n.localhost_only, n.lcm_url, n.peers, "configuration file '" + config->file() + "'"};
 }
 }  // namespace
 

@@ -66,6 +66,15 @@ std::string domain_xml(const net::Config& config) {
         "<MaxAutoParticipantIndex>40</MaxAutoParticipantIndex>"
         "<Peers><Peer Address=\"127.0.0.1\"/></Peers>"
         "</Discovery>";
+  } else if (!config.peers.empty()) {
+    // A network without multicast (Wi-Fi that filters it): discovery by unicast to the peers'
+    // well-known ports of participant indexes 0..kMaxPeerIndex, data by unicast. The peers
+    // are host names or IPv4 addresses (net::check_peer): nothing to escape.
+    xml += "<General><AllowMulticast>false</AllowMulticast></General>"
+           "<Discovery><ParticipantIndex>auto</ParticipantIndex>"
+           "<MaxAutoParticipantIndex>" + std::to_string(net::kMaxPeerIndex) + "</MaxAutoParticipantIndex><Peers>";
+    for (const std::string& peer : config.peers) xml += "<Peer Address=\"" + peer + "\"/>";
+    xml += "</Peers></Discovery>";
   }
   // Large socket buffers for fragmented multi-megabyte samples; min="default" accepts what
   // the kernel grants (net.core.rmem_max / wmem_max).
@@ -263,6 +272,10 @@ Result<std::shared_ptr<net::Transport>> cyclone_transport(const net::Config& con
       "Cyclone DDS domain " + std::to_string(config.domain_id) +
           ": the previous transport of this domain did not shut down within 10 s");
   if (!got) return std::unexpected(std::move(got.error()));
+  if (const net::Config& other = (*got)->config(); other.peers != config.peers)
+    return fail(Errc::ConfigMismatch, "Cyclone DDS domain " + std::to_string(config.domain_id) +
+                                          " is already used in this process with other peers; one configuration "
+                                          "per domain and process");
   if (const net::Config& other = (*got)->config(); other.localhost_only != config.localhost_only)
     return fail(Errc::ConfigMismatch,
                 "Cyclone DDS domain " + std::to_string(config.domain_id) +

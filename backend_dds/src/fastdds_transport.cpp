@@ -26,7 +26,13 @@
 // Files: fastdds_internal.hpp lists the pieces. The per-configuration participant cache is
 // net::SharedCache (its shutdown rule is in horus/transport/shared_cache.hpp); remote endpoints
 // of another type on our topics are watched by net::RemoteTypes.
+#include <netdb.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+
+#include <array>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -85,6 +91,20 @@ class HorusLogConsumer final : public fd::LogConsumer {
   }
 };
 
+// A peer's IPv4 address (a host name is looked up; Fast DDS's locators take addresses only).
+Result<std::array<unsigned char, 4>> resolve_ipv4(const std::string& host) {
+  addrinfo hints{};
+  hints.ai_family = AF_INET;
+  hints.ai_socktype = SOCK_DGRAM;
+  addrinfo* found = nullptr;
+  if (const int rc = ::getaddrinfo(host.c_str(), nullptr, &hints, &found); rc != 0 || found == nullptr)
+    return fail(Errc::Config, std::string("cannot be resolved to an IPv4 address: ") + ::gai_strerror(rc));
+  std::array<unsigned char, 4> out{};
+  std::memcpy(out.data(), &reinterpret_cast<const sockaddr_in*>(found->ai_addr)->sin_addr, 4);
+  ::freeaddrinfo(found);
+  return out;
+}
+
 void quiet_fastdds_log() {
   static std::once_flag once;
   std::call_once(once, [] {
@@ -141,6 +161,27 @@ Result<void> FastddsTransport::start() {
     pq.wire_protocol().builtin.metatrafficUnicastLocatorList.push_back(loopback);
     pq.wire_protocol().builtin.initialPeersList.push_back(loopback);  // probes kInitialPeersRange indexes
     pq.wire_protocol().default_unicast_locator_list.push_back(loopback);
+  } else if (!config_.peers.empty()) {
+    // A network without multicast: discovery by unicast to the peers' well-known ports of
+    // participant indexes 0..kMaxPeerIndex, and a unicast metatraffic locator of our own (any
+    // interface) with no multicast one, so that nothing goes to 239.255.0.1.
+    udp->maxInitialPeersRange = net::kMaxPeerIndex + 1;
+    rtps::Locator_t any;
+    any.kind = LOCATOR_KIND_UDPv4;
+    eprosima::fastrtps::rtps::IPLocator::setIPv4(any, 0, 0, 0, 0);
+    any.port = 0;
+    pq.wire_protocol().builtin.metatrafficUnicastLocatorList.push_back(any);
+    pq.wire_protocol().default_unicast_locator_list.push_back(any);
+    for (const std::string& peer : config_.peers) {
+      auto address = resolve_ipv4(peer);
+      if (!address)
+        return fail(Errc::Config, config_.peers_origin + ": peer '" + peer + "' " + address.error().message());
+      rtps::Locator_t locator;
+      locator.kind = LOCATOR_KIND_UDPv4;
+      eprosima::fastrtps::rtps::IPLocator::setIPv4(locator, (*address)[0], (*address)[1], (*address)[2], (*address)[3]);
+      locator.port = 0;  // 0: the well-known ports of the domain and participant index
+      pq.wire_protocol().builtin.initialPeersList.push_back(locator);
+    }
   }
   pq.transport().user_transports.push_back(udp);
   // Announce every second instead of Fast DDS's 3 s: a participant that starts while the others
@@ -291,8 +332,9 @@ Result<std::shared_ptr<net::Transport>> fastdds_transport(const net::Config& con
                                            " is out of range; expected 0 to " + std::to_string(net::kMaxDomainId));
   // One participant per configuration (domain id and localhost_only).
   // The fleet layer's own topics have a participant of their own (TransportInfo::open_control).
-  const std::string key = std::to_string(config.domain_id) + (config.localhost_only ? "/localhost" : "/lan") +
-                          (control ? "/control" : "");
+  std::string key = std::to_string(config.domain_id) + (config.localhost_only ? "/localhost" : "/lan") +
+                    (control ? "/control" : "");
+  for (const std::string& peer : config.peers) key += "/" + peer;
   auto got = net::SharedCache<FastddsTransport>::instance().get(
       key,
       [&](net::CacheTicket ticket) -> Result<std::shared_ptr<FastddsTransport>> {

@@ -256,10 +256,15 @@ Result<void> check_url(std::string_view url) {
 }
 
 Result<std::string> url_from(const net::Config& config) {
-  if (config.lcm_url.empty()) return std::string(kDefaultUrl);
-  if (auto ok = check_url(config.lcm_url); !ok)
-    return fail(Errc::Config, config.lcm_url_origin + ": " + ok.error().message());
-  return config.lcm_url;
+  const std::string url = config.lcm_url.empty() ? std::string(kDefaultUrl) : config.lcm_url;
+  if (!config.lcm_url.empty())
+    if (auto ok = check_url(config.lcm_url); !ok)
+      return fail(Errc::Config, config.lcm_url_origin + ": " + ok.error().message());
+  if (!config.peers.empty() && url.starts_with("udpm://"))
+    return fail(Errc::Config, config.peers_origin + " lists peers (unicast to those hosts, multicast off), but LCM's "
+                              "udpm transport needs multicast: LCM has no unicast discovery. Use cyclonedds or "
+                              "fastdds for the fleet topics on a network without multicast, or remove the peers");
+  return url;
 }
 
 Result<std::string> check_channel(std::string_view channel) {

@@ -18,6 +18,7 @@ Environment Environment::read() {
   e.domain_id = variable("HORUS_DOMAIN_ID");
   e.dds_localhost = variable("HORUS_DDS_LOCALHOST");
   e.horus_lcm_url = variable("HORUS_LCM_URL");
+  e.peers = variable("HORUS_PEERS");
   e.lcm_default_url = variable("LCM_DEFAULT_URL");
   e.fleet_heartbeat_ms = variable("HORUS_FLEET_HEARTBEAT_MS");
   e.bridge = variable("HORUS_BRIDGE");

@@ -4,6 +4,10 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <string>
+#include <vector>
+
 namespace horus::net {
 
 std::string_view to_string(Reliability r) noexcept {
@@ -12,6 +16,32 @@ std::string_view to_string(Reliability r) noexcept {
 
 std::string_view to_string(Durability d) noexcept {
   return d == Durability::TransientLocal ? "transient local" : "volatile";
+}
+
+std::string check_peer(std::string_view peer) {
+  if (peer.empty()) return "is empty";
+  if (peer.size() > 253) return "is longer than a host name (253 characters)";
+  bool digits_and_dots = true;
+  for (const char c : peer) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '.';
+    if (!ok) return fmt::format("has '{}', which no host name or IPv4 address has", c);
+    digits_and_dots = digits_and_dots && (c == '.' || (c >= '0' && c <= '9'));
+  }
+  if (peer.front() == '.' || peer.front() == '-' || peer.back() == '.' || peer.find("..") != std::string_view::npos)
+    return "is not a host name (a dot or '-' at an end, or two dots)";
+  if (digits_and_dots) {  // then an IPv4 address: four numbers 0..255
+    int parts = 0;
+    std::size_t at = 0;
+    while (at <= peer.size()) {
+      const std::size_t dot = std::min(peer.find('.', at), peer.size());
+      const std::string_view part = peer.substr(at, dot - at);
+      if (part.empty() || part.size() > 3 || std::stoi(std::string(part)) > 255) return "is not an IPv4 address";
+      ++parts;
+      at = dot + 1;
+    }
+    if (parts != 4) return "is not an IPv4 address (four numbers 0 to 255)";
+  }
+  return {};
 }
 
 Result<Config> config_from(const Environment& env, const FileDefaults& file) {
@@ -43,6 +73,33 @@ Result<Config> config_from(const Environment& env, const FileDefaults& file) {
                                             "0, false, no, off (the LAN)",
                                             v));
     }
+  }
+  if (!env.peers.empty()) {
+    // A comma- or space-separated list.
+    std::vector<std::string> peers;
+    std::string_view rest(env.peers);
+    std::size_t index = 0;
+    while (!rest.empty()) {
+      const std::size_t cut = rest.find_first_of(", ");
+      const std::string_view entry = rest.substr(0, cut);
+      rest = cut == std::string_view::npos ? std::string_view{} : rest.substr(cut + 1);
+      if (entry.empty()) continue;
+      ++index;
+      if (const std::string why = check_peer(entry); !why.empty())
+        return fail(Errc::Config, fmt::format("HORUS_PEERS={}: peer {} '{}' {}; expected host names or IPv4 addresses "
+                                              "separated by commas (HORUS_PEERS=10.0.0.2,robot-3)",
+                                              env.peers, index, entry, why));
+      peers.emplace_back(entry);
+    }
+    if (peers.empty())
+      return fail(Errc::Config, fmt::format("HORUS_PEERS={} names no host; expected host names or IPv4 addresses "
+                                            "separated by commas (HORUS_PEERS=10.0.0.2,robot-3)",
+                                            env.peers));
+    config.peers = std::move(peers);
+    config.peers_origin = "environment variable HORUS_PEERS";
+  } else if (file.peers && !file.peers->empty()) {
+    config.peers = *file.peers;
+    config.peers_origin = file.origin + ", network.peers";
   }
   // The URL is checked by the LCM transport, which knows its syntax; the origin names it.
   if (!env.horus_lcm_url.empty()) {

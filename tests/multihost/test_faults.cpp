@@ -204,6 +204,62 @@ TEST_P(Faults, EveryProcessEndsWithinOneSecondOfMainReturningWhateverTheNetworkD
   }
 }
 
+// Wi-Fi without multicast: two hosts whose links drop every multicast packet (nftables) meet and
+// exchange a reliable topic through HORUS_PEERS (unicast discovery, multicast off); the fleet
+// layer sees the other host; without peers, `horus fleet` ends with a hint that names
+// HORUS_PEERS. LCM has no unicast discovery: peers are a configuration error that says so.
+TEST_P(Faults, HostsOnANetworkWithoutMulticastMeetThroughPeers) {
+  if (!horus::backend_available(GetParam()))
+    GTEST_SKIP() << "this build has no " << horus::to_string(GetParam()) << " backend";
+  if (::geteuid() != 0) GTEST_SKIP() << "needs root for namespace hosts";
+  if (!have_nft()) GTEST_SKIP() << "needs nftables (nft) to drop multicast; scripts/install-deps.sh installs it";
+  horus_test::NetnsLan lan(2, "p");
+  if (!lan.ok()) GTEST_SKIP() << "no namespace hosts: " << lan.why();
+  ASSERT_TRUE(drop_multicast(lan, 0) && drop_multicast(lan, 1));
+  const bool lcm = GetParam() == horus::Backend::Lcm;
+  auto env = [&](int host, bool peers) {
+    std::vector<std::string> e = {
+        "HORUS_BACKEND=" + std::string(horus::to_string(GetParam())),
+        "HORUS_DOMAIN_ID=" + std::to_string(1 + (::getpid() + 57) % 200), "HORUS_DDS_LOCALHOST=0",
+        "HORUS_LCM_URL=udpm://239.255.76.68:" + std::to_string(20000 + (::getpid() * 13 + 1) % 20000) + "?ttl=1",
+        "HORUS_FLEET_HEARTBEAT_MS=100"};
+    if (peers) e.push_back("HORUS_PEERS=" + lan.address(1 - host));  // the other host, by address
+    return e;
+  };
+  const std::string topic = "fleet.peers_" + std::to_string(::getpid());
+
+  // Without peers: they never meet, and the CLI says what to do.
+  {
+    auto cli = lan.spawn(0, {HORUS_CLI, "fleet", "--once", "--wait", "1500"}, env(0, false));
+    auto other = lan.spawn(1, {HORUS_CLI, "fleet", "--once", "--wait", "1500"}, env(1, false));
+    ASSERT_EQ(cli.wait(20s), 0) << cli.output();
+    (void)other.wait(20s);
+    const std::string out = cli.output();
+    EXPECT_NE(out.find("fleet on " + std::string(horus::to_string(GetParam())) + ": 1 host"), std::string::npos) << out;
+    EXPECT_NE(out.find("no other host answered within 1500 ms"), std::string::npos) << out;
+    EXPECT_NE(out.find(lcm ? "LCM has no unicast discovery" : "HORUS_PEERS="), std::string::npos) << out;
+  }
+  if (lcm) {
+    auto m = lan.spawn(0, {FLEET_MEMBER, topic, "fleet", "1", "10", std::to_string(unix_ms()), "1", "5"}, env(0, true));
+    EXPECT_EQ(m.wait(20s), 3) << m.output();  // the topic does not open
+    EXPECT_NE(m.output().find("environment variable HORUS_PEERS lists peers"), std::string::npos) << m.output();
+    EXPECT_NE(m.output().find("needs multicast"), std::string::npos) << m.output();
+    return;
+  }
+  // With peers: 500 reliable messages, every one exactly once and in order; each fleet view
+  // shows the other host.
+  const long long start = unix_ms() + 2500;
+  auto pub = lan.spawn(0, {FLEET_MEMBER, topic, "fleet", "1", "500", std::to_string(start), "1", "15"}, env(0, true));
+  auto sub = lan.spawn(1, {FLEET_MEMBER, topic, "fleet", "0", "500", std::to_string(start), "1", "15"}, env(1, true));
+  std::this_thread::sleep_for(std::chrono::milliseconds(std::max(0LL, start - unix_ms())));
+  auto view = lan.spawn(1, {HORUS_CLI, "fleet", "--once", "--wait", "1500"}, env(1, true));
+  EXPECT_EQ(sub.wait(30s), 0) << "publisher:\n" << pub.output() << "\nsubscriber:\n" << sub.output();
+  (void)pub.wait(30s);
+  ASSERT_EQ(view.wait(20s), 0) << view.output();
+  EXPECT_NE(view.output().find(lan.host(0)), std::string::npos) << view.output();
+  EXPECT_EQ(view.output().find("no other host answered"), std::string::npos) << view.output();
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, Faults,
                          ::testing::Values(horus::Backend::CycloneDds, horus::Backend::FastDds, horus::Backend::Lcm),
                          [](const auto& param_info) { return std::string(horus::to_string(param_info.param)); });

@@ -13,6 +13,8 @@
 #include <unistd.h>
 
 #include "horus/config.hpp"
+#include "horus/environment.hpp"
+#include "horus/network.hpp"
 #include "horus/msg/geometry.hpp"
 #include "horus/topic.hpp"
 #include "process_support.hpp"
@@ -53,6 +55,7 @@ class ConfigTest : public ::testing::Test {
     ::unsetenv("HORUS_CONFIG");
     ::unsetenv("HORUS_DOMAIN_ID");
     ::unsetenv("HORUS_DDS_LOCALHOST");
+    ::unsetenv("HORUS_PEERS");
   }
 };
 
@@ -172,6 +175,10 @@ TEST_F(ConfigTest, EveryErrorNamesTheFileTheLineTheKeyAndWhatIsValid) {
       {"network:\n  backend: cyclonedds\n  backend: lcm\n", {"line 3", "network.backend", "given twice"}},
       {"topics:\n  match: a\n", {"line 2", "'topics'", "list of rules"}},
       {"network: [1, 2]\n", {"line 1", "'network'", "expected a map"}},
+      {"network:\n  peers: 10.0.0.2\n", {"line 2", "network.peers", "a list of host names or IPv4 addresses"}},
+      {"network:\n  peers: [10.0.0.2, \"robot 3\"]\n", {"line 2", "network.peers[1]", "'robot 3'", "has ' '"}},
+      {"network:\n  peers:\n    - 10.0.0.256\n", {"line 3", "network.peers[0]", "not an IPv4 address"}},
+      {"network:\n  peers:\n    - [a]\n", {"line 3", "network.peers[0]", "a host name or an IPv4 address"}},
       {"- a\n- b\n", {"line 1", "expected a map"}},
       {"topics:\n  - match: a\n    scope: [host\n", {"robot.yaml, line", "not valid YAML"}},
   };
@@ -288,6 +295,38 @@ TEST_F(ConfigTest, TheFilesNetworkSectionIsTheTransportsDefaultAndTheEnvironment
   EXPECT_FALSE(n->localhost_only);
 }
 
+TEST_F(ConfigTest, PeersComeFromHorusPeersElseTheFileAndABadEntryIsNamed) {
+  horus::Environment env;
+  horus::net::FileDefaults file;
+  file.peers = std::vector<std::string>{"robot-1.local", "10.0.0.3"};
+  file.origin = "configuration file 'robot.yaml'";
+  auto from_file = horus::net::config_from(env, file);
+  ASSERT_TRUE(from_file.has_value()) << from_file.error().message();
+  EXPECT_EQ(from_file->peers, (std::vector<std::string>{"robot-1.local", "10.0.0.3"}));
+  EXPECT_EQ(from_file->peers_origin, "configuration file 'robot.yaml', network.peers");
+  env.peers = "10.0.0.2, robot-3,,";
+  auto from_env = horus::net::config_from(env, file);
+  ASSERT_TRUE(from_env.has_value()) << from_env.error().message();
+  EXPECT_EQ(from_env->peers, (std::vector<std::string>{"10.0.0.2", "robot-3"}));
+  EXPECT_EQ(from_env->peers_origin, "environment variable HORUS_PEERS");
+  for (const auto& [value, expected] : std::vector<std::pair<std::string, std::string>>{
+           {"10.0.0.2,robot_3", "peer 2 'robot_3' has '_'"},
+           {"1.2.3", "not an IPv4 address"},
+           {"300.1.1.1", "not an IPv4 address"},
+           {"-robot", "not a host name"},
+           {",", "names no host"}}) {
+    env.peers = value;
+    auto bad = horus::net::config_from(env, file);
+    ASSERT_FALSE(bad.has_value()) << value;
+    EXPECT_EQ(bad.error().code(), horus::Errc::Config);
+    EXPECT_NE(bad.error().message().find("HORUS_PEERS=" + value), std::string::npos) << bad.error().message();
+    EXPECT_NE(bad.error().message().find(expected), std::string::npos) << bad.error().message();
+  }
+  auto c = Config::parse("network:\n  peers: [10.0.0.2, robot-3]\n", "robot.yaml");
+  ASSERT_TRUE(c.has_value()) << c.error().message();
+  EXPECT_EQ(c->network().peers, (std::vector<std::string>{"10.0.0.2", "robot-3"}));
+}
+
 TEST_F(ConfigTest, TheFleetSectionAndTheEnvironmentSetTheFleetLayer) {
   ::unsetenv("HORUS_FLEET_HEARTBEAT_MS");
   auto d = horus::fleet_settings();
@@ -372,6 +411,19 @@ TEST_F(ConfigTest, ABadLcmUrlInTheFileFailsTheLcmTopicNamingTheFileAndKey) {
   const auto& m = t.error().message();
   EXPECT_NE(m.find("configuration file '" + file.path + "', network.lcm_url"), std::string::npos) << m;
   EXPECT_NE(m.find("99999"), std::string::npos) << m;
+}
+
+TEST_F(ConfigTest, PeersWithLcmAreAConfigurationErrorSayingLcmNeedsMulticast) {
+  ::unsetenv("HORUS_LCM_URL");
+  ::unsetenv("LCM_DEFAULT_URL");
+  TempFile file("network:\n  peers: [10.0.0.2]\ntopics:\n  - match: \"fleet.**\"\n    backend: lcm\n");
+  ::setenv("HORUS_CONFIG", file.path.c_str(), 1);
+  auto t = horus::Topic<horus::msg::CmdVel>::open("fleet.cmd");
+  ASSERT_FALSE(t.has_value());
+  const auto& m = t.error().message();
+  EXPECT_EQ(t.error().code(), horus::Errc::Config) << m;
+  EXPECT_NE(m.find("configuration file '" + file.path + "', network.peers"), std::string::npos) << m;
+  EXPECT_NE(m.find("needs multicast"), std::string::npos) << m;
 }
 
 }  // namespace

@@ -70,6 +70,7 @@ struct NetworkSection {
   std::optional<std::uint32_t> domain_id;
   std::optional<bool> localhost_only;
   std::optional<std::string> lcm_url;
+  std::optional<std::vector<std::string>> peers;  // unicast discovery to these hosts, multicast off
 };
 
 /// A parsed configuration file.

@@ -16,6 +16,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "horus/error.hpp"
 
@@ -50,6 +51,11 @@ struct Config {
   /// Where lcm_url came from, for errors ("environment variable HORUS_LCM_URL",
   /// "configuration file 'f.yaml', network.lcm_url"); empty when lcm_url is.
   std::string lcm_url_origin;
+  /// Hosts (names or IPv4 addresses) that discovery and data reach by unicast, with multicast
+  /// off: for networks that filter or flood multicast (Wi-Fi). Empty: multicast discovery.
+  /// (HORUS_PEERS, network.peers.) DDS only: the LCM transport refuses it.
+  std::vector<std::string> peers;
+  std::string peers_origin;  // where peers came from, for errors; empty when peers is
   bool operator==(const Config&) const = default;
 };
 
@@ -59,8 +65,17 @@ struct FileDefaults {
   std::optional<std::uint32_t> domain_id;
   std::optional<bool> localhost_only;
   std::optional<std::string> lcm_url;
+  std::optional<std::vector<std::string>> peers;  // checked by check_peer
   std::string origin;
 };
+
+/// With peers (Config::peers), discovery probes these participant indexes on each peer: the
+/// DDS participants of one host (two per process with fleet topics) number at most this + 1.
+inline constexpr std::uint32_t kMaxPeerIndex = 63;
+
+/// Checks one entry of a peers list: a host name (letters, digits, '-' and '.', at most 253
+/// characters) or an IPv4 address; an error message naming what was wrong, or empty.
+std::string check_peer(std::string_view peer);
 
 }  // namespace horus::net
 
