@@ -45,13 +45,21 @@ std::unique_ptr<horus::Fleet> open_fleet(const std::string& transport, std::stri
   return std::move(*f);
 }
 
+// Waits (at most `wait`) until every host that is not lost has announced itself. Without the
+// host's fleet view (no host known yet) it listens a quarter of `wait` first, for hosts to show
+// up; with it (the hosts this host's agent saw, lost ones included) it needs no discovery round.
 void settle(const horus::Fleet& fleet, std::chrono::milliseconds wait, const std::atomic<bool>& stop) {
   const auto start = clock_type::now();
+  const auto known_at_start = fleet.hosts();
+  const bool from_view = std::any_of(known_at_start.begin(), known_at_start.end(), [](const auto& h) { return !h.self; });
   while (!stop.load() && clock_type::now() - start < wait) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    if (clock_type::now() - start < wait / 4) continue;
+    if (!from_view && clock_type::now() - start < wait / 4) continue;
     const auto hosts = fleet.hosts();
-    if (!hosts.empty() && std::all_of(hosts.begin(), hosts.end(), [](const auto& h) { return h.announced; })) return;
+    if (!hosts.empty() && std::any_of(hosts.begin(), hosts.end(), [](const auto& h) { return h.self; }) &&
+        std::all_of(hosts.begin(), hosts.end(),
+                    [](const auto& h) { return h.announced || h.state == horus::HostState::Lost; }))
+      return;
   }
 }
 
@@ -89,6 +97,12 @@ nlohmann::json fleet_json(const horus::Fleet& fleet) {
                         {"age_ms", h.heartbeat_age.count()},
                         {"period_ms", h.period.count()},
                         {"heartbeats", h.heartbeats},
+                        {"loss", h.loss >= 0 ? nlohmann::json(h.loss) : nlohmann::json(nullptr)},
+                        {"clock_offset_us", h.clock_offset ? nlohmann::json(h.clock_offset->count()) : nlohmann::json(nullptr)},
+                        {"clock_uncertainty_us",
+                         h.clock_uncertainty ? nlohmann::json(h.clock_uncertainty->count()) : nlohmann::json(nullptr)},
+                        {"last_seen_unix_ms", h.last_seen_unix_ms},
+                        {"lost_since_unix_ms", h.lost_since_unix_ms != 0 ? nlohmann::json(h.lost_since_unix_ms) : nlohmann::json(nullptr)},
                         {"announced", h.announced},
                         {"namespace", h.shm_namespace},
                         {"processes", procs},
@@ -102,14 +116,17 @@ nlohmann::json fleet_json(const horus::Fleet& fleet) {
 void print_fleet_table(const horus::Fleet& fleet) {
   const auto hosts = fleet.hosts();
   fmt::print("fleet on {}: {} host{}\n", fleet.transport(), hosts.size(), hosts.size() == 1 ? "" : "s");
-  fmt::print("{:<24} {:<9} {:>8} {:>9} {:>6} {:>7} {:>7}\n", "host", "state", "age ms", "rtt us", "procs", "fleet", "topics");
+  fmt::print("{:<24} {:<9} {:>8} {:>9} {:>6} {:>10} {:>6} {:>7} {:>7}\n", "host", "state", "age ms", "rtt us", "loss",
+             "offset ms", "procs", "fleet", "topics");
   for (const auto& h : hosts) {
     std::size_t fleet_topics = 0;
     for (const auto& t : h.topics) fleet_topics += t.scope == "fleet" ? 1 : 0;
     std::string state(horus::to_string(h.state));
     if (h.rejoins > 0) state += fmt::format(" ({}x)", h.rejoins);
-    fmt::print("{:<24} {:<9} {:>8} {:>9} {:>6} {:>7} {:>7}\n", h.name + (h.self ? " *" : ""), state,
+    fmt::print("{:<24} {:<9} {:>8} {:>9} {:>6} {:>10} {:>6} {:>7} {:>7}\n", h.name + (h.self ? " *" : ""), state,
                h.heartbeat_age.count(), h.rtt ? std::to_string(h.rtt->count()) : "-",
+               h.loss >= 0 ? fmt::format("{:.0f}%", h.loss * 100) : "-",
+               h.clock_offset ? fmt::format("{:+.1f}", static_cast<double>(h.clock_offset->count()) / 1000.0) : "-",
                h.announced ? std::to_string(h.processes.size()) : "?", h.announced ? std::to_string(fleet_topics) : "?",
                h.announced ? std::to_string(h.topics.size()) : "?");
   }

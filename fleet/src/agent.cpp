@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <atomic>
 #include <condition_variable>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -27,6 +28,7 @@
 #include "engine.hpp"
 #include "horus/detail/network_link.hpp"
 #include "horus/discovery/registry.hpp"
+#include "horus/environment.hpp"
 #include "horus/executor.hpp"
 #include "horus/fleet.hpp"
 #include "horus/log.hpp"
@@ -67,6 +69,52 @@ TopicOptions request_options(const std::string& transport) {
 std::uint64_t steady_ns() noexcept {
   return static_cast<std::uint64_t>(
       std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count());
+}
+
+std::int64_t unix_ns() noexcept {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+std::string view_topic(const std::string& transport) { return "horus.fleet.view." + transport; }
+
+TopicOptions view_options() {
+  TopicOptions o;
+  o.backend = Backend::SharedMemory;  // the host's processes only
+  o.capacity = 2;
+  o.slot_size = kViewBytes;
+  return o;
+}
+
+void LinkStats::on_heartbeat(const Heartbeat& h, std::uint64_t self, std::uint64_t now_steady_ns,
+                             std::int64_t now_unix_ns) {
+  // Loss: the sequence numbers that arrived within the window (a restart starts it again).
+  if (!got_.empty() && h.seq <= got_.back().seq) got_.clear();
+  got_.push_back({h.seq, now_steady_ns});
+  const auto window = static_cast<std::uint64_t>(std::chrono::nanoseconds(kLossWindow).count());
+  std::size_t old = 0;
+  while (old < got_.size() && now_steady_ns - got_[old].at_ns > window) ++old;
+  got_.erase(got_.begin(), got_.begin() + static_cast<std::ptrdiff_t>(old));
+  // Round trip and clock offset, from the echo of our own heartbeat.
+  for (const auto& e : h.echoes) {
+    if (e.host_id != self || e.sent_ns + e.held_ns > now_steady_ns) continue;
+    const std::uint64_t rtt = now_steady_ns - e.sent_ns - e.held_ns;
+    if (rtt >= 60'000'000'000ULL) continue;
+    rtt_ns_ = static_cast<std::int64_t>(rtt);
+    if (h.sent_unix_ns == 0) continue;  // a sender without a realtime stamp
+    if (samples_.size() == kOffsetSamples) samples_.erase(samples_.begin());
+    samples_.push_back({rtt_ns_, h.sent_unix_ns + rtt_ns_ / 2 - now_unix_ns});
+    const auto best = std::min_element(samples_.begin(), samples_.end(),
+                                       [](const Sample& a, const Sample& b) { return a.rtt_ns < b.rtt_ns; });
+    offset_ns_ = best->offset_ns;
+    uncertainty_ns_ = best->rtt_ns / 2;
+  }
+}
+
+double LinkStats::loss() const noexcept {
+  if (got_.size() < 10) return -1;
+  const std::uint64_t expected = got_.back().seq - got_.front().seq + 1;
+  return 1.0 - static_cast<double>(got_.size()) / static_cast<double>(expected);
 }
 
 }  // namespace detail
@@ -144,6 +192,8 @@ class Agent {
     }
     settings_ = *settings;
     if (!settings_.announce) return;  // fleet.announce: false
+    if (const std::string& shift = Environment::read().test_clock_offset_ms; !shift.empty())
+      clock_shift_ns_ = std::strtoll(shift.c_str(), nullptr, 10) * 1'000'000LL;
     // Open the topics; retry while they do not open (a transport busy closing, say).
     for (int attempt = 0;; ++attempt) {
       if (open_topics()) break;
@@ -194,6 +244,12 @@ class Agent {
     heartbeat_.emplace(std::move(*hb));
     announce_.emplace(std::move(*an));
     request_.emplace(std::move(*rq));
+    if (auto view = Topic<FleetView>::open(detail::view_topic(transport_), detail::view_options()); view) {
+      view_.emplace(std::move(*view));
+      view_->publish_only();
+    } else {
+      horus::detail::log().warn("fleet: the fleet view of this host is not kept: {}", view.error().message());
+    }
     heartbeat_->publish_only();
     announce_->publish_only();
     request_->publish_only();
@@ -202,7 +258,67 @@ class Agent {
 
   void on_heartbeat(const Heartbeat& h) {
     if (h.host_id == 0 || h.host_id == self_) return;
-    heard_[h.host_id] = {h.sent_ns, detail::steady_ns()};
+    if (h.host.empty() || h.host.size() > 255 || h.period_ms < kMinHeartbeatMs || h.period_ms > kMaxHeartbeatMs)
+      return;  // horus::Fleet counts it as malformed
+    const std::uint64_t now = detail::steady_ns();
+    heard_[h.host_id] = {h.sent_ns, now};
+    // The fleet view: every agent keeps it (it may come to speak for the host), the speaker
+    // publishes it.
+    auto found = tracked_.find(h.host_id);
+    if (found == tracked_.end()) {
+      if (tracked_.size() >= detail::kViewHosts) return;
+      found = tracked_.emplace(h.host_id, Tracked{}).first;
+      found->second.view.host_id = h.host_id;
+      found->second.view.first_seen_unix_ns = detail::unix_ns();
+      view_dirty_ = true;
+    }
+    Tracked& t = found->second;
+    const std::int64_t now_unix = detail::unix_ns();
+    t.link.on_heartbeat(h, self_, now, now_unix);
+    ViewedHost& v = t.view;
+    if (v.host != h.host || v.period_ms != h.period_ms) view_dirty_ = true;
+    v.host = h.host;
+    v.period_ms = h.period_ms;
+    ++v.heartbeats;
+    v.last_seen_unix_ns = now_unix;
+    t.last_ns = now;
+    if (v.state == static_cast<std::uint32_t>(HostState::Lost)) {
+      v.state = static_cast<std::uint32_t>(HostState::Rejoined);
+      ++v.rejoins;
+      v.lost_since_unix_ns = 0;
+      view_dirty_ = true;
+    }
+    v.rtt_ns = t.link.rtt_ns();
+    v.loss = t.link.loss();
+    v.clock_offset_ns = t.link.offset_ns();
+    v.clock_uncertainty_ns = t.link.uncertainty_ns();
+  }
+
+  // The executor's thread, every heartbeat period: hosts lost (as horus::Fleet judges them),
+  // and, by the process that speaks for the host, the view: at once when a host joined, was
+  // lost or rejoined, else once a second (ages, link figures).
+  void keep_view(bool speaker) {
+    const std::uint64_t now = detail::steady_ns();
+    for (auto& [id, t] : tracked_) {
+      ViewedHost& v = t.view;
+      const std::uint64_t period = std::uint64_t{v.period_ms} * 1'000'000ULL;
+      if (v.state != static_cast<std::uint32_t>(HostState::Lost) && now - t.last_ns > period * (settings_.misses + 1)) {
+        v.state = static_cast<std::uint32_t>(HostState::Lost);
+        v.lost_since_unix_ns = detail::unix_ns();
+        view_dirty_ = true;
+      }
+    }
+    if (!speaker || !view_) return;
+    if (!view_dirty_ && now - view_sent_ns_ < 1'000'000'000ULL) return;
+    FleetView view;
+    view.host_id = self_;
+    view.version = ++view_version_;
+    view.made_unix_ns = detail::unix_ns();
+    view.hosts.reserve(tracked_.size());
+    for (const auto& [id, t] : tracked_) view.hosts.push_back(t.view);
+    view_->send(view);
+    view_dirty_ = false;
+    view_sent_ns_ = now;
   }
 
   void on_request(const Request& r) {
@@ -221,6 +337,7 @@ class Agent {
   void tick() {
     if (!heartbeat_ || !heartbeat_->is_bridge()) {
       holder_.store(false, std::memory_order_relaxed);
+      keep_view(false);
       return;
     }
     if (!holder_.load(std::memory_order_relaxed)) {
@@ -241,6 +358,7 @@ class Agent {
     hb.host = name_;
     hb.seq = ++seq_;
     hb.sent_ns = detail::steady_ns();
+    hb.sent_unix_ns = detail::unix_ns() + clock_shift_ns_;
     hb.period_ms = static_cast<std::uint32_t>(settings_.heartbeat.count());
     hb.announce_version = sent_version_.load(std::memory_order_relaxed);
     hb.processes = processes_.load(std::memory_order_relaxed);
@@ -256,6 +374,7 @@ class Agent {
       ++it;
     }
     heartbeat_->send(hb);
+    keep_view(true);
   }
 
   // The announcer (a job of the engine's control thread): scans the host's topics (every
@@ -409,6 +528,19 @@ class Agent {
   std::optional<Topic<Announcement>> announce_;
   std::optional<Topic<Request>> request_;
   std::map<std::uint64_t, Heard> heard_;
+  struct Tracked {
+    ViewedHost view;
+    detail::LinkStats link;
+    std::uint64_t last_ns = 0;  // its last heartbeat (steady clock)
+  };
+  std::map<std::uint64_t, Tracked> tracked_;  // the executor's thread's
+  std::optional<Topic<FleetView>> view_;
+  bool view_dirty_ = false;
+  std::uint64_t view_version_ = 0;
+  std::uint64_t view_sent_ns_ = 0;
+  // A test hook: what this host's heartbeats add to their realtime stamp (a host whose clock is
+  // off), HORUS_TEST_CLOCK_OFFSET_MS.
+  std::int64_t clock_shift_ns_ = 0;
   std::map<std::string, Sample> samples_;
   Announcement current_;                        // the announcer's
   std::atomic<std::uint64_t> sent_version_{0};  // the announcer writes, heartbeats carry it

@@ -49,6 +49,7 @@ using fleet::Request;
 
 struct Record {
   FleetHost host;
+  fleet::detail::LinkStats link;
   Clock::time_point last_seen{};
   std::uint64_t version_have = 0;     // of the announcement we hold
   std::uint64_t version_wanted = 0;   // the latest heartbeat's
@@ -128,10 +129,19 @@ struct Fleet::State {
       Record& r = seen(h.host_id, h.host, now, events);
       r.host.period = std::chrono::milliseconds(h.period_ms);
       ++r.host.heartbeats;
-      for (const auto& e : h.echoes) {
-        if (e.host_id != self || e.sent_ns + e.held_ns > now_ns) continue;
-        const std::uint64_t rtt_ns = now_ns - e.sent_ns - e.held_ns;
-        if (rtt_ns < 60'000'000'000ULL) r.host.rtt = std::chrono::microseconds(rtt_ns / 1000);
+      const std::int64_t now_unix = fleet::detail::unix_ns();
+      r.host.last_seen_unix_ms = now_unix / 1'000'000;
+      r.host.lost_since_unix_ms = 0;
+      if (h.host_id != self) {
+        r.link.on_heartbeat(h, self, now_ns, now_unix);
+        if (r.link.rtt_ns() >= 0) r.host.rtt = std::chrono::microseconds(r.link.rtt_ns() / 1000);
+        // A figure from the view (the agent's longer window) stays until ours spans 5 s.
+        if (const double loss = r.link.loss(); loss >= 0 && (r.host.loss < 0 || r.link.span() >= std::chrono::seconds(5)))
+          r.host.loss = loss;
+        if (r.link.uncertainty_ns() >= 0) {
+          r.host.clock_offset = std::chrono::microseconds(r.link.offset_ns() / 1000);
+          r.host.clock_uncertainty = std::chrono::microseconds(r.link.uncertainty_ns() / 1000);
+        }
       }
       r.version_wanted = h.announce_version;
       // Its announcement is missing or old (lost on the way, or we came late): ask, once a second.
@@ -204,12 +214,45 @@ struct Fleet::State {
         const auto period = r.host.period.count() > 0 ? r.host.period : std::chrono::milliseconds(100);
         if (r.host.state != HostState::Lost && now - r.last_seen > period * (misses + 1)) {
           r.host.state = HostState::Lost;
+          r.host.lost_since_unix_ms = fleet::detail::unix_ns() / 1'000'000;
           r.host.heartbeat_age = std::chrono::duration_cast<std::chrono::milliseconds>(now - r.last_seen);
           events.push_back({FleetEvent::Kind::Lost, r.host});
         }
       }
     }
     emit(events);
+  }
+
+  // Starts from the fleet view this host's agent keeps (fleet_messages.hpp): the hosts it saw,
+  // lost ones included, as they were when it last published (at most a second ago).
+  void seed() {
+    auto view = Topic<fleet::FleetView>::open(fleet::detail::view_topic(transport), fleet::detail::view_options());
+    if (!view) return;
+    auto latest = view->read_latest();
+    if (!latest || latest->host_id != self) return;
+    const auto now = Clock::now();
+    const std::int64_t now_unix = fleet::detail::unix_ns();
+    std::lock_guard lock(mutex);
+    for (const auto& v : latest->hosts) {
+      if (v.host_id == 0 || v.host_id == self || v.host.empty() || v.state > 2 || hosts.contains(v.host_id)) continue;
+      Record& r = hosts[v.host_id];
+      r.host.id = v.host_id;
+      r.host.name = v.host;
+      r.host.state = static_cast<HostState>(v.state);
+      r.host.period = std::chrono::milliseconds(v.period_ms);
+      r.host.heartbeats = v.heartbeats;
+      r.host.rejoins = v.rejoins;
+      r.host.last_seen_unix_ms = v.last_seen_unix_ns / 1'000'000;
+      r.host.lost_since_unix_ms = v.lost_since_unix_ns / 1'000'000;
+      if (v.rtt_ns >= 0) r.host.rtt = std::chrono::microseconds(v.rtt_ns / 1000);
+      r.host.loss = v.loss;
+      if (v.clock_uncertainty_ns >= 0) {
+        r.host.clock_offset = std::chrono::microseconds(v.clock_offset_ns / 1000);
+        r.host.clock_uncertainty = std::chrono::microseconds(v.clock_uncertainty_ns / 1000);
+      }
+      const auto age = std::chrono::nanoseconds(std::max<std::int64_t>(0, now_unix - v.last_seen_unix_ns));
+      r.last_seen = now - std::chrono::duration_cast<Clock::duration>(age);
+    }
   }
 
   FleetHost snapshot(const Record& r, Clock::time_point now) const {
@@ -275,6 +318,7 @@ Result<std::unique_ptr<Fleet>> Fleet::open(Executor& executor, FleetOptions opti
     for (auto id : state->ids) executor.remove(id);
     return std::unexpected(e.error());
   }
+  state->seed();
   state->ask(0);
   return std::unique_ptr<Fleet>(new Fleet(std::move(state)));
 }

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "horus/backend.hpp"
 #include "horus/fleet_messages.hpp"
@@ -26,5 +27,50 @@ TopicOptions request_options(const std::string& transport);
 
 /// Nanoseconds of the steady clock (what heartbeats carry and echo).
 std::uint64_t steady_ns() noexcept;
+/// Nanoseconds of the realtime clock (Unix time).
+std::int64_t unix_ns() noexcept;
+
+/// The host topic of the fleet view (horus.fleet.view.<transport>) and its options.
+std::string view_topic(const std::string& transport);
+TopicOptions view_options();
+inline constexpr std::size_t kViewBytes = 64 * 1024;
+inline constexpr std::size_t kViewHosts = 256;  // at most this many hosts in a view
+
+/// The link to one host, from its heartbeats: round trip (from our heartbeat that it echoes),
+/// loss (gaps in its sequence numbers over the last kLossWindow), and the offset of its
+/// realtime clock against ours, NTP-style: offset = its send time + RTT/2 - our receive time,
+/// uncertain by RTT/2; of the last kOffsetSamples, the one with the shortest round trip (the
+/// least queueing) is kept.
+class LinkStats {
+ public:
+  static constexpr std::chrono::seconds kLossWindow{10};
+  static constexpr std::size_t kOffsetSamples = 8;
+
+  /// A heartbeat from the host arrived now; `self` is our host id.
+  void on_heartbeat(const Heartbeat& h, std::uint64_t self, std::uint64_t now_steady_ns, std::int64_t now_unix_ns);
+  std::int64_t rtt_ns() const noexcept { return rtt_ns_; }  // -1: not known
+  /// The fraction of its heartbeats lost over the window; -1 until 10 arrived.
+  double loss() const noexcept;
+  /// How long the loss window spans now (its first to its last heartbeat).
+  std::chrono::nanoseconds span() const noexcept {
+    return std::chrono::nanoseconds(got_.size() < 2 ? 0 : got_.back().at_ns - got_.front().at_ns);
+  }
+  std::int64_t offset_ns() const noexcept { return offset_ns_; }
+  std::int64_t uncertainty_ns() const noexcept { return uncertainty_ns_; }  // -1: no offset
+
+ private:
+  struct Got {
+    std::uint64_t seq;
+    std::uint64_t at_ns;
+  };
+  std::vector<Got> got_;  // within the window, oldest first
+  std::int64_t rtt_ns_ = -1;
+  struct Sample {
+    std::int64_t rtt_ns, offset_ns;
+  };
+  std::vector<Sample> samples_;  // the last kOffsetSamples
+  std::int64_t offset_ns_ = 0;
+  std::int64_t uncertainty_ns_ = -1;
+};
 
 }  // namespace horus::fleet::detail

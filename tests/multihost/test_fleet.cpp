@@ -8,6 +8,8 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <set>
@@ -303,6 +305,81 @@ TEST_P(Fleet, TheCliSeesAndReachesTopicsOfAnotherHost) {
   EXPECT_EQ(watcher_out.find("forged"), std::string::npos) << watcher_out;
   EXPECT_NE(watcher_out.find("host " + robot_host + " alive"), std::string::npos) << watcher_out;
   EXPECT_EQ(watcher_out.find(lan.host(2)), std::string::npos) << watcher_out;
+}
+
+// Link quality and a fleet view that remembers: host 2's clock is 2.5 s ahead (the test hook
+// HORUS_TEST_CLOCK_OFFSET_MS shifts its heartbeats' realtime stamps) and it drops half of the
+// datagrams it sends (nftables numgen); host 1's `horus fleet --json --once` shows the offset
+// (within its uncertainty), the heartbeats' loss and the round trip. (Cyclone DDS sends each
+// heartbeat sample in two datagrams to the reader's host, so a heartbeat is lost only when both
+// are: a quarter of them.) Then host 2's link goes down: a `horus fleet
+// --once` started afterwards on host 1 lists it lost at once, with since when, from the view
+// host 1's agent kept (it never heard host 2 itself).
+TEST_P(Fleet, LinkQualityAndClockOffsetAreMeasuredAndTheViewRemembersLostHosts) {
+  if (!horus::backend_available(GetParam()))
+    GTEST_SKIP() << "this build has no " << horus::to_string(GetParam()) << " backend";
+  if (horus_test::run_command({"nft", "--version"}) != 0) GTEST_SKIP() << "needs nftables (nft)";
+  horus_test::NetnsLan lan(2);
+  if (!lan.ok()) GTEST_SKIP() << "no namespace hosts: " << lan.why();
+  const auto env = fleet_env(GetParam());
+  auto shifted = env;
+  shifted.push_back("HORUS_TEST_CLOCK_OFFSET_MS=2500");
+  const std::string h2 = lan.host(1);
+  for (const char* rule : {"add table inet loss", "add chain inet loss out { type filter hook output priority 0 ; }",
+                           "add rule inet loss out meta l4proto udp numgen random mod 100 < 50 drop"})
+    ASSERT_EQ(horus_test::run_command({"ip", "netns", "exec", h2, "nft", rule}), 0) << rule;
+  const std::string topic = "fleet.view_" + std::to_string(::getpid());
+  // A process on each host keeps a fleet topic open (its agent speaks for the host) for 16 s.
+  auto a = lan.spawn(0, {FLEET_MEMBER, topic, "fleet", "0", "1", std::to_string(unix_ms()), "-1", "18"}, env);
+  auto b = lan.spawn(1, {FLEET_MEMBER, topic, "fleet", "0", "1", std::to_string(unix_ms()), "-1", "18"}, shifted);
+  std::this_thread::sleep_for(8s);
+  {
+    auto [rc, out] = cli(lan, 0, env, {"fleet", "--json", "--once", "--wait", "1500"});
+    ASSERT_EQ(rc, 0) << out;
+    const auto j = nlohmann::json::parse(out.substr(out.find('{')));
+    nlohmann::json host2;
+    for (const auto& h : j.at("hosts"))
+      if (h.at("host") == h2) host2 = h;
+    ASSERT_FALSE(host2.is_null()) << out;
+    ASSERT_FALSE(host2.at("clock_offset_us").is_null()) << out;
+    const auto offset = host2.at("clock_offset_us").get<std::int64_t>();
+    const auto uncertainty = host2.at("clock_uncertainty_us").get<std::int64_t>();
+    EXPECT_LE(std::abs(offset - 2'500'000), uncertainty + 20'000) << out;
+    EXPECT_LT(uncertainty, 100'000) << out;
+    ASSERT_FALSE(host2.at("loss").is_null()) << out;
+    EXPECT_GE(host2.at("loss").get<double>(), 0.05) << out;
+    EXPECT_LE(host2.at("loss").get<double>(), 0.75) << out;
+    std::printf("%s: host 2's clock offset %lld us (+- %lld us), loss %.2f, rtt %lld us\n",
+                std::string(horus::to_string(GetParam())).c_str(), static_cast<long long>(offset),
+                static_cast<long long>(uncertainty), host2.at("loss").get<double>(),
+                static_cast<long long>(host2.at("rtt_us").get<std::int64_t>()));
+    EXPECT_FALSE(host2.at("rtt_us").is_null()) << out;
+  }
+  // The loss ends (with half the heartbeats lost, host 2 is now and then lost for a moment: 3 in
+  // a row); then host 2's link goes down, and a CLI started 1.5 s later shows it lost, without a
+  // discovery round.
+  ASSERT_EQ(horus_test::run_command({"ip", "netns", "exec", h2, "nft", "delete table inet loss"}), 0);
+  std::this_thread::sleep_for(1s);
+  const std::int64_t down = unix_ms();
+  ASSERT_EQ(horus_test::run_command({"ip", "-n", h2, "link", "set", "eth0", "down"}), 0);
+  std::this_thread::sleep_for(1500ms);
+  const auto started = std::chrono::steady_clock::now();
+  auto [rc, out] = cli(lan, 0, env, {"fleet", "--json", "--once", "--wait", "3000"});
+  const auto took = std::chrono::steady_clock::now() - started;
+  ASSERT_EQ(rc, 0) << out;
+  const auto j = nlohmann::json::parse(out.substr(out.find('{')));
+  nlohmann::json host2;
+  for (const auto& h : j.at("hosts"))
+    if (h.at("host") == h2) host2 = h;
+  ASSERT_FALSE(host2.is_null()) << "the lost host is not in the view:\n" << out;
+  EXPECT_EQ(host2.at("state"), "lost") << out;
+  ASSERT_FALSE(host2.at("lost_since_unix_ms").is_null()) << out;
+  EXPECT_GE(host2.at("lost_since_unix_ms").get<std::int64_t>(), down) << out;
+  EXPECT_LE(host2.at("lost_since_unix_ms").get<std::int64_t>(), down + 1000) << out;
+  EXPECT_LE(host2.at("last_seen_unix_ms").get<std::int64_t>(), down + 50) << out;
+  EXPECT_LT(took, 2500ms) << "the CLI waited for a discovery round instead of reading the view";
+  (void)a.wait(30s);
+  (void)b.wait(30s);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, Fleet, ::testing::Values(horus::Backend::CycloneDds, horus::Backend::FastDds,

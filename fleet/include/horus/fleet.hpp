@@ -18,6 +18,8 @@
 // (self = true). Hosts on another DDS domain or LCM URL are never seen (another network).
 // Announcements that do not decode, or whose content is inconsistent (a type signature that
 // does not hash to its type, a host without an id), are ignored and counted in malformed().
+// The agent of the process that speaks for a host keeps the fleet's state (the fleet view, a
+// host topic): a Fleet opened later starts from it, hosts lost earlier included.
 #pragma once
 
 #include <chrono>
@@ -69,6 +71,13 @@ struct FleetHost {
   std::chrono::milliseconds heartbeat_age{0};  // since its last heartbeat arrived
   std::chrono::milliseconds period{0};         // its heartbeat period
   std::optional<std::chrono::microseconds> rtt;  // the link's round trip (through both hosts' bridges)
+  double loss = -1;  // the fraction of its heartbeats lost over the last 10 s (-1: not known yet)
+  /// Its realtime clock minus ours, NTP-style from the heartbeats' echoes (its send time + RTT/2
+  /// - our receive time), and how uncertain that is (half the round trip of the sample used).
+  std::optional<std::chrono::microseconds> clock_offset;
+  std::optional<std::chrono::microseconds> clock_uncertainty;
+  std::int64_t last_seen_unix_ms = 0;   // its last heartbeat, Unix time
+  std::int64_t lost_since_unix_ms = 0;  // when it was lost (0: it is not)
   std::uint32_t rejoins = 0;
   std::uint64_t heartbeats = 0;  // received
   bool announced = false;        // its announcement arrived (processes and topics are known)

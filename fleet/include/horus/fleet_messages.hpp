@@ -37,13 +37,45 @@ struct Heartbeat {
   std::string host;         // its name
   std::uint64_t seq{};
   std::uint64_t sent_ns{};  // the sender's steady clock (only the sender compares it)
+  std::int64_t sent_unix_ns{};  // the sender's realtime clock: with an echo, the clocks' offset (NTP-style)
   std::uint32_t period_ms{};
   std::uint64_t announce_version{};  // the content of the host's latest announcement
   std::uint32_t processes{};
   std::uint32_t topics{};
   std::vector<HeartbeatEcho> echoes;  // the other hosts heard lately
 };
-HORUS_REFLECT(Heartbeat, host_id, host, seq, sent_ns, period_ms, announce_version, processes, topics, echoes)
+HORUS_REFLECT(Heartbeat, host_id, host, seq, sent_ns, sent_unix_ns, period_ms, announce_version, processes, topics,
+              echoes)
+
+/// A host as this host's agent last saw it. The agent of the process that speaks for the host
+/// keeps the fleet's state and publishes it on the host topic horus.fleet.view.<transport>
+/// (shared memory only): a process or tool that starts later reads it at once (read_latest),
+/// lost hosts included, instead of waiting for a discovery round.
+struct ViewedHost {
+  std::uint64_t host_id{};
+  std::string host;
+  std::uint32_t state{};  // horus::HostState: 0 alive, 1 lost, 2 rejoined
+  std::uint32_t period_ms{};
+  std::uint64_t heartbeats{};
+  std::uint32_t rejoins{};
+  std::int64_t first_seen_unix_ns{};
+  std::int64_t last_seen_unix_ns{};
+  std::int64_t lost_since_unix_ns{};  // 0: not lost
+  std::int64_t rtt_ns{-1};            // -1: not known
+  double loss{-1};                    // its heartbeats lost over the window (-1: not known)
+  std::int64_t clock_offset_ns{};     // its realtime clock minus ours
+  std::int64_t clock_uncertainty_ns{-1};  // -1: the offset is not known
+};
+HORUS_REFLECT(ViewedHost, host_id, host, state, period_ms, heartbeats, rejoins, first_seen_unix_ns, last_seen_unix_ns,
+              lost_since_unix_ns, rtt_ns, loss, clock_offset_ns, clock_uncertainty_ns)
+
+struct FleetView {
+  std::uint64_t host_id{};  // the host whose agent made it
+  std::uint64_t version{};
+  std::int64_t made_unix_ns{};
+  std::vector<ViewedHost> hosts;  // the other hosts
+};
+HORUS_REFLECT(FleetView, host_id, version, made_unix_ns, hosts)
 
 struct AnnouncedProcess {
   std::uint32_t pid{};
