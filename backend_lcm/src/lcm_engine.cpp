@@ -401,9 +401,10 @@ void Engine::loop() noexcept {
       // The receiver may have gone (nobody receives any more) while we polled its socket.
       if (rx_ == nullptr || recv_gen_.load(std::memory_order_relaxed) != gen) continue;
       in_handle_ = true;
-      const std::uint64_t lost = rx_->drain([this](const UdpmMessage& m) { dispatch_native_locked(m); }, 64);
+      const auto lost = rx_->drain([this](const UdpmMessage& m) { dispatch_native_locked(m); }, 64);
       in_handle_ = false;
-      if (lost != 0) report_kernel_drops_locked(lost);
+      if (lost.kernel != 0) report_kernel_drops_locked(lost.kernel);
+      if (lost.network != 0) report_network_losses_locked(lost.network);
       run_deferred_locked();
       continue;  // no lcm_handle, no /proc look: the socket says what it lost
     }
@@ -476,6 +477,28 @@ void Engine::report_kernel_drops_locked(std::uint64_t delta) noexcept {
                     "which channel: every LCM topic of the process counts them in dropped_count()); large or "
                     "bursty messages need a larger buffer: ?recv_buf_size=N in the URL and sysctl "
                     "net.core.rmem_max");
+    });
+  }
+}
+
+void Engine::report_network_losses_locked(std::uint64_t delta) noexcept {
+  std::vector<std::shared_ptr<Subscription>> subs;
+  try {
+    subs = subs_;
+  } catch (...) {
+    return;
+  }
+  for (const auto& sub : subs) {
+    sub->gate.run([&](net::EndpointGate::Calls& calls) {
+      if (sub->paused.load(std::memory_order_acquire)) return;
+      calls.lost(delta);
+      const std::uint64_t before = sub->network_lost;
+      sub->network_lost += delta;
+      if (before == 0 || before / 4096 != sub->network_lost / 4096)
+        calls.error("LCM URL '" + url_ + "': " + std::to_string(sub->network_lost) +
+                    " message(s) from other hosts never arrived whole so far (gaps in their senders' sequence "
+                    "numbers, fragments missing: the network lost them; LCM does not say of which channel: every "
+                    "LCM topic of the process counts them in dropped_count())");
     });
   }
 }

@@ -99,10 +99,15 @@ class UdpmReceiver {
   /// datagram waits. Not the socket itself: a thread in poll() on a descriptor keeps its socket
   /// alive, so closing it (the last endpoint stopped receiving) would not free the port at once.
   int fd() const noexcept { return epoll_fd_; }
+  struct Lost {
+    std::uint64_t kernel = 0;   // datagrams the kernel dropped for a full buffer (SO_RXQ_OVFL)
+    std::uint64_t network = 0;  // messages that never arrived whole: gaps in a sender's sequence
+                                // numbers, messages abandoned in reassembly (a sender that moved
+                                // on, a first fragment missed, limits)
+  };
   /// Reads up to `budget` datagrams the socket holds now (never blocks) and calls `deliver` for
-  /// each complete message. Returns what was lost meanwhile: datagrams the kernel dropped for a
-  /// full buffer, and messages abandoned in reassembly (a sender that moved on, limits).
-  std::uint64_t drain(const std::function<void(const UdpmMessage&)>& deliver, int budget);
+  /// each complete message. Returns what was lost meanwhile.
+  Lost drain(const std::function<void(const UdpmMessage&)>& deliver, int budget);
 
  private:
   struct Partial {
@@ -115,7 +120,14 @@ class UdpmReceiver {
   };
   explicit UdpmReceiver(int fd);
   std::uint64_t take(std::span<const std::byte> datagram, std::uint64_t sender, std::int64_t recv_us,
-                     const std::function<void(const UdpmMessage&)>& deliver);
+                     bool kernel_dropped, const std::function<void(const UdpmMessage&)>& deliver);
+  // Per sender: the last sequence number seen, and the last one counted as lost in reassembly.
+  struct Sequence {
+    std::uint32_t last = 0;
+    std::uint32_t counted = 0;
+    bool any_counted = false;
+  };
+  static constexpr std::size_t kMaxSenders = 4096;
 
   const int fd_;        // the socket
   const int epoll_fd_;  // holds fd_ (see fd())
@@ -123,6 +135,7 @@ class UdpmReceiver {
   std::uint32_t kernel_drops_ = 0;                      // SO_RXQ_OVFL's last value
   std::unordered_map<std::uint64_t, Partial> partials_;  // by sender (address, port)
   std::uint64_t partial_bytes_ = 0;
+  std::unordered_map<std::uint64_t, Sequence> sequences_;  // by sender
 };
 
 // ---- the instance (lcm_engine.cpp) ------------------------------------------------------------
@@ -150,6 +163,7 @@ struct Subscription : std::enable_shared_from_this<Subscription> {
   std::int64_t max_queue_age_us = 0;
   std::uint64_t stale = 0;        // messages dropped for their age
   std::uint64_t kernel_lost = 0;  // datagrams the kernel dropped on the socket, as reported here
+  std::uint64_t network_lost = 0;  // messages the network lost (udpm sequence gaps), as reported here
 
   const std::string& label() const noexcept { return gate.label(); }
   void report(std::string_view message) noexcept {
@@ -217,6 +231,7 @@ class Engine {
   /// Datagrams the kernel dropped: every subscription of the process counts them (LCM does
   /// not say of which channel). Called with handle_mutex_ held.
   void report_kernel_drops_locked(std::uint64_t count) noexcept;
+  void report_network_losses_locked(std::uint64_t count) noexcept;
   /// lcm_subscribe on the receiving instance. Called with handle_mutex_ held.
   Result<void> lcm_subscribe_locked(Subscription& sub, const std::string& channel);
   std::unique_lock<std::mutex> lock_for_dispatch();

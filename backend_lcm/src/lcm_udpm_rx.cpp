@@ -105,8 +105,9 @@ UdpmReceiver::~UdpmReceiver() {
   if (epoll_fd_ >= 0) ::close(epoll_fd_);
 }
 
-std::uint64_t UdpmReceiver::drain(const std::function<void(const UdpmMessage&)>& deliver, int budget) {
-  std::uint64_t lost = 0;
+UdpmReceiver::Lost UdpmReceiver::drain(const std::function<void(const UdpmMessage&)>& deliver, int budget) {
+  Lost lost;
+  std::uint64_t kernel_before = 0;
   alignas(cmsghdr) char control[CMSG_SPACE(sizeof(timeval)) + CMSG_SPACE(sizeof(std::uint32_t))];
   for (int i = 0; i < budget; ++i) {
     sockaddr_in from{};
@@ -133,7 +134,7 @@ std::uint64_t UdpmReceiver::drain(const std::function<void(const UdpmMessage&)>&
       } else if (c->cmsg_type == SO_RXQ_OVFL) {
         std::uint32_t drops = 0;
         std::memcpy(&drops, CMSG_DATA(c), sizeof drops);
-        lost += static_cast<std::uint32_t>(drops - kernel_drops_);  // the counter is 32-bit and wraps
+        lost.kernel += static_cast<std::uint32_t>(drops - kernel_drops_);  // the counter is 32-bit and wraps
         kernel_drops_ = drops;
       }
     }
@@ -143,30 +144,52 @@ std::uint64_t UdpmReceiver::drain(const std::function<void(const UdpmMessage&)>&
       recv_us = static_cast<std::int64_t>(tv.tv_sec) * 1'000'000 + tv.tv_usec;
     }
     const std::uint64_t sender = (std::uint64_t{from.sin_addr.s_addr} << 16) | from.sin_port;
-    lost += take(std::span<const std::byte>(buffer_.data(), static_cast<std::size_t>(n)), sender, recv_us, deliver);
+    const bool kernel_dropped = lost.kernel != kernel_before;
+    kernel_before = lost.kernel;
+    lost.network += take(std::span<const std::byte>(buffer_.data(), static_cast<std::size_t>(n)), sender, recv_us,
+                         kernel_dropped, deliver);
   }
   return lost;
 }
 
 std::uint64_t UdpmReceiver::take(std::span<const std::byte> d, std::uint64_t sender, std::int64_t recv_us,
-                                 const std::function<void(const UdpmMessage&)>& deliver) {
+                                 bool kernel_dropped, const std::function<void(const UdpmMessage&)>& deliver) {
   if (d.size() < kShortHeader) return 0;  // not LCM: ignored, as liblcm does
   const std::uint32_t magic = be32(d.data());
+  if (magic != kMagicShort && magic != kMagicLong) return 0;
   const std::uint32_t seqno = be32(d.data() + 4);
+  // A gap in the sender's sequence numbers (one per message, whatever its channel): messages
+  // the network lost whole. Not when the kernel dropped datagrams just now (counted as such),
+  // nor for a jump that is no gap (a sender that restarted on the same port, reordering).
+  std::uint64_t gap = 0;
+  auto seq = sequences_.find(sender);
+  if (seq == sequences_.end()) {
+    if (sequences_.size() >= kMaxSenders) sequences_.clear();
+    seq = sequences_.emplace(sender, Sequence{seqno, 0, false}).first;
+  } else {
+    const std::uint32_t ahead = seqno - seq->second.last;  // wraps
+    if (ahead >= 1 && ahead < (1u << 31)) {
+      if (ahead > 1 && ahead <= 100'000 && !kernel_dropped) gap = ahead - 1;
+      seq->second.last = seqno;
+    } else if (const std::uint32_t behind = seq->second.last - seqno; ahead != 0 && behind > 100'000) {
+      seq->second = Sequence{seqno, 0, false};  // far behind: the sender started again
+    }
+  }
+  // A datagram of LCM's that contradicts itself is a message lost too (liblcm drops it silently).
   if (magic == kMagicShort) {
     const auto channel = read_channel(d.subspan(kShortHeader));
-    if (!channel) return 0;
+    if (!channel) return gap + 1;
     deliver(UdpmMessage{*channel, d.subspan(kShortHeader + channel->size() + 1), recv_us});
-    return 0;
+    return gap;
   }
-  if (magic != kMagicLong || d.size() < kLongHeader) return 0;
+  if (d.size() < kLongHeader) return gap + 1;
   const std::uint32_t size = be32(d.data() + 8);
   const std::uint32_t offset = be32(d.data() + 12);
   const std::uint16_t number = be16(d.data() + 16);
   const std::uint16_t count = be16(d.data() + 18);
   std::span<const std::byte> data = d.subspan(kLongHeader);
-  if (count == 0 || number >= count || size > kMaxMessageSize) return 0;
-  std::uint64_t lost = 0;
+  if (count == 0 || number >= count || size > kMaxMessageSize) return gap + 1;
+  std::uint64_t lost = gap;
   auto it = partials_.find(sender);
   if (it != partials_.end() && it->second.seqno != seqno) {  // the sender moved on: the old one is lost
     partial_bytes_ -= it->second.data.size();
@@ -175,9 +198,17 @@ std::uint64_t UdpmReceiver::take(std::span<const std::byte> d, std::uint64_t sen
     ++lost;
   }
   if (it == partials_.end()) {
-    if (number != 0) return lost;  // a message whose first fragment we missed: liblcm drops it too
+    if (number != 0) {  // a message whose first fragment we missed: liblcm drops it too (counted once)
+      Sequence& s = seq->second;
+      if (!s.any_counted || s.counted != seqno) {
+        s.any_counted = true;
+        s.counted = seqno;
+        ++lost;
+      }
+      return lost;
+    }
     const auto channel = read_channel(data);
-    if (!channel) return lost;
+    if (!channel) return lost + 1;
     // Room: abandon the oldest messages in reassembly beyond the limits.
     while (!partials_.empty() && (partials_.size() >= kMaxPartials || partial_bytes_ + size > kMaxPartialBytes)) {
       auto oldest = std::min_element(partials_.begin(), partials_.end(),
@@ -201,7 +232,7 @@ std::uint64_t UdpmReceiver::take(std::span<const std::byte> d, std::uint64_t sen
     data = data.subspan(channel->size() + 1);
   } else if (number == 0) {
     const auto channel = read_channel(data);
-    if (!channel) return lost;
+    if (!channel) return lost + 1;
     data = data.subspan(channel->size() + 1);
   }
   Partial& p = it->second;

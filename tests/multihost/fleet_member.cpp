@@ -1,8 +1,9 @@
 // horus_fleet_member: one process of a fleet test on a namespace host. The backend comes from
 // HORUS_BACKEND (or the scope argument), the settings from HORUS_DOMAIN_ID / HORUS_LCM_URL.
 //
-//   horus_fleet_member <topic> <scope> <id> <count> <start_unix_ms> <publishers> <seconds>
+//   horus_fleet_member <topic> <scope> <id> <count> <start_unix_ms> <publishers> <seconds> [best-effort]
 //
+// (reliable unless best-effort is given)
 // Opens <topic> (scope: fleet, host or process) with a subscribing handle and, unless id is 0,
 // a publishing one. At <start_unix_ms> it publishes <count> Pose2D messages (x = id, y = sequence number
 // 0..count-1) 2 ms apart with send_blocking, unless id is 0 (a listener). It receives until it
@@ -58,8 +59,10 @@ struct Tally {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 8) {
-    std::fprintf(stderr, "usage: %s <topic> <fleet|host|process> <id> <count> <start_unix_ms> <publishers> <seconds>\n",
+  if (argc != 8 && !(argc == 9 && std::string(argv[8]) == "best-effort")) {
+    std::fprintf(stderr,
+                 "usage: %s <topic> <fleet|host|process> <id> <count> <start_unix_ms> <publishers> <seconds> "
+                 "[best-effort]\n",
                  argv[0]);
     return 2;
   }
@@ -72,7 +75,7 @@ int main(int argc, char** argv) {
   const auto deadline = Clock::now() + std::chrono::seconds(std::atoi(argv[7]));
 
   horus::TopicOptions options;
-  options.reliability = horus::net::Reliability::Reliable;
+  options.reliability = argc == 9 ? horus::net::Reliability::BestEffort : horus::net::Reliability::Reliable;
   if (scope == "host") options.backend = horus::Backend::SharedMemory;
   else if (scope == "process") options.backend = horus::Backend::InProcess;
   else if (scope != "fleet") return 2;
