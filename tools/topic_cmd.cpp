@@ -65,6 +65,7 @@ nlohmann::json entry_json(const horus::discovery::TopicEntry& e) {
     j["bridge"] = {{"transport", e.transport},        {"pid", e.bridge_pid},
                    {"claims", e.bridge_claims},       {"exported", e.exported},
                    {"imported", e.imported},          {"dropped", e.bridge_dropped},
+                   {"budget_dropped", e.budget_dropped},
                    {"remote_publishers", e.remote_publishers}, {"remote_subscribers", e.remote_subscribers}};
   auto procs = nlohmann::json::array();
   for (const auto& p : e.processes)
@@ -92,10 +93,11 @@ std::string scope_text(const horus::discovery::TopicEntry& e) {
 }
 
 std::string bridge_text(const horus::discovery::TopicEntry& e) {
-  return fmt::format("{}; {} claim(s); exported {}, imported {}, dropped {}; remote: {} writer(s), {} reader(s)",
+  return fmt::format("{}; {} claim(s); exported {}, imported {}, dropped {}{}; remote: {} writer(s), {} reader(s)",
                      e.bridge_pid != 0 ? fmt::format("pid {}", e.bridge_pid) : std::string("none now"),
-                     e.bridge_claims, e.exported, e.imported, e.bridge_dropped, e.remote_publishers,
-                     e.remote_subscribers);
+                     e.bridge_claims, e.exported, e.imported, e.bridge_dropped,
+                     e.budget_dropped != 0 ? fmt::format(", budget dropped {}", e.budget_dropped) : std::string(),
+                     e.remote_publishers, e.remote_subscribers);
 }
 
 // The topics of other hosts (not this one), by name: each with the hosts that announce it.

@@ -39,7 +39,8 @@ namespace {
 constexpr std::array<std::string_view, 3> kTopLevelKeys{"network", "fleet", "topics"};
 constexpr std::array<std::string_view, 4> kFleetKeys{"announce", "heartbeat_ms", "announce_ms", "misses"};
 constexpr std::array<std::string_view, 5> kNetworkKeys{"backend", "domain_id", "localhost_only", "lcm_url", "peers"};
-constexpr std::array<std::string_view, 6> kRuleKeys{"match", "scope", "backend", "reliability", "durability", "capacity"};
+constexpr std::array<std::string_view, 8> kRuleKeys{"match",      "scope",    "backend",     "reliability",
+                                                    "durability", "capacity", "max_rate_hz", "max_bandwidth"};
 
 template <std::size_t N>
 std::string one_of(const std::array<std::string_view, N>& names) {
@@ -248,6 +249,28 @@ class Parser {
                                shm::kMaxCapacity));
       r.capacity = *c;
     }
+    if (const auto v = n["max_rate_hz"]) {
+      constexpr std::string_view kExpected = "messages per second the host's bridge sends at most, a number above 0 "
+                                             "(such as 5 or 0.5)";
+      auto s = scalar(v, where + ".max_rate_hz", kExpected);
+      if (!s) return std::unexpected(s.error());
+      double hz = 0;
+      const auto [end, ec] = std::from_chars(s->data(), s->data() + s->size(), hz);
+      if (ec != std::errc{} || end != s->data() + s->size() || !(hz > 0) || hz > 1e9)
+        return bad(v, where + ".max_rate_hz", fmt::format("'{}' is not a rate; expected {}", *s, kExpected));
+      r.max_rate_hz = hz;
+    }
+    if (const auto v = n["max_bandwidth"]) {
+      auto s = scalar(v, where + ".max_bandwidth", "a bandwidth such as \"2 MB/s\"");
+      if (!s) return std::unexpected(s.error());
+      const auto b = parse_bandwidth(*s);
+      if (const auto* why = std::get_if<std::string>(&b)) return bad(v, where + ".max_bandwidth", *why);
+      r.max_bandwidth = std::get<std::uint64_t>(b);
+    }
+    if ((r.max_rate_hz || r.max_bandwidth) && r.scope && *r.scope != Scope::Fleet)
+      return bad(n, where, fmt::format("max_rate_hz and max_bandwidth are budgets of the network (fleet topics); "
+                                       "this rule's scope is {}",
+                                       to_string(*r.scope)));
     return r;
   }
 
@@ -457,6 +480,20 @@ Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code, con
     c.durability = r->durability;
     c.durability_from = Source::File;
   }
+  if (code.max_rate_hz) {
+    c.max_rate_hz = code.max_rate_hz;
+    c.max_rate_hz_from = Source::Code;
+  } else if (r != nullptr && r->max_rate_hz) {
+    c.max_rate_hz = r->max_rate_hz;
+    c.max_rate_hz_from = Source::File;
+  }
+  if (code.max_bandwidth) {
+    c.max_bandwidth = code.max_bandwidth;
+    c.max_bandwidth_from = Source::Code;
+  } else if (r != nullptr && r->max_bandwidth) {
+    c.max_bandwidth = r->max_bandwidth;
+    c.max_bandwidth_from = Source::File;
+  }
   return c;
 }
 
@@ -474,7 +511,39 @@ Result<TopicOptions> resolve_topic_options(std::string_view topic, const TopicOp
   out.capacity = c->capacity;
   out.reliability = c->reliability;
   out.durability = c->durability;
+  out.max_rate_hz = c->max_rate_hz;
+  out.max_bandwidth = c->max_bandwidth;
   return out;
+}
+
+std::variant<std::uint64_t, std::string> parse_bandwidth(std::string_view text) {
+  constexpr std::string_view kExpected =
+      "expected bytes per second, or a number with a unit: B/s, kB/s, MB/s, GB/s, KiB/s, MiB/s, GiB/s, kbit/s, "
+      "Mbit/s, Gbit/s (such as \"2 MB/s\" or \"20 Mbit/s\")";
+  std::string_view t = text;
+  while (!t.empty() && t.front() == ' ') t.remove_prefix(1);
+  while (!t.empty() && t.back() == ' ') t.remove_suffix(1);
+  double value = 0;
+  const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), value);
+  if (ec != std::errc{} || !(value > 0))
+    return fmt::format("'{}' is not a bandwidth; {}", text, kExpected);
+  std::string_view unit(end, static_cast<std::size_t>(t.data() + t.size() - end));
+  while (!unit.empty() && unit.front() == ' ') unit.remove_prefix(1);
+  struct Unit {
+    std::string_view name;
+    double bytes;
+  };
+  constexpr Unit kUnits[] = {{"", 1},          {"B/s", 1},           {"kB/s", 1e3},      {"MB/s", 1e6},
+                             {"GB/s", 1e9},    {"KiB/s", 1024.0},    {"MiB/s", 1048576.0}, {"GiB/s", 1073741824.0},
+                             {"kbit/s", 125},  {"Mbit/s", 125000},   {"Gbit/s", 125000000}};
+  for (const Unit& u : kUnits) {
+    if (unit != u.name) continue;
+    const double bytes = value * u.bytes;
+    if (bytes < 1 || bytes > 1e12)
+      return fmt::format("'{}' is out of range (1 B/s to 1000 GB/s); {}", text, kExpected);
+    return static_cast<std::uint64_t>(bytes);
+  }
+  return fmt::format("'{}' has an unknown unit '{}'; {}", text, unit, kExpected);
 }
 
 Result<FleetSettings> fleet_settings() {

@@ -6,11 +6,16 @@
 # machine.
 #
 #   sudo bench/fleet/slow_link.sh [--seconds 10] [--rate 20mbit] [--hz 10] [--rounds 2] [--backend all|cyclonedds|fastdds|lcm]
+#                                 [--budget "1.5 MB/s"] [--queue 100ms]
+#
+# --queue is the tbf queue's length in time (its `latency`): what the link buffers.
+# --budget gives the camera topic that egress budget (max_bandwidth in a configuration file):
+# the camera host then sends the newest frames the budget allows, instead of every frame.
 #
 # Prints, per backend and round: frames received, their age p50 / p99 / max in ms, dropped_count.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-seconds=10 rate=20mbit hz=10 rounds=2 backends="cyclonedds fastdds lcm" build=build/default
+seconds=10 rate=20mbit hz=10 rounds=2 backends="cyclonedds fastdds lcm" build=build/default budget="" queue=100ms
 while [ $# -gt 0 ]; do
   case "$1" in
     --seconds) seconds="$2"; shift 2 ;;
@@ -19,6 +24,8 @@ while [ $# -gt 0 ]; do
     --rounds) rounds="$2"; shift 2 ;;
     --backend) [ "$2" = all ] || backends="$2"; shift 2 ;;
     --build) build="$2"; shift 2 ;;
+    --budget) budget="$2"; shift 2 ;;
+    --queue) queue="$2"; shift 2 ;;
     *) echo "slow_link.sh: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done
@@ -28,18 +35,24 @@ prog="$PWD/$build/bench/horus-slow-link-image"
 . scripts/lib/netns-hosts.sh
 trap 'nh_cleanup' EXIT
 nh_create "sl$$" "10.214.$(( $$ % 250 + 1 ))" camera viewer
-printf "%-11s %-10s %5s %7s %7s %7s %8s  (%s, 1 MiB frames at %s Hz, %s s)\n" backend link frames p50_ms p99_ms max_ms dropped \
-  "$rate" "$hz" "$seconds"
+config=""
+if [ -n "$budget" ]; then
+  config="$(mktemp /tmp/horus-slow-link.XXXXXX.yaml)"
+  printf 'topics:\n  - match: "fleet.camera.**"\n    max_bandwidth: "%s"\n' "$budget" > "$config"
+  trap 'nh_cleanup; rm -f "$config"' EXIT
+fi
+printf "%-11s %-10s %5s %7s %7s %7s %8s  (%s, 1 MiB frames at %s Hz, %s s%s)\n" backend link frames p50_ms p99_ms max_ms dropped \
+  "$rate, queue $queue" "$hz" "$seconds" "${budget:+, budget $budget}"
 for round in $(seq "$rounds"); do
   for b in $backends; do
     for link in unlimited "$rate"; do
       if [ "$link" != unlimited ]; then
         ip -n "${nh_prefix}h1" link set eth0 txqueuelen 1000
-        tc -n "${nh_prefix}h1" qdisc replace dev eth0 root tbf rate "$rate" burst 64kb latency 100ms
+        tc -n "${nh_prefix}h1" qdisc replace dev eth0 root tbf rate "$rate" burst 64kb latency "$queue"
       else
         tc -n "${nh_prefix}h1" qdisc del dev eth0 root 2>/dev/null || true
       fi
-      env="HORUS_BACKEND=$b HORUS_DOMAIN_ID=$(( $$ % 200 + 1 )) HORUS_DDS_LOCALHOST=0 HORUS_LCM_URL=udpm://239.255.76.70:$(( 20000 + $$ % 20000 ))?ttl=1&recv_buf_size=8388608"
+      env="${config:+HORUS_CONFIG=$config }HORUS_BACKEND=$b HORUS_DOMAIN_ID=$(( $$ % 200 + 1 )) HORUS_DDS_LOCALHOST=0 HORUS_LCM_URL=udpm://239.255.76.70:$(( 20000 + $$ % 20000 ))?ttl=1&recv_buf_size=8388608"
       topic="camera.frames_${round}_$b"
       out="$(mktemp)"
       nh_on 2 env $env HORUS_BACKEND="$b" "$prog" sub "fleet.$topic" $(( seconds + 4 )) > "$out" 2>/dev/null &

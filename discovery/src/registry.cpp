@@ -72,6 +72,7 @@ std::optional<TopicEntry> read_entry(const std::string& file, const std::string&
     e.exported = b.exported.load(std::memory_order_relaxed);
     e.imported = b.imported.load(std::memory_order_relaxed);
     e.bridge_dropped = b.dropped.load(std::memory_order_relaxed);
+    e.budget_dropped = b.budget_dropped.load(std::memory_order_relaxed);
     e.malformed = b.malformed.load(std::memory_order_relaxed);
     e.remote_publishers = b.matched_publishers.load(std::memory_order_relaxed);
     e.remote_subscribers = b.matched_subscribers.load(std::memory_order_relaxed);

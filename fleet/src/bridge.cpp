@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <thread>
@@ -145,7 +146,7 @@ Bridge::Bridge(horus::detail::TopicCore& core, const horus::detail::WireOps& ops
 
 Result<std::unique_ptr<horus::detail::NetworkLink>> Bridge::open(horus::detail::TopicCore& core,
                                                                  const horus::detail::WireOps& ops,
-                                                                 const net::Qos& qos, const TopicOptions&) {
+                                                                 const net::Qos& qos, const TopicOptions& options) {
   const auto* info = net::find_transport(core.backend.transport());
   if (info == nullptr)
     return fail(Errc::Config,
@@ -173,6 +174,7 @@ Result<std::unique_ptr<horus::detail::NetworkLink>> Bridge::open(horus::detail::
   if (!transport) return std::unexpected(std::move(transport.error()));
   std::unique_ptr<Bridge> b(new Bridge(core, ops, qos, std::move(*engine), std::move(*transport)));
   b->wire_topic_ = std::move(*wire);
+  b->set_budget(options);
   const auto claim = b->segment().claim_bridge();
   if (claim == shm::ShmSegment::BridgeClaim::Claimed || claim == shm::ShmSegment::BridgeClaim::TookOver) {
     if (auto ok = b->become_holder(claim == shm::ShmSegment::BridgeClaim::TookOver); !ok) {
@@ -210,6 +212,10 @@ void Bridge::leave() noexcept {
   // Wait for an exporter in progress (a reliable write gives up within its blocking bound).
   while (export_busy_.exchange(true, std::memory_order_acquire)) std::this_thread::yield();
   if (holder_.load(std::memory_order_relaxed) && !gated_.load(std::memory_order_relaxed)) drain();
+  if (has_latest_) {  // the budget held it back and the topic closes: it will not go out
+    has_latest_ = false;
+    budget_drop();
+  }
   if (attached_.exchange(false))
     shm::engine_leave(core_.ring.doorbell(), core_.ring.subscriber(port_->entry()).waiting, forward_);
   {
@@ -439,10 +445,85 @@ bool Bridge::flush_stash() noexcept {
   return true;
 }
 
+// --- the egress budget ------------------------------------------------------------------------
+
+void Bridge::set_budget(const TopicOptions& options) noexcept {
+  if (options.max_rate_hz && *options.max_rate_hz > 0)
+    budget_.min_interval_ns = static_cast<std::int64_t>(1e9 / *options.max_rate_hz);
+  if (options.max_bandwidth && *options.max_bandwidth > 0)
+    budget_.bytes_per_ns = static_cast<double>(*options.max_bandwidth) / 1e9;
+}
+
+// A token bucket of 100 ms of bandwidth (at least the message: a message larger than that goes
+// when the bucket is full), and at most one message per min_interval.
+bool Bridge::Budget::admit(std::int64_t now, std::size_t bytes) noexcept {
+  if (min_interval_ns > 0 && any_sent && now - last_sent_ns < min_interval_ns) return false;
+  if (bytes_per_ns > 0) {
+    const double size = static_cast<double>(bytes);
+    const double capacity = std::max(bytes_per_ns * 1e8, size);
+    tokens = filled_ns == 0 ? capacity : std::min(capacity, tokens + static_cast<double>(now - filled_ns) * bytes_per_ns);
+    filled_ns = now;
+    if (tokens < size) return false;
+    tokens -= size;
+  }
+  last_sent_ns = now;
+  any_sent = true;
+  return true;
+}
+
+void Bridge::budget_drop() noexcept {
+  state().budget_dropped.fetch_add(1, std::memory_order_relaxed);
+  if (budget_logged_) return;
+  budget_logged_ = true;
+  try {
+    log().info("topic '{}': over its egress budget ({}{}): this host sends the newest message when the budget "
+               "allows, the others are counted in `horus topic info` (budget dropped)",
+               core_.name,
+               budget_.min_interval_ns > 0 ? fmt::format("max_rate_hz {:.3g}", 1e9 / static_cast<double>(budget_.min_interval_ns))
+                                           : std::string(),
+               budget_.bytes_per_ns > 0 ? fmt::format("{}max_bandwidth {:.0f} B/s", budget_.min_interval_ns > 0 ? ", " : "",
+                                                      budget_.bytes_per_ns * 1e9)
+                                        : std::string());
+  } catch (...) {
+  }
+}
+
+// The message the budget held back: sent when the budget allows (the engine comes back every
+// 10 ms meanwhile). True when nothing waits any more.
+bool Bridge::flush_latest() noexcept {
+  if (!has_latest_) return true;
+  if (!budget_.admit(now_ns(), latest_.size())) {
+    engine_->recheck(*this, false);
+    return false;
+  }
+  const net::BodyWriter writer{[](void* c, std::span<std::byte> body) {
+                                 auto* self = static_cast<Bridge*>(c);
+                                 std::memcpy(body.data(), self->latest_.data(), body.size());
+                                 if (self->loopback_) self->ledger_.add(body_hash(body));
+                               },
+                               this};
+  auto ok = endpoint_->write(latest_.size(), writer);
+  if (!ok && ok.error().code() == Errc::Timeout && !stop_.load(std::memory_order_relaxed)) {
+    budget_.any_sent = false;  // not sent after all: its turn again at the next look
+    engine_->recheck(*this, false);
+    return false;
+  }
+  has_latest_ = false;
+  if (ok) {
+    state().exported.fetch_add(1, std::memory_order_relaxed);
+    engine_->send_worked();
+  } else {
+    state().dropped.fetch_add(1, std::memory_order_relaxed);
+    if (ok.error().code() == Errc::Io) engine_->send_failed(core_.name, ok.error());
+  }
+  return true;
+}
+
 void Bridge::drain() noexcept {
   const horus::detail::ExportSink sink{this, [](void* c, const void* msg) { return static_cast<Bridge*>(c)->send(msg); }};
   try {
     if (!flush_stash()) return;
+    (void)flush_latest();
     while (!backlog_.load(std::memory_order_relaxed) && port_->export_pending(port_->lane(), sink) != 0) {
     }
   } catch (const std::exception& e) {
@@ -475,6 +556,19 @@ bool Bridge::send(const void* msg) {
   }
   auto n = ops_.encoded_size(format_, msg);
   if (!n) return report(n.error());
+  if (budget_.active()) [[unlikely]] {
+    if (has_latest_) {  // a newer message: the one the budget held back is not sent
+      has_latest_ = false;
+      budget_drop();
+    }
+    if (!budget_.admit(now_ns(), *n)) {
+      latest_.resize(*n);
+      ops_.encode(format_, msg, latest_);
+      has_latest_ = true;
+      engine_->recheck(*this, false);
+      return true;  // read on: a newer message replaces it
+    }
+  }
   struct Context {
     Bridge* self;
     const void* msg;

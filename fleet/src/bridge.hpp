@@ -126,6 +126,10 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
   bool flush_stash() noexcept;  // the message a write left for later (backlog_): true once sent
   void export_inline() noexcept;
   void drain() noexcept;
+ public:
+  /// Sets the egress budget (Bridge::open, from the opening handle's options).
+  void set_budget(const TopicOptions& options) noexcept;
+ private:
   void release_export() noexcept;
   bool has_export_work() const noexcept;
   bool send(const void* msg);
@@ -165,6 +169,23 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
   // exporter's, under export_busy_) and the topic exports nothing else until it went out.
   std::vector<std::byte> stash_;
   std::atomic<bool> backlog_{false};
+  // The egress budget (TopicOptions::max_rate_hz, max_bandwidth), the exporter's: over budget, the
+  // newest message waits here (encoded) for its turn; a newer one replaces it (counted).
+  struct Budget {
+    std::int64_t min_interval_ns = 0;  // 0: no rate limit
+    double bytes_per_ns = 0;           // 0: no bandwidth limit
+    double tokens = 0;                 // bytes the bucket holds now
+    std::int64_t filled_ns = 0;        // when tokens was last brought up to date
+    std::int64_t last_sent_ns = 0;
+    bool any_sent = false;
+    bool active() const noexcept { return min_interval_ns > 0 || bytes_per_ns > 0; }
+    bool admit(std::int64_t now, std::size_t bytes) noexcept;
+  } budget_;
+  std::vector<std::byte> latest_;
+  bool has_latest_ = false;
+  bool budget_logged_ = false;
+  void budget_drop() noexcept;
+  bool flush_latest() noexcept;  // true when nothing waits
   bool gave_up_ = false;  // closing, a write timed out: the rest is counted as dropped (exporter's)
   std::atomic<std::uint64_t> errors_{0};   // incompatible endpoints reported
   std::uint64_t send_failures_ = 0;        // for the log's rate

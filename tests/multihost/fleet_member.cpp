@@ -136,10 +136,14 @@ int main(int argc, char** argv) {
   for (const auto& [pid, next] : tally.next) missing += static_cast<std::uint64_t>(count - std::min<std::int64_t>(next, count));
   missing += static_cast<std::uint64_t>(publishers - static_cast<int>(std::min<std::size_t>(tally.next.size(), publishers))) *
              static_cast<std::uint64_t>(count);
-  std::printf("received %llu from %zu publishers; duplicates %llu; out of order %llu; missing %llu; dropped %llu\n",
+  std::int64_t last = -1;  // the highest sequence number received (of any publisher)
+  for (const auto& [pid, next] : tally.next) last = std::max(last, next - 1);
+  std::printf("received %llu from %zu publishers; duplicates %llu; out of order %llu; missing %llu; dropped %llu; "
+              "last %lld\n",
               static_cast<unsigned long long>(tally.received), tally.next.size(),
               static_cast<unsigned long long>(tally.duplicates), static_cast<unsigned long long>(tally.out_of_order),
-              static_cast<unsigned long long>(missing), static_cast<unsigned long long>(sub->dropped_count()));
+              static_cast<unsigned long long>(missing), static_cast<unsigned long long>(sub->dropped_count()),
+              static_cast<long long>(last));
   std::fflush(stdout);
   const bool exact = tally.received == want && tally.next.size() == static_cast<std::size_t>(publishers) &&
                      tally.duplicates == 0 && tally.out_of_order == 0 && missing == 0;

@@ -331,6 +331,58 @@ TEST_P(Faults, ALossyLinkDeliversReliableTopicsWholeAndCountsWhatBestEffortLoses
   }
 }
 
+// An egress budget: the configuration file gives a fleet topic max_rate_hz 20; its publisher
+// sends 1000 messages at 500 Hz. The other host receives about 20 a second, the newest last (the
+// publisher's final message arrives); what the budget held back is counted on the publisher's
+// host (`horus topic info`: budget dropped), not in the receiver's dropped_count.
+TEST_P(Faults, ABudgetSendsTheNewestAtItsRateAndCountsWhatItHoldsBack) {
+  if (!horus::backend_available(GetParam()))
+    GTEST_SKIP() << "this build has no " << horus::to_string(GetParam()) << " backend";
+  if (::geteuid() != 0) GTEST_SKIP() << "needs root for namespace hosts";
+  horus_test::NetnsLan lan(2, "r");
+  if (!lan.ok()) GTEST_SKIP() << "no namespace hosts: " << lan.why();
+  const std::string topic = "fleet.budget_" + std::to_string(::getpid());
+  const std::string config = "/tmp/horus_budget_" + std::to_string(::getpid()) + ".yaml";
+  {
+    std::FILE* f = std::fopen(config.c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    std::fprintf(f, "topics:\n  - match: \"%s\"\n    scope: fleet\n    backend: %s\n    max_rate_hz: 20\n",
+                 topic.c_str(), std::string(horus::to_string(GetParam())).c_str());
+    std::fclose(f);
+  }
+  const std::vector<std::string> env = {
+      "HORUS_BACKEND=" + std::string(horus::to_string(GetParam())), "HORUS_CONFIG=" + config,
+      "HORUS_DOMAIN_ID=" + std::to_string(1 + (::getpid() + 113) % 200), "HORUS_DDS_LOCALHOST=0",
+      "HORUS_LCM_URL=udpm://239.255.76.68:" + std::to_string(20000 + (::getpid() * 19 + 3) % 20000) + "?ttl=1"};
+  const long long start = unix_ms() + 3000;
+  auto pub = lan.spawn(0, {FLEET_MEMBER, topic, "fleet", "1", "1000", std::to_string(start), "-1", "9", "best-effort"}, env);
+  auto sub = lan.spawn(1, {FLEET_MEMBER, topic, "fleet", "0", "1000", std::to_string(start), "1", "7", "best-effort"}, env);
+  (void)sub.wait(30s);
+  const std::string out = sub.output();
+  auto info = lan.spawn(0, {HORUS_CLI, "topic", "info", topic}, env);
+  ASSERT_EQ(info.wait(20s), 0) << info.output();
+  const std::string info_out = info.output();
+  (void)pub.wait(30s);
+  std::remove(config.c_str());
+  const auto at = out.find("received ");
+  ASSERT_NE(at, std::string::npos) << out;
+  const long long received = std::atoll(out.c_str() + at + 9);
+  const auto last_at = out.find("last ", at);
+  ASSERT_NE(last_at, std::string::npos) << out;
+  const long long last = std::atoll(out.c_str() + last_at + 5);
+  const auto d = info_out.find("budget dropped ");
+  ASSERT_NE(d, std::string::npos) << "horus topic info does not show the budget's drops:\n" << info_out;
+  const long long held_back = std::atoll(info_out.c_str() + d + 15);
+  std::printf("%s: received %lld of 1000 sent at 500 Hz for 2 s with max_rate_hz 20; last %lld; budget dropped %lld\n",
+              std::string(horus::to_string(GetParam())).c_str(), received, last, held_back);
+  // 2 s at 20 Hz: 40, and the last message (the 10 ms engine look adds up to half a period).
+  EXPECT_GE(received, 25) << out;
+  EXPECT_LE(received, 70) << out;  // the 2 s of sending may stretch on a loaded machine
+  EXPECT_EQ(last, 999) << "the newest message did not go out:\n" << out;
+  EXPECT_GE(held_back, 1000 - received - 5) << info_out;
+  EXPECT_LE(held_back, 1000 - received) << info_out;
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, Faults,
                          ::testing::Values(horus::Backend::CycloneDds, horus::Backend::FastDds, horus::Backend::Lcm),
                          [](const auto& param_info) { return std::string(horus::to_string(param_info.param)); });

@@ -82,6 +82,12 @@ struct TopicOptions {
   // Network backends only (the defaults come from net::default_qos<T>, horus/qos.hpp):
   std::optional<net::Reliability> reliability = std::nullopt;
   std::optional<net::Durability> durability = std::nullopt;
+  // Fleet topics: the host's egress budget. The bridge sends at most `max_rate_hz` messages a
+  // second and `max_bandwidth` bytes a second (a token bucket) to the network; when over budget
+  // the newest message waits for its turn and older ones are not sent (counted per topic:
+  // `horus topic info`, "budget dropped"). Local handles are not affected.
+  std::optional<double> max_rate_hz = std::nullopt;
+  std::optional<std::uint64_t> max_bandwidth = std::nullopt;  // bytes per second
 };
 
 /// The backend HORUS_BACKEND selects (auto|shm|inproc, or a registered transport's name:

@@ -30,6 +30,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <variant>
 #include <vector>
 
 #include "horus/backend.hpp"
@@ -52,7 +53,14 @@ struct TopicRule {
   std::optional<net::Reliability> reliability;
   std::optional<net::Durability> durability;
   std::optional<std::uint32_t> capacity;
+  std::optional<double> max_rate_hz;            // fleet topics: the host's egress budget
+  std::optional<std::uint64_t> max_bandwidth;   // bytes per second ("2 MB/s", "20 Mbit/s" in the file)
 };
+
+/// Parses a bandwidth: a number of bytes per second, or a number with a unit (B/s, kB/s, MB/s,
+/// GB/s, KiB/s, MiB/s, GiB/s, kbit/s, Mbit/s, Gbit/s; "2 MB/s", "20Mbit/s"); an error message
+/// saying what is wrong, or the bytes per second.
+std::variant<std::uint64_t, std::string> parse_bandwidth(std::string_view text);
 
 /// The file's `network:` section: defaults of fleet topics and of the transports.
 /// The `fleet:` section: the fleet layer's discovery (horus/fleet.hpp).
@@ -126,6 +134,10 @@ struct TopicChoice {
   Source reliability_from = Source::Default;
   std::optional<net::Durability> durability;  // nullopt: the type's default
   Source durability_from = Source::Default;
+  std::optional<double> max_rate_hz;            // nullopt: no budget
+  Source max_rate_hz_from = Source::Default;
+  std::optional<std::uint64_t> max_bandwidth;   // bytes per second; nullopt: no budget
+  Source max_bandwidth_from = Source::Default;
   const TopicRule* rule = nullptr;  // the file's rule that matched
   const Config* config = nullptr;   // the file, when there is one
 };

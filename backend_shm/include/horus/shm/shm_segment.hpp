@@ -78,7 +78,11 @@ struct alignas(kCacheLine) BridgeState {
   std::atomic<std::uint32_t> matched_subscribers;  // remote readers its endpoint matched
   std::atomic<std::uint64_t> claimed_unix_ns;      // when the holder claimed it
   std::atomic<std::uint64_t> malformed;  // samples from the network that did not decode (ignored)
+  // Messages the egress budget (TopicOptions::max_rate_hz / max_bandwidth) kept from the
+  // network. (It fills bytes that were padding, zero in older segments: the layout is unchanged.)
+  std::atomic<std::uint64_t> budget_dropped;
 };
+static_assert(sizeof(BridgeState) == 2 * kCacheLine, "BridgeState keeps its size (the segment layout)");
 
 struct alignas(kCacheLine) SegmentHeader {
   std::uint64_t magic;

@@ -61,6 +61,7 @@ struct TopicEntry {
   std::uint64_t exported = 0;       // messages of this host sent to the network
   std::uint64_t imported = 0;       // messages of other hosts written into the ring
   std::uint64_t bridge_dropped = 0; // lost on the way (takeovers, transport losses)
+  std::uint64_t budget_dropped = 0; // kept from the network by the topic's egress budget
   std::uint64_t malformed = 0;      // samples from the network that did not decode (ignored)
   std::uint32_t remote_publishers = 0;   // remote writers the bridge matched
   std::uint32_t remote_subscribers = 0;  // remote readers the bridge matched
