@@ -45,16 +45,15 @@ std::unique_ptr<horus::Fleet> open_fleet(const std::string& transport, std::stri
   return std::move(*f);
 }
 
-// Waits (at most `wait`) until every host that is not lost has announced itself. Without the
-// host's fleet view (no host known yet) it listens a quarter of `wait` first, for hosts to show
-// up; with it (the hosts this host's agent saw, lost ones included) it needs no discovery round.
+// Waits (at most `wait`) until every host that is not lost has announced itself, after a quarter
+// of `wait` (for hosts to show up, and announcements with their topics' rates to come). Hosts
+// the host's fleet view knows are there from the start, lost ones included: a lost host is
+// not waited for.
 void settle(const horus::Fleet& fleet, std::chrono::milliseconds wait, const std::atomic<bool>& stop) {
   const auto start = clock_type::now();
-  const auto known_at_start = fleet.hosts();
-  const bool from_view = std::any_of(known_at_start.begin(), known_at_start.end(), [](const auto& h) { return !h.self; });
   while (!stop.load() && clock_type::now() - start < wait) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    if (!from_view && clock_type::now() - start < wait / 4) continue;
+    if (clock_type::now() - start < wait / 4) continue;
     const auto hosts = fleet.hosts();
     if (!hosts.empty() && std::any_of(hosts.begin(), hosts.end(), [](const auto& h) { return h.self; }) &&
         std::all_of(hosts.begin(), hosts.end(),

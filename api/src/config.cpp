@@ -459,41 +459,23 @@ Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code, con
       }
     }
   }
-  if (code.capacity) {
-    c.capacity = code.capacity;
-    c.capacity_from = Source::Code;
-  } else if (r != nullptr && r->capacity) {
-    c.capacity = r->capacity;
-    c.capacity_from = Source::File;
-  }
-  if (code.reliability) {
-    c.reliability = code.reliability;
-    c.reliability_from = Source::Code;
-  } else if (r != nullptr && r->reliability) {
-    c.reliability = r->reliability;
-    c.reliability_from = Source::File;
-  }
-  if (code.durability) {
-    c.durability = code.durability;
-    c.durability_from = Source::Code;
-  } else if (r != nullptr && r->durability) {
-    c.durability = r->durability;
-    c.durability_from = Source::File;
-  }
-  if (code.max_rate_hz) {
-    c.max_rate_hz = code.max_rate_hz;
-    c.max_rate_hz_from = Source::Code;
-  } else if (r != nullptr && r->max_rate_hz) {
-    c.max_rate_hz = r->max_rate_hz;
-    c.max_rate_hz_from = Source::File;
-  }
-  if (code.max_bandwidth) {
-    c.max_bandwidth = code.max_bandwidth;
-    c.max_bandwidth_from = Source::Code;
-  } else if (r != nullptr && r->max_bandwidth) {
-    c.max_bandwidth = r->max_bandwidth;
-    c.max_bandwidth_from = Source::File;
-  }
+  // Per setting: the code's value, else the rule's, with where it came from.
+  auto pick = [&](const auto& from_code, const auto& from_rule, auto& out, Source& source) {
+    if (from_code) {
+      out = from_code;
+      source = Source::Code;
+    } else if (from_rule) {
+      out = from_rule;
+      source = Source::File;
+    }
+  };
+  static const TopicRule kNoRule{};
+  const TopicRule& rule = r != nullptr ? *r : kNoRule;
+  pick(code.capacity, rule.capacity, c.capacity, c.capacity_from);
+  pick(code.reliability, rule.reliability, c.reliability, c.reliability_from);
+  pick(code.durability, rule.durability, c.durability, c.durability_from);
+  pick(code.max_rate_hz, rule.max_rate_hz, c.max_rate_hz, c.max_rate_hz_from);
+  pick(code.max_bandwidth, rule.max_bandwidth, c.max_bandwidth, c.max_bandwidth_from);
   return c;
 }
 

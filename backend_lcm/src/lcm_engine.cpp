@@ -458,6 +458,27 @@ void Engine::account_drops() noexcept {
 }
 
 void Engine::report_kernel_drops_locked(std::uint64_t delta) noexcept {
+  report_lost_locked(delta, &Subscription::kernel_lost, [this](std::uint64_t total) {
+    return "LCM URL '" + url_ + "': the kernel dropped " + std::to_string(total) +
+           " datagram(s) so far on the receive socket, whose buffer was full (LCM does not say of which channel: "
+           "every LCM topic of the process counts them in dropped_count()); large or bursty messages need a larger "
+           "buffer: ?recv_buf_size=N in the URL and sysctl net.core.rmem_max";
+  });
+}
+
+void Engine::report_network_losses_locked(std::uint64_t delta) noexcept {
+  report_lost_locked(delta, &Subscription::network_lost, [this](std::uint64_t total) {
+    return "LCM URL '" + url_ + "': " + std::to_string(total) +
+           " message(s) from other hosts never arrived whole so far (gaps in their senders' sequence numbers, "
+           "fragments missing: the network lost them; LCM does not say of which channel: every LCM topic of the "
+           "process counts them in dropped_count())";
+  });
+}
+
+// Every receiving subscription counts `delta` in its dropped_count and in `counter`, and logs
+// the first time and every 4096.
+void Engine::report_lost_locked(std::uint64_t delta, std::uint64_t Subscription::*counter,
+                                const std::function<std::string(std::uint64_t)>& message) noexcept {
   std::vector<std::shared_ptr<Subscription>> subs;
   try {
     subs = subs_;
@@ -469,36 +490,10 @@ void Engine::report_kernel_drops_locked(std::uint64_t delta) noexcept {
     sub->gate.run([&](net::EndpointGate::Calls& calls) {
       if (sub->paused.load(std::memory_order_acquire)) return;
       calls.lost(delta);
-      const std::uint64_t before = sub->kernel_lost;
-      sub->kernel_lost += delta;
-      if (before == 0 || before / 4096 != sub->kernel_lost / 4096)
-        calls.error("LCM URL '" + url_ + "': the kernel dropped " + std::to_string(sub->kernel_lost) +
-                    " datagram(s) so far on the receive socket, whose buffer was full (LCM does not say of "
-                    "which channel: every LCM topic of the process counts them in dropped_count()); large or "
-                    "bursty messages need a larger buffer: ?recv_buf_size=N in the URL and sysctl "
-                    "net.core.rmem_max");
-    });
-  }
-}
-
-void Engine::report_network_losses_locked(std::uint64_t delta) noexcept {
-  std::vector<std::shared_ptr<Subscription>> subs;
-  try {
-    subs = subs_;
-  } catch (...) {
-    return;
-  }
-  for (const auto& sub : subs) {
-    sub->gate.run([&](net::EndpointGate::Calls& calls) {
-      if (sub->paused.load(std::memory_order_acquire)) return;
-      calls.lost(delta);
-      const std::uint64_t before = sub->network_lost;
-      sub->network_lost += delta;
-      if (before == 0 || before / 4096 != sub->network_lost / 4096)
-        calls.error("LCM URL '" + url_ + "': " + std::to_string(sub->network_lost) +
-                    " message(s) from other hosts never arrived whole so far (gaps in their senders' sequence "
-                    "numbers, fragments missing: the network lost them; LCM does not say of which channel: every "
-                    "LCM topic of the process counts them in dropped_count())");
+      std::uint64_t& total = (*sub).*counter;
+      const std::uint64_t before = total;
+      total += delta;
+      if (before == 0 || before / 4096 != total / 4096) calls.error(message(total));
     });
   }
 }

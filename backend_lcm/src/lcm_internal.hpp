@@ -232,6 +232,8 @@ class Engine {
   /// not say of which channel). Called with handle_mutex_ held.
   void report_kernel_drops_locked(std::uint64_t count) noexcept;
   void report_network_losses_locked(std::uint64_t count) noexcept;
+  void report_lost_locked(std::uint64_t delta, std::uint64_t Subscription::*counter,
+                          const std::function<std::string(std::uint64_t)>& message) noexcept;
   /// lcm_subscribe on the receiving instance. Called with handle_mutex_ held.
   Result<void> lcm_subscribe_locked(Subscription& sub, const std::string& channel);
   std::unique_lock<std::mutex> lock_for_dispatch();
