@@ -38,6 +38,15 @@ std::vector<std::string> fleet_env(horus::Backend b) {
           "HORUS_FLEET_HEARTBEAT_MS=100"};
 }
 
+// The JSON object in a CLI's output (stderr is merged in: a log line or a hint may come before
+// or after it).
+nlohmann::json json_of(const std::string& out) {
+  const auto first = out.find('{');
+  const auto last = out.rfind('}');
+  if (first == std::string::npos || last == std::string::npos || last < first) return nlohmann::json::object();
+  return nlohmann::json::parse(out.substr(first, last - first + 1));
+}
+
 std::int64_t unix_ms() {
   return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
       .count();
@@ -190,7 +199,7 @@ TEST_P(Fleet, TheCliSeesAndReachesTopicsOfAnotherHost) {
   {
     auto [rc, out] = cli(lan, 1, env, {"fleet", "--json", "--once", "--wait", "1500"});
     ASSERT_EQ(rc, 0) << out;
-    const auto j = nlohmann::json::parse(out.substr(out.find('{')));
+    const auto j = json_of(out);
     std::map<std::string, nlohmann::json> hosts;
     for (const auto& h : j.at("hosts")) hosts[h.at("host").get<std::string>()] = h;
     ASSERT_TRUE(hosts.contains(robot_host)) << out;
@@ -344,7 +353,7 @@ TEST_P(Fleet, LinkQualityAndClockOffsetAreMeasuredAndTheViewRemembersLostHosts) 
       ASSERT_EQ(rc, 0) << text;
       out = text;
       host2 = nullptr;
-      const auto j = nlohmann::json::parse(out.substr(out.find('{')));
+      const auto j = json_of(out);
       for (const auto& h : j.at("hosts"))
         if (h.at("host") == h2) host2 = h;
     } while ((host2.is_null() || host2.at("loss").is_null() || host2.at("clock_offset_us").is_null()) &&
@@ -377,7 +386,7 @@ TEST_P(Fleet, LinkQualityAndClockOffsetAreMeasuredAndTheViewRemembersLostHosts) 
   auto [rc, out] = cli(lan, 0, env, {"fleet", "--json", "--once", "--wait", "3000"});
   const auto took = std::chrono::steady_clock::now() - started;
   ASSERT_EQ(rc, 0) << out;
-  const auto j = nlohmann::json::parse(out.substr(out.find('{')));
+  const auto j = json_of(out);
   nlohmann::json host2;
   for (const auto& h : j.at("hosts"))
     if (h.at("host") == h2) host2 = h;
