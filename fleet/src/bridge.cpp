@@ -445,48 +445,7 @@ bool Bridge::flush_stash() noexcept {
   return true;
 }
 
-// --- the egress budget ------------------------------------------------------------------------
-
-void Bridge::set_budget(const TopicOptions& options) noexcept {
-  if (options.max_rate_hz && *options.max_rate_hz > 0)
-    budget_.min_interval_ns = static_cast<std::int64_t>(1e9 / *options.max_rate_hz);
-  if (options.max_bandwidth && *options.max_bandwidth > 0)
-    budget_.bytes_per_ns = static_cast<double>(*options.max_bandwidth) / 1e9;
-}
-
-// A token bucket of 100 ms of bandwidth (at least the message: a message larger than that goes
-// when the bucket is full), and at most one message per min_interval.
-bool Bridge::Budget::admit(std::int64_t now, std::size_t bytes) noexcept {
-  if (min_interval_ns > 0 && any_sent && now - last_sent_ns < min_interval_ns) return false;
-  if (bytes_per_ns > 0) {
-    const double size = static_cast<double>(bytes);
-    const double capacity = std::max(bytes_per_ns * 1e8, size);
-    tokens = filled_ns == 0 ? capacity : std::min(capacity, tokens + static_cast<double>(now - filled_ns) * bytes_per_ns);
-    filled_ns = now;
-    if (tokens < size) return false;
-    tokens -= size;
-  }
-  last_sent_ns = now;
-  any_sent = true;
-  return true;
-}
-
-void Bridge::budget_drop() noexcept {
-  state().budget_dropped.fetch_add(1, std::memory_order_relaxed);
-  if (budget_logged_) return;
-  budget_logged_ = true;
-  try {
-    log().info("topic '{}': over its egress budget ({}{}): this host sends the newest message when the budget "
-               "allows, the others are counted in `horus topic info` (budget dropped)",
-               core_.name,
-               budget_.min_interval_ns > 0 ? fmt::format("max_rate_hz {:.3g}", 1e9 / static_cast<double>(budget_.min_interval_ns))
-                                           : std::string(),
-               budget_.bytes_per_ns > 0 ? fmt::format("{}max_bandwidth {:.0f} B/s", budget_.min_interval_ns > 0 ? ", " : "",
-                                                      budget_.bytes_per_ns * 1e9)
-                                        : std::string());
-  } catch (...) {
-  }
-}
+// --- the egress budget (the rest is bridge_budget.cpp) -----------------------------------
 
 // The message the budget held back: sent when the budget allows (the engine comes back every
 // 10 ms meanwhile). True when nothing waits any more.
