@@ -38,7 +38,8 @@ std::int64_t unix_ms() {
 }
 
 struct Tally {
-  std::map<int, std::int64_t> next;  // per publisher id: the sequence number expected next
+  std::map<int, std::int64_t> next;   // per publisher id: the sequence number expected next
+  std::map<int, std::int64_t> first;  // per publisher id: the first sequence number received
   std::uint64_t received = 0;
   std::uint64_t duplicates = 0;
   std::uint64_t out_of_order = 0;
@@ -47,6 +48,7 @@ struct Tally {
     const int id = static_cast<int>(m.x);
     const auto seq = static_cast<std::int64_t>(m.y);
     auto [it, fresh] = next.try_emplace(id, 0);
+    if (fresh) first.emplace(id, seq);
     if (seq < it->second) {
       ++duplicates;  // seen (or passed) already
     } else {
@@ -138,12 +140,14 @@ int main(int argc, char** argv) {
              static_cast<std::uint64_t>(count);
   std::int64_t last = -1;  // the highest sequence number received (of any publisher)
   for (const auto& [pid, next] : tally.next) last = std::max(last, next - 1);
+  std::int64_t first = -1;  // the lowest first sequence number received
+  for (const auto& [pid, seq] : tally.first) first = first < 0 ? seq : std::min(first, seq);
   std::printf("received %llu from %zu publishers; duplicates %llu; out of order %llu; missing %llu; dropped %llu; "
-              "last %lld\n",
+              "last %lld; first %lld\n",
               static_cast<unsigned long long>(tally.received), tally.next.size(),
               static_cast<unsigned long long>(tally.duplicates), static_cast<unsigned long long>(tally.out_of_order),
               static_cast<unsigned long long>(missing), static_cast<unsigned long long>(sub->dropped_count()),
-              static_cast<long long>(last));
+              static_cast<long long>(last), static_cast<long long>(first));
   std::fflush(stdout);
   const bool exact = tally.received == want && tally.next.size() == static_cast<std::size_t>(publishers) &&
                      tally.duplicates == 0 && tally.out_of_order == 0 && missing == 0;
