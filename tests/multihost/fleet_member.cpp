@@ -2,8 +2,11 @@
 // HORUS_BACKEND (or the scope argument), the settings from HORUS_DOMAIN_ID / HORUS_LCM_URL.
 //
 //   horus_fleet_member <topic> <scope> <id> <count> <start_unix_ms> <publishers> <seconds> [best-effort]
+//                      [await-reader]
 //
-// (reliable unless best-effort is given)
+// (reliable unless best-effort is given; await-reader: a publisher starts at <start_unix_ms> or
+// once a remote reader matched, whichever comes later: DDS delivers nothing written before the
+// match, and under load on a lossy link discovery may take longer than a test's head start)
 // Opens <topic> (scope: fleet, host or process) with a subscribing handle and, unless id is 0,
 // a publishing one. At <start_unix_ms> it publishes <count> Pose2D messages (x = id, y = sequence number
 // 0..count-1) 2 ms apart with send_blocking, unless id is 0 (a listener). It receives until it
@@ -61,10 +64,17 @@ struct Tally {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 8 && !(argc == 9 && std::string(argv[8]) == "best-effort")) {
+  bool best_effort = false, await_reader = false, usage = argc < 8;
+  for (int i = 8; i < argc; ++i) {
+    const std::string flag = argv[i];
+    if (flag == "best-effort") best_effort = true;
+    else if (flag == "await-reader") await_reader = true;
+    else usage = true;
+  }
+  if (usage) {
     std::fprintf(stderr,
                  "usage: %s <topic> <fleet|host|process> <id> <count> <start_unix_ms> <publishers> <seconds> "
-                 "[best-effort]\n",
+                 "[best-effort] [await-reader]\n",
                  argv[0]);
     return 2;
   }
@@ -77,7 +87,7 @@ int main(int argc, char** argv) {
   const auto deadline = Clock::now() + std::chrono::seconds(std::atoi(argv[7]));
 
   horus::TopicOptions options;
-  options.reliability = argc == 9 ? horus::net::Reliability::BestEffort : horus::net::Reliability::Reliable;
+  options.reliability = best_effort ? horus::net::Reliability::BestEffort : horus::net::Reliability::Reliable;
   if (scope == "host") options.backend = horus::Backend::SharedMemory;
   else if (scope == "process") options.backend = horus::Backend::InProcess;
   else if (scope != "fleet") return 2;
@@ -94,9 +104,14 @@ int main(int argc, char** argv) {
   auto drain = [&] {
     while (auto m = sub->recv()) tally.add(*m);
   };
-  while (unix_ms() < start && Clock::now() < deadline) {
+  // sub_count(): this handle plus the remote readers the host's bridge matched.
+  while ((unix_ms() < start || (await_reader && id != 0 && sub->sub_count() < 2)) && Clock::now() < deadline) {
     drain();
     std::this_thread::sleep_for(1ms);
+  }
+  if (await_reader && id != 0) {
+    std::printf("publishing %lld ms after the start\n", static_cast<long long>(unix_ms() - start));
+    std::fflush(stdout);
   }
   if (id != 0) {
     // A handle that subscribes until its first send (a listener would never read it).
