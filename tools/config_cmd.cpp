@@ -79,6 +79,14 @@ int cmd_config_explain(const std::string& topic, const std::string& file) {
              from_where(c.reliability_from, c));
   fmt::print("  durability  {:<16} {}\n", c.durability ? std::string(horus::net::to_string(*c.durability)) : "type default",
              from_where(c.durability_from, c));
+  auto ms = [](const std::optional<std::chrono::nanoseconds>& d, std::string_view none) {
+    return d ? fmt::format("{} ms", static_cast<double>(d->count()) / 1e6) : std::string(none);
+  };
+  fmt::print("  deadline    {:<16} {}\n", ms(c.deadline, "none"), from_where(c.deadline_from, c));
+  fmt::print("  lifespan    {:<16} {}\n", ms(c.lifespan, "none"), from_where(c.lifespan_from, c));
+  if (c.max_rate_hz) fmt::print("  max_rate_hz {:<16} {}\n", *c.max_rate_hz, from_where(c.max_rate_hz_from, c));
+  if (c.max_bandwidth)
+    fmt::print("  max_bandwidth {:<14} {}\n", fmt::format("{} B/s", *c.max_bandwidth), from_where(c.max_bandwidth_from, c));
   return 0;
 }
 

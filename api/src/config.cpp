@@ -39,8 +39,9 @@ namespace {
 constexpr std::array<std::string_view, 3> kTopLevelKeys{"network", "fleet", "topics"};
 constexpr std::array<std::string_view, 4> kFleetKeys{"announce", "heartbeat_ms", "announce_ms", "misses"};
 constexpr std::array<std::string_view, 5> kNetworkKeys{"backend", "domain_id", "localhost_only", "lcm_url", "peers"};
-constexpr std::array<std::string_view, 8> kRuleKeys{"match",      "scope",    "backend",     "reliability",
-                                                    "durability", "capacity", "max_rate_hz", "max_bandwidth"};
+constexpr std::array<std::string_view, 10> kRuleKeys{"match",         "scope",    "backend",  "reliability",
+                                                     "durability",    "capacity", "max_rate_hz",
+                                                     "max_bandwidth", "deadline", "lifespan"};
 
 template <std::size_t N>
 std::string one_of(const std::array<std::string_view, N>& names) {
@@ -267,6 +268,15 @@ class Parser {
       if (const auto* why = std::get_if<std::string>(&b)) return bad(v, where + ".max_bandwidth", *why);
       r.max_bandwidth = std::get<std::uint64_t>(b);
     }
+    for (const char* key : {"deadline", "lifespan"}) {
+      const auto v = n[key];
+      if (!v) continue;
+      auto s = scalar(v, where + "." + key, "a duration such as \"100ms\"");
+      if (!s) return std::unexpected(s.error());
+      const auto d = parse_duration(*s);
+      if (const auto* why = std::get_if<std::string>(&d)) return bad(v, where + "." + key, *why);
+      (std::string_view(key) == "deadline" ? r.deadline : r.lifespan) = std::get<std::chrono::nanoseconds>(d);
+    }
     if ((r.max_rate_hz || r.max_bandwidth) && r.scope && *r.scope != Scope::Fleet)
       return bad(n, where, fmt::format("max_rate_hz and max_bandwidth are budgets of the network (fleet topics); "
                                        "this rule's scope is {}",
@@ -476,6 +486,8 @@ Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code, con
   pick(code.durability, rule.durability, c.durability, c.durability_from);
   pick(code.max_rate_hz, rule.max_rate_hz, c.max_rate_hz, c.max_rate_hz_from);
   pick(code.max_bandwidth, rule.max_bandwidth, c.max_bandwidth, c.max_bandwidth_from);
+  pick(code.deadline, rule.deadline, c.deadline, c.deadline_from);
+  pick(code.lifespan, rule.lifespan, c.lifespan, c.lifespan_from);
   return c;
 }
 
@@ -495,6 +507,8 @@ Result<TopicOptions> resolve_topic_options(std::string_view topic, const TopicOp
   out.durability = c->durability;
   out.max_rate_hz = c->max_rate_hz;
   out.max_bandwidth = c->max_bandwidth;
+  out.deadline = c->deadline;
+  out.lifespan = c->lifespan;
   return out;
 }
 
@@ -524,6 +538,32 @@ std::variant<std::uint64_t, std::string> parse_bandwidth(std::string_view text) 
     if (bytes < 1 || bytes > 1e12)
       return fmt::format("'{}' is out of range (1 B/s to 1000 GB/s); {}", text, kExpected);
     return static_cast<std::uint64_t>(bytes);
+  }
+  return fmt::format("'{}' has an unknown unit '{}'; {}", text, unit, kExpected);
+}
+
+std::variant<std::chrono::nanoseconds, std::string> parse_duration(std::string_view text) {
+  constexpr std::string_view kExpected =
+      "expected a duration above 0 with a unit: ns, us, ms, s or min (such as \"100ms\" or \"1.5 s\")";
+  std::string_view t = text;
+  while (!t.empty() && t.front() == ' ') t.remove_prefix(1);
+  while (!t.empty() && t.back() == ' ') t.remove_suffix(1);
+  double value = 0;
+  const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), value);
+  if (ec != std::errc{} || !(value > 0)) return fmt::format("'{}' is not a duration; {}", text, kExpected);
+  std::string_view unit(end, static_cast<std::size_t>(t.data() + t.size() - end));
+  while (!unit.empty() && unit.front() == ' ') unit.remove_prefix(1);
+  if (unit.empty()) return fmt::format("'{}' has no unit; {}", text, kExpected);
+  struct Unit {
+    std::string_view name;
+    double ns;
+  };
+  static constexpr std::array<Unit, 5> kUnits{{{"ns", 1}, {"us", 1e3}, {"ms", 1e6}, {"s", 1e9}, {"min", 60e9}}};
+  for (const Unit& u : kUnits) {
+    if (unit != u.name) continue;
+    const double ns = value * u.ns;
+    if (ns < 1 || ns > 1e15) return fmt::format("'{}' is out of range (1 ns to 11 days); {}", text, kExpected);
+    return std::chrono::nanoseconds(static_cast<std::int64_t>(ns));
   }
   return fmt::format("'{}' has an unknown unit '{}'; {}", text, unit, kExpected);
 }

@@ -2,6 +2,7 @@
 // the next timer's deadline as the wait's deadline.
 #include "horus/executor.hpp"
 
+#include <algorithm>
 #include <exception>
 #include <string>
 
@@ -40,11 +41,33 @@ Executor::Id Executor::every(std::chrono::nanoseconds period, std::function<void
   return id;
 }
 
+void Executor::on_deadline_missed(Id subscription, std::function<void(const DeadlineMissed&)> callback) {
+  auto invalid = [&](std::string why) {
+    return Exception(Error(Errc::InvalidArgument, "Executor::on_deadline_missed: " + std::move(why)));
+  };
+  if (!callback) throw invalid("empty callback");
+  {
+    std::lock_guard lock(mutex_);
+    auto it = handlers_.find(subscription);
+    if (it == handlers_.end()) throw invalid("no subscription has id " + std::to_string(subscription));
+    if (it->second->deadline() <= std::chrono::nanoseconds::zero())
+      throw invalid("topic '" + std::string(it->second->name()) +
+                    "' has no deadline; expected one in TopicOptions::deadline or the configuration file");
+    auto w = std::make_shared<Watchdog>();
+    w->callback = std::move(callback);
+    auto old = watchdogs_.find(subscription);
+    if (old != watchdogs_.end()) w->reported = old->second->reported;  // replaced: no repeat
+    watchdogs_[subscription] = std::move(w);
+  }
+  wake_.fire();  // a spin waiting with an older deadline takes this one's
+}
+
 bool Executor::remove(Id id) {
   std::shared_ptr<Handler> gone;  // destroyed outside the lock
   {
     std::lock_guard lock(mutex_);
     if (timers_.erase(id) != 0) return true;
+    watchdogs_.erase(id);
     auto it = handlers_.find(id);
     if (it == handlers_.end()) return false;
     gone = std::move(it->second);
@@ -110,10 +133,52 @@ std::size_t Executor::run_due_timers() {
   return due.size();
 }
 
+// The watched subscriptions' next misses (their handles are read on the spinning thread only).
+Clock::time_point Executor::next_deadline_miss() const {
+  std::lock_guard lock(mutex_);
+  auto next = Clock::time_point::max();
+  for (const auto& [id, w] : watchdogs_) {
+    auto h = handlers_.find(id);
+    if (h == handlers_.end()) continue;
+    if (const auto due = h->second->next_miss()) next = std::min(next, *due);
+  }
+  return next;
+}
+
+std::size_t Executor::report_deadline_misses() {
+  std::vector<std::pair<std::shared_ptr<Handler>, std::shared_ptr<Watchdog>>> watched;
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& [id, w] : watchdogs_)
+      if (auto h = handlers_.find(id); h != handlers_.end()) watched.emplace_back(h->second, w);
+  }
+  std::size_t n = 0;
+  for (auto& [h, w] : watched) {
+    const std::uint64_t missed = h->missed();
+    if (missed <= w->reported) continue;
+    if (h->pending()) {  // a message came meanwhile: handle it first (it may end the silence)
+      n += h->drain(*this, kBatch);
+      if (h->missed() <= w->reported) continue;
+    }
+    const std::uint64_t total = h->missed();
+    const DeadlineMissed event{h->name(), total, total - w->reported, h->silent_for()};
+    w->reported = total;
+    ++n;
+    runs_.fetch_add(1, std::memory_order_relaxed);
+    try {
+      w->callback(event);
+    } catch (...) {
+      callback_failed("a deadline watchdog");
+    }
+  }
+  return n;
+}
+
 std::size_t Executor::spin_once(std::chrono::nanoseconds timeout) {
   std::lock_guard spinning(spin_mutex_);
-  std::size_t n = run_due_timers();
-  const auto deadline = std::min(n != 0 ? Clock::now() : detail::deadline_after(timeout), next_timer());
+  std::size_t n = run_due_timers() + report_deadline_misses();
+  const auto deadline = std::min({n != 0 ? Clock::now() : detail::deadline_after(timeout), next_timer(),
+                                  next_deadline_miss()});
   const WaitSet::Result r = waitset_.wait_until(deadline);
   if (r.contains(wake_id_)) wake_.reset();  // before the timers are looked at again
   for (const WaitSet::Id id : r.ready) {
@@ -127,7 +192,7 @@ std::size_t Executor::spin_once(std::chrono::nanoseconds timeout) {
     }
     n += h->drain(*this, kBatch);
   }
-  return n + run_due_timers();
+  return n + run_due_timers() + report_deadline_misses();
 }
 
 void Executor::spin_until(Clock::time_point deadline) {

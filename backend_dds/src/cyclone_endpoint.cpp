@@ -58,6 +58,9 @@ std::string own_setting(std::uint32_t id, const net::Qos& qos, std::string_view 
     case DDS_RELIABILITY_QOS_POLICY_ID: return std::string(net::to_string(qos.reliability));
     case DDS_DURABILITY_QOS_POLICY_ID: return std::string(net::to_string(qos.durability));
     case DDS_HISTORY_QOS_POLICY_ID: return "keep_last " + std::to_string(qos.depth);
+    case DDS_DEADLINE_QOS_POLICY_ID:
+      return qos.deadline_ns > 0 ? "a deadline of " + std::to_string(qos.deadline_ns / 1000000) + " ms (offered)"
+                                 : "no deadline (a reader requesting one does not match)";
     case DDS_DATA_REPRESENTATION_QOS_POLICY_ID: return "XCDR1 only";
     case DDS_TYPE_CONSISTENCY_ENFORCEMENT_QOS_POLICY_ID:
       return "type '" + std::string(type_name) + "' without XTypes type information";
@@ -209,6 +212,11 @@ Result<void> CycloneEndpoint::create() {
                               DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
   dds_qset_data_representation(qos.get(), 1, &xcdr1);
   dds_qset_ignorelocal(qos.get(), DDS_IGNORELOCAL_PARTICIPANT);
+  // DEADLINE and LIFESPAN on the writer only (the reader below has neither): what it offers
+  // other vendors' readers. A reader requesting a deadline would not match writers of hosts
+  // that offer none; horus's handles enforce both themselves (horus/detail/watch.hpp).
+  if (spec.qos.deadline_ns > 0) dds_qset_deadline(qos.get(), spec.qos.deadline_ns);
+  if (spec.qos.lifespan_ns > 0) dds_qset_lifespan(qos.get(), spec.qos.lifespan_ns);
 
   ListenerPtr writer_listener(dds_create_listener(core_.get()));
   ListenerPtr reader_listener(dds_create_listener(core_.get()));
@@ -226,6 +234,8 @@ Result<void> CycloneEndpoint::create() {
     writer_ = 0;
     return fail(Errc::Io, core_->label() + ": cannot create the DDS writer: " + dds_error(rc));
   }
+  dds_qset_deadline(qos.get(), DDS_INFINITY);
+  dds_qset_lifespan(qos.get(), DDS_INFINITY);
   reader_ = dds_create_reader(participant, topic_, qos.get(), reader_listener.get());
   if (reader_ < 0) {
     const dds_return_t rc = reader_;

@@ -272,6 +272,16 @@ Result<void> FastddsEndpoint::create(fd::Topic* topic, fd::ContentFilteredTopic*
   rq.type_consistency().representation.m_value = {fd::XCDR_DATA_REPRESENTATION};
   rq.endpoint().history_memory_policy = rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
 
+  // DEADLINE and LIFESPAN on the writer only: what it offers other vendors' readers. A reader
+  // requesting a deadline would not match writers of hosts that offer none; horus's handles
+  // enforce both themselves (horus/detail/watch.hpp).
+  auto duration = [](std::int64_t ns) {
+    return eprosima::fastrtps::Duration_t(static_cast<std::int32_t>(ns / 1000000000),
+                                          static_cast<std::uint32_t>(ns % 1000000000));
+  };
+  if (q.deadline_ns > 0) wq.deadline().period = duration(q.deadline_ns);
+  if (q.lifespan_ns > 0) wq.lifespan().duration = duration(q.lifespan_ns);
+
   // The reader is created disabled (subscriber QoS), so the core knows it before data can arrive.
   reader_ = transport_->subscriber()->create_datareader(
       filtered, rq, &reader_listener_,

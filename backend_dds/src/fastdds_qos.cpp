@@ -37,6 +37,8 @@ std::string describe(const net::Qos& q) {
   s += net::to_string(q.durability);
   s += ", depth ";
   s += std::to_string(q.depth);
+  s += q.deadline_ns > 0 ? ", deadline " + std::to_string(q.deadline_ns / 1000000) + " ms offered" : ", no deadline";
+  if (q.lifespan_ns > 0) s += ", lifespan " + std::to_string(q.lifespan_ns / 1000000) + " ms";
   return s;
 }
 

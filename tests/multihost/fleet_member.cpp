@@ -2,11 +2,13 @@
 // HORUS_BACKEND (or the scope argument), the settings from HORUS_DOMAIN_ID / HORUS_LCM_URL.
 //
 //   horus_fleet_member <topic> <scope> <id> <count> <start_unix_ms> <publishers> <seconds> [best-effort]
-//                      [await-reader]
+//                      [await-reader] [deadline=<ms>]
 //
 // (reliable unless best-effort is given; await-reader: a publisher starts at <start_unix_ms> or
 // once a remote reader matched, whichever comes later: DDS delivers nothing written before the
-// match, and under load on a lossy link discovery may take longer than a test's head start)
+// match, and under load on a lossy link discovery may take longer than a test's head start;
+// deadline=<ms>: the subscribing handle watches that deadline and a receiver's last lines are
+// "deadline missed <n> while receiving" and, 5 periods later, "deadline missed <n> after")
 // Opens <topic> (scope: fleet, host or process) with a subscribing handle and, unless id is 0,
 // a publishing one. At <start_unix_ms> it publishes <count> Pose2D messages (x = id, y = sequence number
 // 0..count-1) 2 ms apart with send_blocking, unless id is 0 (a listener). It receives until it
@@ -65,16 +67,19 @@ struct Tally {
 
 int main(int argc, char** argv) {
   bool best_effort = false, await_reader = false, usage = argc < 8;
+  long deadline_ms = 0;
   for (int i = 8; i < argc; ++i) {
     const std::string flag = argv[i];
     if (flag == "best-effort") best_effort = true;
     else if (flag == "await-reader") await_reader = true;
+    else if (flag.starts_with("deadline=")) deadline_ms = std::atol(flag.c_str() + 9);
     else usage = true;
   }
+  if (deadline_ms < 0) usage = true;
   if (usage) {
     std::fprintf(stderr,
                  "usage: %s <topic> <fleet|host|process> <id> <count> <start_unix_ms> <publishers> <seconds> "
-                 "[best-effort] [await-reader]\n",
+                 "[best-effort] [await-reader] [deadline=<ms>]\n",
                  argv[0]);
     return 2;
   }
@@ -91,6 +96,7 @@ int main(int argc, char** argv) {
   if (scope == "host") options.backend = horus::Backend::SharedMemory;
   else if (scope == "process") options.backend = horus::Backend::InProcess;
   else if (scope != "fleet") return 2;
+  if (deadline_ms > 0) options.deadline = std::chrono::milliseconds(deadline_ms);
   auto sub = horus::Topic<horus::msg::Pose2D>::open(topic, options);
   if (!sub) {
     std::fprintf(stderr, "horus_fleet_member: %s\n", sub.error().message().c_str());
@@ -101,8 +107,13 @@ int main(int argc, char** argv) {
   std::fflush(stdout);
 
   Tally tally;
+  std::uint64_t missed_before = 0;  // deadline periods missed before the first message
+  auto add = [&](const horus::msg::Pose2D& m) {
+    tally.add(m);
+    if (tally.received == 1) missed_before = sub->deadline_missed_count();
+  };
   auto drain = [&] {
-    while (auto m = sub->recv()) tally.add(*m);
+    while (auto m = sub->recv()) add(*m);
   };
   // sub_count(): this handle plus the remote readers the host's bridge matched.
   while ((unix_ms() < start || (await_reader && id != 0 && sub->sub_count() < 2)) && Clock::now() < deadline) {
@@ -146,7 +157,7 @@ int main(int argc, char** argv) {
   const std::uint64_t want = static_cast<std::uint64_t>(publishers) * static_cast<std::uint64_t>(count);
   const auto quiet_until = Clock::now() + (publishers == 0 ? 3s : 0s);  // a listener listens a while
   while (Clock::now() < deadline && (tally.received < want || Clock::now() < quiet_until)) {
-    if (auto m = sub->recv_for(50ms)) tally.add(*m);
+    if (auto m = sub->recv_for(50ms)) add(*m);
   }
   drain();
   std::uint64_t missing = 0;
@@ -163,6 +174,13 @@ int main(int argc, char** argv) {
               static_cast<unsigned long long>(tally.duplicates), static_cast<unsigned long long>(tally.out_of_order),
               static_cast<unsigned long long>(missing), static_cast<unsigned long long>(sub->dropped_count()),
               static_cast<long long>(last), static_cast<long long>(first));
+  if (deadline_ms > 0) {
+    std::printf("deadline missed %llu while receiving\n",
+                static_cast<unsigned long long>(sub->deadline_missed_count() - missed_before));
+    std::this_thread::sleep_for(std::chrono::milliseconds(5 * deadline_ms));
+    std::printf("deadline missed %llu after\n",
+                static_cast<unsigned long long>(sub->deadline_missed_count() - missed_before));
+  }
   std::fflush(stdout);
   const bool exact = tally.received == want && tally.next.size() == static_cast<std::size_t>(publishers) &&
                      tally.duplicates == 0 && tally.out_of_order == 0 && missing == 0;

@@ -401,6 +401,42 @@ TEST_P(Faults, ABudgetSendsTheNewestAtItsRateAndCountsWhatItHoldsBack) {
   EXPECT_LE(held_back, 1000 - received) << info_out;
 }
 
+// A watchdog across hosts: the subscriber on host 1 watches a 100 ms deadline (mapped to the DDS
+// DEADLINE QoS, enforced by the handle on every backend). While the publisher on host 0 sends
+// every 2 ms no period is missed; once it stops, the misses count (5 periods of silence).
+TEST_P(Faults, ADeadlineOnAFleetTopicCountsOnlyWhenThePublisherStops) {
+  if (!horus::backend_available(GetParam()))
+    GTEST_SKIP() << "this build has no " << horus::to_string(GetParam()) << " backend";
+  if (::geteuid() != 0) GTEST_SKIP() << "needs root for namespace hosts";
+  horus_test::NetnsLan lan(2, "w");
+  if (!lan.ok()) GTEST_SKIP() << "no namespace hosts: " << lan.why();
+  const bool lcm = GetParam() == horus::Backend::Lcm;
+  const std::string topic = "fleet.watchdog_" + std::to_string(::getpid());
+  const std::vector<std::string> env = {
+      "HORUS_BACKEND=" + std::string(horus::to_string(GetParam())),
+      "HORUS_DOMAIN_ID=" + std::to_string(1 + (::getpid() + 127) % 200), "HORUS_DDS_LOCALHOST=0",
+      "HORUS_LCM_URL=udpm://239.255.76.68:" + std::to_string(20000 + (::getpid() * 23 + 5) % 20000) + "?ttl=1"};
+  const std::string start = std::to_string(unix_ms() + 2500);
+  std::vector<std::string> pub_args = {FLEET_MEMBER, topic, "fleet", "1", "300", start, "-1", "4", "deadline=100"};
+  if (!lcm) pub_args.push_back("await-reader");
+  auto pub = lan.spawn(0, pub_args, env);
+  auto sub = lan.spawn(1, {FLEET_MEMBER, topic, "fleet", "0", "300", start, "1", "8", "deadline=100"}, env);
+  EXPECT_EQ(sub.wait(30s), 0) << sub.output();
+  (void)pub.wait(30s);
+  const std::string out = sub.output();
+  const auto during = out.find("deadline missed ");
+  ASSERT_NE(during, std::string::npos) << out;
+  const auto after = out.find("deadline missed ", during + 1);
+  ASSERT_NE(after, std::string::npos) << out;
+  const long long missed_during = std::atoll(out.c_str() + during + 16);
+  const long long missed_after = std::atoll(out.c_str() + after + 16);
+  std::printf("%s: deadline 100 ms: missed %lld while 300 messages came 2 ms apart, %lld after 500 ms of silence\n",
+              std::string(horus::to_string(GetParam())).c_str(), missed_during, missed_after);
+  EXPECT_LE(missed_during, 1) << "misses while messages flowed (one allowed for a stall of a loaded machine)\n" << out;
+  EXPECT_GE(missed_after - missed_during, 4) << out;
+  EXPECT_LE(missed_after - missed_during, 8) << out;
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, Faults,
                          ::testing::Values(horus::Backend::CycloneDds, horus::Backend::FastDds, horus::Backend::Lcm),
                          [](const auto& param_info) { return std::string(horus::to_string(param_info.param)); });

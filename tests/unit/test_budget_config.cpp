@@ -1,4 +1,5 @@
-// The egress budget in the configuration file (max_rate_hz, max_bandwidth) and its units.
+// The egress budget in the configuration file (max_rate_hz, max_bandwidth) and its units;
+// deadline and lifespan, and their durations.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -57,6 +58,47 @@ TEST(BudgetConfig, ARuleGivesAFleetTopicItsBudgetAndBadValuesNameTheLineAndKey) 
     ASSERT_FALSE(bad.has_value()) << text;
     for (const auto& e : expected) EXPECT_NE(bad.error().message().find(e), std::string::npos) << bad.error().message();
   }
+}
+
+TEST(QosConfig, DurationsParseWithTheirUnitsAndBadOnesSayWhatIsExpected) {
+  auto ns = [](std::string_view s) {
+    const auto d = horus::parse_duration(s);
+    return std::holds_alternative<std::chrono::nanoseconds>(d) ? std::get<std::chrono::nanoseconds>(d).count() : -1;
+  };
+  EXPECT_EQ(ns("100ms"), 100'000'000);
+  EXPECT_EQ(ns("1.5 s"), 1'500'000'000);
+  EXPECT_EQ(ns("250us"), 250'000);
+  EXPECT_EQ(ns("2min"), 120'000'000'000);
+  for (const auto& [text, expected] : std::vector<std::pair<std::string, std::string>>{
+           {"soon", "is not a duration"}, {"100", "has no unit"}, {"5 h", "unknown unit 'h'"}, {"-1s", "is not a duration"}}) {
+    const auto d = horus::parse_duration(text);
+    ASSERT_TRUE(std::holds_alternative<std::string>(d)) << text;
+    EXPECT_NE(std::get<std::string>(d).find(expected), std::string::npos) << std::get<std::string>(d);
+    EXPECT_NE(std::get<std::string>(d).find("ms"), std::string::npos) << std::get<std::string>(d);
+  }
+}
+
+TEST(QosConfig, ARuleGivesATopicItsDeadlineAndLifespanAndCodeWins) {
+  auto c = horus::Config::parse("topics:\n  - match: \"cmd_vel\"\n    deadline: 100ms\n    lifespan: \"0.5 s\"\n",
+                                "robot.yaml");
+  ASSERT_TRUE(c.has_value()) << c.error().message();
+  auto choice = horus::choose("cmd_vel", {}, &*c);
+  ASSERT_TRUE(choice.has_value()) << choice.error().message();
+  EXPECT_EQ(choice->deadline, std::chrono::milliseconds(100));
+  EXPECT_EQ(choice->deadline_from, horus::Source::File);
+  EXPECT_EQ(choice->lifespan, std::chrono::milliseconds(500));
+  horus::TopicOptions code;
+  code.deadline = std::chrono::milliseconds(20);
+  choice = horus::choose("cmd_vel", code, &*c);
+  ASSERT_TRUE(choice.has_value());
+  EXPECT_EQ(choice->deadline, std::chrono::milliseconds(20));
+  EXPECT_EQ(choice->deadline_from, horus::Source::Code);
+  auto bad = horus::Config::parse("topics:\n  - match: \"cmd_vel\"\n    deadline: fast\n", "robot.yaml");
+  ASSERT_FALSE(bad.has_value());
+  const std::string why = bad.error().message();
+  EXPECT_NE(why.find("robot.yaml, line 3"), std::string::npos) << why;
+  EXPECT_NE(why.find("deadline"), std::string::npos) << why;
+  EXPECT_NE(why.find("is not a duration"), std::string::npos) << why;
 }
 
 }  // namespace

@@ -434,3 +434,129 @@ TEST_F(WaitSetTest, AnExecutorCallbackMaySubscribeAndRemove) {
 }
 
 }  // namespace
+
+// -- deadline and lifespan (TopicOptions) ---------------------------------------
+
+namespace deadline_tests {
+
+std::uint64_t unix_ns() {
+  return static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count());
+}
+
+// A watchdog on cmd_vel: while a publisher sends every 10 ms the 60 ms deadline is kept; once
+// it stops, the executor calls back (within a period or so) and the misses keep counting.
+TEST_F(WaitSetTest, AnExecutorWatchdogFiresWhenCmdVelStopsAndNotWhileItFlows) {
+  for (const Backend b : {Backend::InProcess, Backend::SharedMemory}) {
+    const auto n = horus_test::unique_name("ex.deadline");
+    horus::Executor ex;
+    horus::TopicOptions o = on(b);
+    o.deadline = 60ms;
+    std::atomic<int> received{0};
+    const auto id = ex.subscribe<CmdVel>(n, o, [&](const CmdVel&) { received.fetch_add(1); });
+    std::vector<horus::DeadlineMissed> events;
+    Clock::time_point first_event{};
+    ex.on_deadline_missed(id, [&](const horus::DeadlineMissed& e) {
+      if (events.empty()) first_event = Clock::now();
+      events.push_back(e);
+      if (e.total_count >= 3) ex.stop();
+    });
+    std::atomic<bool> sending{true};
+    Clock::time_point last_send{};
+    std::thread pub([&] {
+      auto t = open<CmdVel>(n, b);
+      for (int i = 0; i < 30; ++i) {
+        t.send(CmdVel::make(0.5f, 0.0f));
+        last_send = Clock::now();
+        std::this_thread::sleep_for(10ms);
+      }
+      sending = false;
+    });
+    // While it flows (a loaded machine may stall the sender for a period: then a miss is real).
+    while (sending) ex.spin_once(5ms);
+    pub.join();
+    const std::size_t while_flowing = events.size();
+    horus_test::Deadline d(5000ms);
+    std::atomic<bool> done{false};
+    std::thread guard([&] {  // bounds the spin if no miss ever came
+      while (!d.expired() && !done) std::this_thread::sleep_for(5ms);
+      ex.stop();
+    });
+    ex.spin();
+    done = true;
+    guard.join();
+    ASSERT_GE(events.size(), 1u) << horus::to_string(b);
+    EXPECT_LE(while_flowing, 1u) << horus::to_string(b) << ": misses while cmd_vel flowed every 10 ms";
+    EXPECT_EQ(received.load(), 30) << horus::to_string(b);
+    const auto after = first_event - last_send;
+    EXPECT_GE(after, 55ms) << horus::to_string(b) << ": a miss before the deadline";
+    EXPECT_LT(after, 2000ms) << horus::to_string(b);
+    EXPECT_EQ(events.back().topic, n);
+    EXPECT_GE(events.back().total_count, 3u);
+    EXPECT_GE(events.back().silent_for, 3 * 60ms);
+    std::uint64_t sum = 0;
+    for (const auto& e : events) sum += e.total_count_change;
+    EXPECT_EQ(sum, events.back().total_count) << "each miss reported once";
+    EXPECT_EQ(ex.metrics(id)->messages_received(), 30u);
+  }
+}
+
+TEST_F(WaitSetTest, APublishersOfferedDeadlineCountsThePeriodsBetweenItsSends) {
+  const auto n = horus_test::unique_name("deadline.offered");
+  horus::TopicOptions o = on(Backend::SharedMemory);
+  o.deadline = 20ms;
+  auto pub = horus::Topic<CmdVel>::open(n, o);
+  ASSERT_TRUE(pub) << pub.error().message();
+  pub->send(CmdVel::make(1.0f, 0.0f));
+  const auto t0 = Clock::now();
+  std::this_thread::sleep_for(70ms);
+  pub->send(CmdVel::make(1.0f, 0.0f));
+  const auto gap = Clock::now() - t0;
+  const auto expected = static_cast<std::uint64_t>(gap / 20ms);
+  EXPECT_GE(pub->deadline_missed_count(), expected - 1);
+  EXPECT_LE(pub->deadline_missed_count(), expected);
+  EXPECT_GE(pub->deadline_missed_count(), 3u);
+  // Without a deadline nothing counts; a watchdog on such a topic is refused, saying why.
+  auto plain = open<CmdVel>(n, Backend::SharedMemory);
+  EXPECT_EQ(plain.deadline_missed_count(), 0u);
+  horus::Executor ex;
+  const auto id = ex.subscribe<CmdVel>(n, on(Backend::SharedMemory), [](const CmdVel&) {});
+  try {
+    ex.on_deadline_missed(id, [](const horus::DeadlineMissed&) {});
+    ADD_FAILURE() << "a topic without a deadline took a watchdog";
+  } catch (const horus::Exception& e) {
+    EXPECT_EQ(e.error().code(), horus::Errc::InvalidArgument);
+    EXPECT_NE(std::string(e.what()).find("has no deadline"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ex.on_deadline_missed(12345, [](const horus::DeadlineMissed&) {}), horus::Exception);
+}
+
+// Lifespan: a message whose timestamp is older than it is not delivered (counted); fresh ones
+// and those without a timestamp are.
+TEST_F(WaitSetTest, ALifespanSkipsMessagesOlderThanItAndCountsThem) {
+  for (const Backend b : {Backend::InProcess, Backend::SharedMemory}) {
+    const auto n = horus_test::unique_name("lifespan");
+    horus::TopicOptions o = on(b);
+    o.lifespan = 500ms;
+    auto sub = horus::Topic<CmdVel>::open(n, o);
+    ASSERT_TRUE(sub) << sub.error().message();
+    auto pub = open<CmdVel>(n, b);
+    const std::uint64_t now = unix_ns();
+    pub.send(CmdVel{now - 2'000'000'000ull, 1.0f, 0.0f});  // 2 s old: expired
+    pub.send(CmdVel{now, 2.0f, 0.0f});
+    pub.send(CmdVel{0, 3.0f, 0.0f});                        // no timestamp: never expires
+    pub.send(CmdVel{now - 600'000'000ull, 4.0f, 0.0f});     // 600 ms old: expired
+    std::vector<float> got;
+    while (auto m = sub->recv_for(100ms)) got.push_back(m->linear);
+    EXPECT_EQ(got, (std::vector<float>{2.0f, 3.0f})) << horus::to_string(b);
+    EXPECT_EQ(sub->expired_count(), 2u);
+    EXPECT_GE(sub->dropped_count(), 2u);
+    // read_latest gives nothing when the newest expired.
+    pub.send(CmdVel{now - 3'000'000'000ull, 5.0f, 0.0f});
+    EXPECT_FALSE(sub->read_latest().has_value());
+    // The timestamp is a message's timestamp_ns (member or method) or CmdVel's stamp_nanos.
+    EXPECT_EQ(horus::message_timestamp_ns(Pose2D{0, 0, 0, 42}), 42u);
+  }
+}
+
+}  // namespace deadline_tests

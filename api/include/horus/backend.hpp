@@ -12,6 +12,7 @@
 // always had (Backend::SharedMemory, Backend::CycloneDds, ...).
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -88,6 +89,17 @@ struct TopicOptions {
   // `horus topic info`, "budget dropped"). Local handles are not affected.
   std::optional<double> max_rate_hz = std::nullopt;
   std::optional<std::uint64_t> max_bandwidth = std::nullopt;  // bytes per second
+  // Every backend (mapped to the DDS QoS of the same name on DDS, enforced by the handle
+  // everywhere; horus/topic.hpp):
+  // - deadline: the period a topic's messages must keep. A receiving handle counts each full
+  //   period without a message (the requested deadline: a watchdog on cmd_vel), a sending one
+  //   each full period between its own sends (the offered deadline): deadline_missed_count(),
+  //   and Executor::on_deadline_missed calls back at once.
+  // - lifespan: a message whose timestamp_ns (Unix ns, as the publisher set it) is older than
+  //   this on receipt is not delivered; counted in expired_count() and dropped_count().
+  //   Messages without a timestamp_ns (or with 0) never expire.
+  std::optional<std::chrono::nanoseconds> deadline = std::nullopt;
+  std::optional<std::chrono::nanoseconds> lifespan = std::nullopt;
 };
 
 /// The backend HORUS_BACKEND selects (auto|shm|inproc, or a registered transport's name:

@@ -55,12 +55,17 @@ struct TopicRule {
   std::optional<std::uint32_t> capacity;
   std::optional<double> max_rate_hz;            // fleet topics: the host's egress budget
   std::optional<std::uint64_t> max_bandwidth;   // bytes per second ("2 MB/s", "20 Mbit/s" in the file)
+  std::optional<std::chrono::nanoseconds> deadline;  // "100ms", "1.5 s" in the file
+  std::optional<std::chrono::nanoseconds> lifespan;
 };
 
 /// Parses a bandwidth: a number of bytes per second, or a number with a unit (B/s, kB/s, MB/s,
 /// GB/s, KiB/s, MiB/s, GiB/s, kbit/s, Mbit/s, Gbit/s; "2 MB/s", "20Mbit/s"); an error message
 /// saying what is wrong, or the bytes per second.
 std::variant<std::uint64_t, std::string> parse_bandwidth(std::string_view text);
+/// Parses a duration above 0: a number with a unit, ns, us, ms, s or min ("100ms", "1.5 s");
+/// an error message saying what is wrong, or the duration.
+std::variant<std::chrono::nanoseconds, std::string> parse_duration(std::string_view text);
 
 /// The file's `network:` section: defaults of fleet topics and of the transports.
 /// The `fleet:` section: the fleet layer's discovery (horus/fleet.hpp).
@@ -138,6 +143,10 @@ struct TopicChoice {
   Source max_rate_hz_from = Source::Default;
   std::optional<std::uint64_t> max_bandwidth;   // bytes per second; nullopt: no budget
   Source max_bandwidth_from = Source::Default;
+  std::optional<std::chrono::nanoseconds> deadline;  // nullopt: none
+  Source deadline_from = Source::Default;
+  std::optional<std::chrono::nanoseconds> lifespan;  // nullopt: messages never expire
+  Source lifespan_from = Source::Default;
   const TopicRule* rule = nullptr;  // the file's rule that matched
   const Config* config = nullptr;   // the file, when there is one
 };

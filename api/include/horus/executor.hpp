@@ -22,6 +22,9 @@
 //   return at once; each spin that returns for a stop clears it.
 // - subscribe(), every() and remove() may be called from any thread, also from a callback.
 // - While a thread waits in spin it sleeps in the kernel (WaitSet); it uses no CPU.
+// - on_deadline_missed(id, f): a watchdog. A subscription opened with TopicOptions::deadline
+//   (or a file's `deadline:`) calls f on the spinning thread when a full period passed without
+//   a message (the spin wakes for it; messages already waiting are handled first).
 #pragma once
 
 #include <atomic>
@@ -45,6 +48,14 @@
 #include "horus/waitset.hpp"
 
 namespace horus {
+
+/// What Executor::on_deadline_missed reports (as DDS's requested-deadline-missed status).
+struct DeadlineMissed {
+  std::string_view topic;
+  std::uint64_t total_count = 0;         // periods missed since the subscription opened
+  std::uint64_t total_count_change = 0;  // since the previous call
+  std::chrono::nanoseconds silent_for{}; // since the subscription's last message (or its opening)
+};
 
 class Executor {
  public:
@@ -79,6 +90,12 @@ class Executor {
   /// from now.
   Id every(std::chrono::nanoseconds period, std::function<void()> callback);
 
+  /// Calls `callback` each time subscription `id` misses its deadline (TopicOptions::deadline:
+  /// a full period without a message), on the spinning thread. Replaces an earlier callback.
+  /// Throws horus::Exception (Errc::InvalidArgument) for an unknown id, a timer, or a topic
+  /// without a deadline.
+  void on_deadline_missed(Id subscription, std::function<void(const DeadlineMissed&)> callback);
+
   /// Removes a subscription (its topic handle is closed) or a timer; false when unknown.
   bool remove(Id id);
 
@@ -109,6 +126,13 @@ class Executor {
     // Handles up to `max` waiting messages; returns how many.
     virtual std::size_t drain(Executor& ex, std::size_t max) = 0;
     virtual TopicMetrics metrics() const = 0;
+    // The deadline (TopicOptions::deadline), on the spinning thread.
+    virtual std::chrono::nanoseconds deadline() const = 0;
+    virtual std::optional<std::chrono::steady_clock::time_point> next_miss() const = 0;
+    virtual std::uint64_t missed() const = 0;
+    virtual std::chrono::nanoseconds silent_for() const = 0;
+    virtual bool pending() = 0;  // a message waits (handled before a miss is reported)
+    virtual std::string_view name() const = 0;
   };
   template <class T, class F>
   struct Subscription final : Handler {
@@ -130,6 +154,12 @@ class Executor {
       return n;
     }
     TopicMetrics metrics() const override { return topic.metrics(); }
+    std::chrono::nanoseconds deadline() const override { return topic.watch_.deadline(); }
+    std::optional<std::chrono::steady_clock::time_point> next_miss() const override { return topic.watch_.next_miss(); }
+    std::uint64_t missed() const override { return topic.watch_.missed(); }
+    std::chrono::nanoseconds silent_for() const override { return topic.watch_.silent_for(); }
+    bool pending() override { return topic.has_message(); }
+    std::string_view name() const override { return topic.name(); }
     Topic<T> topic;
     F callback;
   };
@@ -140,7 +170,14 @@ class Executor {
     std::function<void()> callback;
   };
 
+  struct Watchdog {
+    std::function<void(const DeadlineMissed&)> callback;
+    std::uint64_t reported = 0;
+  };
+
   Id add_subscription(WaitSet::Id wid, std::shared_ptr<Handler> handler);
+  std::size_t report_deadline_misses();
+  std::chrono::steady_clock::time_point next_deadline_miss() const;
   void callback_failed(std::string_view what) noexcept;
   std::size_t run_due_timers();
   std::chrono::steady_clock::time_point next_timer() const;
@@ -155,6 +192,7 @@ class Executor {
   mutable std::mutex mutex_;            // handlers_ and timers_
   std::map<Id, std::shared_ptr<Handler>> handlers_;  // by WaitSet::Id
   std::map<Id, std::shared_ptr<Timer>> timers_;
+  std::map<Id, std::shared_ptr<Watchdog>> watchdogs_;  // by subscription
   Id next_timer_id_ = Id{1} << 62;  // timer ids never meet WaitSet ids
   std::atomic<std::uint64_t> errors_{0};
   std::atomic<std::uint64_t> runs_{0};

@@ -38,6 +38,7 @@
 #include "horus/detail/network_link.hpp"
 #include "horus/detail/slots.hpp"
 #include "horus/detail/waiting.hpp"
+#include "horus/detail/watch.hpp"
 #include "horus/error.hpp"
 #include "horus/loan.hpp"
 #include "horus/message_traits.hpp"
@@ -103,7 +104,11 @@ class Topic {
   /// Publishes. Never blocks: a full ring overwrites its oldest message. A message is refused
   /// only when all kMaxPublishers lanes are taken, or (serialized T) when it encodes to more
   /// than max_message_size() bytes; it is then counted in metrics().send_failures() and logged.
-  [[gnu::always_inline]] void send(const T& msg) { send_local(msg); }
+  [[gnu::always_inline]] void send(const T& msg) {
+    send_local(msg);
+    if (watch_.active()) [[unlikely]]
+      watch_.sent();
+  }
 
   /// Large data: lends a slot of the topic's pool for a message described by `desc` (e.g.
   /// Image::describe(1080, 1920, ImageEncoding::Rgb8)). Fill it in place (loan->data_mut(),
@@ -130,12 +135,16 @@ class Topic {
       case Codec::LoanSend::Publish: break;
     }
     codec_.publish_loan(port_, l);
+    watch_.sent();
   }
 
   /// Publishes only if no subscriber would lose an unread message; else gives the message back
   /// (also when it is refused for its size).
   std::expected<void, T> try_send(const T& msg) {
-    if (port_.ensure_lane() && codec_.prepare(port_, msg) && try_commit(msg)) return {};
+    if (port_.ensure_lane() && codec_.prepare(port_, msg) && try_commit(msg)) {
+      watch_.sent();
+      return {};
+    }
     ++port_.counters.send_failures;
     return std::unexpected<T>(msg);
   }
@@ -156,7 +165,7 @@ class Topic {
       ++port_.counters.recv_failures;
       return std::nullopt;
     }
-    if (auto m = codec_.read(port_)) return m;
+    if (auto m = read_next()) return m;
     ++port_.counters.recv_failures;  // also marks this handle as a receiver (see LocalPort::receives)
     return std::nullopt;
   }
@@ -170,11 +179,11 @@ class Topic {
       ++port_.counters.recv_failures;
       return std::nullopt;
     }
-    if (auto m = codec_.read(port_)) return m;
+    if (auto m = read_next()) return m;
     if (timeout > std::chrono::nanoseconds::zero()) {
       const auto deadline = detail::deadline_after(timeout);
       while (wait_until(deadline))
-        if (auto m = codec_.read(port_)) return m;  // (a corrupt slot skipped: wait again)
+        if (auto m = read_next()) return m;  // (a corrupt slot skipped: wait again)
     }
     ++port_.counters.recv_failures;
     return std::nullopt;
@@ -202,7 +211,10 @@ class Topic {
   /// not decode gives nothing.
   std::optional<T> read_latest() {
     port_.received = true;
-    return codec_.read_latest(port_);
+    auto m = codec_.read_latest(port_);
+    if (m && watch_.active() && !watch_.fresh(*m)) [[unlikely]]
+      return std::nullopt;  // the newest expired (not counted again at each call)
+    return m;
   }
 
   // -- state -----------------------------------------------------------------
@@ -225,12 +237,21 @@ class Topic {
   /// since this handle opened (host-wide: the bridge's takeovers, a transport's losses).
   std::uint64_t dropped_count() const noexcept {
     const std::uint64_t net = core().net ? detail::network_dropped(core()) - net_dropped_base_ : 0;
-    if (port_.reader().subscribed()) return port_.reader().lost() + codec_.lost() + net;
+    if (port_.reader().subscribed()) return port_.reader().lost() + codec_.lost() + net + watch_.expired();
     const auto& ring = core().ring;
     std::uint64_t n = ring.header().dropped_total.load(std::memory_order_relaxed) + ring.undetected_losses();
     if constexpr (kPooled) n += core().pool.header().reused.load(std::memory_order_relaxed);
     return n + net;
   }
+  /// TopicOptions::deadline: the full periods this handle went without a message since it
+  /// opened. A handle that sends counts the periods between its own sends (it missed its
+  /// period: DDS's offered deadline); one that only receives, the periods without a message
+  /// received (requested deadline: a watchdog). A gap of 2.5 periods is 2 misses; 0 without
+  /// a deadline. Executor::on_deadline_missed calls back when it grows.
+  std::uint64_t deadline_missed_count() const noexcept { return watch_.missed(); }
+  /// TopicOptions::lifespan: messages recv() did not deliver because their timestamp_ns was
+  /// older than the lifespan (they also count in dropped_count()).
+  std::uint64_t expired_count() const noexcept { return watch_.expired(); }
   /// Publishers currently holding a lane of this topic; for a fleet topic, the host's
   /// publishing handles plus the remote writers matched by the host's bridge (the bridge's own
   /// lane is not counted).
@@ -276,6 +297,19 @@ class Topic {
   explicit Topic(std::shared_ptr<detail::TopicCore> core) : port_(std::move(core)) {}
 
   friend class WaitSet;
+  friend class Executor;  // the deadline's next miss (on_deadline_missed)
+
+  // recv() and recv_for(): the next message, expired ones skipped (lifespan).
+  [[gnu::always_inline]] std::optional<T> read_next() {
+    auto m = codec_.read(port_);
+    if (!m || !watch_.active()) [[likely]]
+      return m;
+    return watched(std::move(m));
+  }
+  [[gnu::noinline]] std::optional<T> watched(std::optional<T> m) {
+    while (m && !watch_.take(*m)) m = codec_.read(port_);
+    return m;
+  }
   // What a WaitSet waits on: this handle's subscriber entry. The handle stays a subscriber
   // (its first send does not make it a pure publisher). Nothing when no entry is free.
   std::optional<detail::WaitTarget> wait_target() {
@@ -306,6 +340,11 @@ class Topic {
     return true;
   }
 
+  Result<void> committed() {  // send_blocking sent
+    watch_.sent();
+    return {};
+  }
+
   // Writes a prepared msg if there is space (a fleet topic's bridge is one of the subscribers).
   bool try_commit(const T& msg) { return codec_.try_write(port_, msg); }
 
@@ -316,6 +355,7 @@ class Topic {
   Port port_;    // the topic, and this handle's lane and subscriber entry
   Codec codec_;  // the slot codec's state (scratch buffers, pool counters)
   std::uint64_t net_dropped_base_ = 0;  // the bridge's dropped count when this handle opened
+  detail::Watch watch_;                 // deadline and lifespan (TopicOptions)
 };
 
 }  // namespace horus

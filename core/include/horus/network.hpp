@@ -38,6 +38,8 @@ struct Qos {
   Reliability reliability = Reliability::Reliable;
   Durability durability = Durability::Volatile;
   std::uint32_t depth = 16;  // history depth (KEEP_LAST), from the topic's capacity
+  std::int64_t deadline_ns = 0;  // DEADLINE period (writer and reader); 0: none
+  std::int64_t lifespan_ns = 0;  // LIFESPAN of a written sample; 0: none
 };
 
 /// Process-wide settings of a transport (one participant per distinct DDS domain and

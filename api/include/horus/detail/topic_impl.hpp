@@ -23,6 +23,7 @@ Result<Topic<T>> Topic<T>::make(std::string_view name, const TopicOptions& reque
   auto core = detail::open_core(name, type, options);
   if (!core) return std::unexpected(std::move(core.error()));
   Topic topic(std::move(*core));
+  topic.watch_ = detail::Watch(options.deadline, options.lifespan);
   if (!topic.port_.reader().subscribe())
     return fail(Errc::LimitReached, "topic '" + std::string(name) + "' already has " +
                                         std::to_string(shm::kMaxSubscribers) +
@@ -30,7 +31,9 @@ Result<Topic<T>> Topic<T>::make(std::string_view name, const TopicOptions& reque
   auto& c = topic.core();
   if (is_network(c.backend)) {
     const net::Qos qos{options.reliability.value_or(net::default_qos<T>::reliability),
-                       options.durability.value_or(net::default_qos<T>::durability), c.ring.capacity()};
+                       options.durability.value_or(net::default_qos<T>::durability), c.ring.capacity(),
+                       options.deadline.value_or(std::chrono::nanoseconds::zero()).count(),
+                       options.lifespan.value_or(std::chrono::nanoseconds::zero()).count()};
     if (auto ok = detail::connect_network(c, kWireOps, qos, options); !ok) return std::unexpected(std::move(ok.error()));
     topic.net_dropped_base_ = detail::network_dropped(c);
   }
@@ -53,21 +56,21 @@ Result<void> Topic<T>::send_blocking(const T& msg, std::chrono::nanoseconds time
     explicit Blocking(Codec& c) : codec(c) { codec.set_blocking(true); }
     ~Blocking() { codec.set_blocking(false); }
   } blocking(codec_);
-  if (try_commit(msg)) return {};
+  if (try_commit(msg)) return committed();
   const auto deadline = clock::now() + timeout;
   for (int i = 0; i < 256; ++i) {
     shm::cpu_relax();
-    if (try_commit(msg)) return {};
+    if (try_commit(msg)) return committed();
   }
   for (int i = 0; i < 8; ++i) {
     std::this_thread::yield();
-    if (try_commit(msg)) return {};
+    if (try_commit(msg)) return committed();
   }
   for (auto now = clock::now(); now < deadline; now = clock::now()) {
     std::this_thread::sleep_for(std::min<clock::duration>(std::chrono::microseconds(100), deadline - now));
-    if (try_commit(msg)) return {};
+    if (try_commit(msg)) return committed();
     // A subscriber that died with unread messages must not hold us back: reap (every 50 ms).
-    if (detail::reap_dead_participants(core()) && try_commit(msg)) return {};
+    if (detail::reap_dead_participants(core()) && try_commit(msg)) return committed();
   }
   ++port_.counters.send_failures;
   if (auto e = codec_.full_error(port_)) return std::unexpected(std::move(*e));
