@@ -84,6 +84,7 @@ int cmd_config_explain(const std::string& topic, const std::string& file) {
   };
   fmt::print("  deadline    {:<16} {}\n", ms(c.deadline, "none"), from_where(c.deadline_from, c));
   fmt::print("  lifespan    {:<16} {}\n", ms(c.lifespan, "none"), from_where(c.lifespan_from, c));
+  if (c.priority) fmt::print("  priority    {:<16} {}\n", horus::to_string(*c.priority), from_where(c.priority_from, c));
   if (c.max_rate_hz) fmt::print("  max_rate_hz {:<16} {}\n", *c.max_rate_hz, from_where(c.max_rate_hz_from, c));
   if (c.max_bandwidth)
     fmt::print("  max_bandwidth {:<14} {}\n", fmt::format("{} B/s", *c.max_bandwidth), from_where(c.max_bandwidth_from, c));

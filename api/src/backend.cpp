@@ -22,6 +22,15 @@ std::string_view to_string(Scope s) noexcept {
   return "unknown";
 }
 
+std::string_view to_string(Priority p) noexcept {
+  switch (p) {
+    case Priority::Low: return "low";
+    case Priority::Normal: return "normal";
+    case Priority::High: return "high";
+  }
+  return "?";
+}
+
 std::string_view to_string(const Backend& b) noexcept {
   switch (b.scope()) {
     case Scope::Process: return "inproc";

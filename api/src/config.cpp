@@ -38,10 +38,11 @@ namespace {
 
 constexpr std::array<std::string_view, 3> kTopLevelKeys{"network", "fleet", "topics"};
 constexpr std::array<std::string_view, 4> kFleetKeys{"announce", "heartbeat_ms", "announce_ms", "misses"};
-constexpr std::array<std::string_view, 5> kNetworkKeys{"backend", "domain_id", "localhost_only", "lcm_url", "peers"};
-constexpr std::array<std::string_view, 10> kRuleKeys{"match",         "scope",    "backend",  "reliability",
+constexpr std::array<std::string_view, 6> kNetworkKeys{"backend", "domain_id",     "localhost_only",
+                                                       "lcm_url", "peers", "max_bandwidth"};
+constexpr std::array<std::string_view, 11> kRuleKeys{"match",         "scope",    "backend",  "reliability",
                                                      "durability",    "capacity", "max_rate_hz",
-                                                     "max_bandwidth", "deadline", "lifespan"};
+                                                     "max_bandwidth", "priority", "deadline", "lifespan"};
 
 template <std::size_t N>
 std::string one_of(const std::array<std::string_view, N>& names) {
@@ -160,6 +161,13 @@ class Parser {
       }
       out.peers = std::move(peers);
     }
+    if (const auto v = n["max_bandwidth"]) {
+      auto s = scalar(v, "network.max_bandwidth", "the host's link budget, a bandwidth such as \"2 MB/s\"");
+      if (!s) return std::unexpected(s.error());
+      const auto b = parse_bandwidth(*s);
+      if (const auto* why = std::get_if<std::string>(&b)) return bad(v, "network.max_bandwidth", *why);
+      out.max_bandwidth = std::get<std::uint64_t>(b);
+    }
     return {};
   }
 
@@ -268,6 +276,14 @@ class Parser {
       if (const auto* why = std::get_if<std::string>(&b)) return bad(v, where + ".max_bandwidth", *why);
       r.max_bandwidth = std::get<std::uint64_t>(b);
     }
+    if (const auto v = n["priority"]) {
+      auto s = scalar(v, where + ".priority", "high, normal or low");
+      if (!s) return std::unexpected(s.error());
+      if (*s == "high") r.priority = Priority::High;
+      else if (*s == "normal") r.priority = Priority::Normal;
+      else if (*s == "low") r.priority = Priority::Low;
+      else return bad(v, where + ".priority", fmt::format("unknown priority '{}'; expected high, normal or low", *s));
+    }
     for (const char* key : {"deadline", "lifespan"}) {
       const auto v = n[key];
       if (!v) continue;
@@ -277,8 +293,8 @@ class Parser {
       if (const auto* why = std::get_if<std::string>(&d)) return bad(v, where + "." + key, *why);
       (std::string_view(key) == "deadline" ? r.deadline : r.lifespan) = std::get<std::chrono::nanoseconds>(d);
     }
-    if ((r.max_rate_hz || r.max_bandwidth) && r.scope && *r.scope != Scope::Fleet)
-      return bad(n, where, fmt::format("max_rate_hz and max_bandwidth are budgets of the network (fleet topics); "
+    if ((r.max_rate_hz || r.max_bandwidth || r.priority) && r.scope && *r.scope != Scope::Fleet)
+      return bad(n, where, fmt::format("max_rate_hz, max_bandwidth and priority are budgets of the network (fleet topics); "
                                        "this rule's scope is {}",
                                        to_string(*r.scope)));
     return r;
@@ -486,6 +502,7 @@ Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code, con
   pick(code.durability, rule.durability, c.durability, c.durability_from);
   pick(code.max_rate_hz, rule.max_rate_hz, c.max_rate_hz, c.max_rate_hz_from);
   pick(code.max_bandwidth, rule.max_bandwidth, c.max_bandwidth, c.max_bandwidth_from);
+  pick(code.priority, rule.priority, c.priority, c.priority_from);
   pick(code.deadline, rule.deadline, c.deadline, c.deadline_from);
   pick(code.lifespan, rule.lifespan, c.lifespan, c.lifespan_from);
   return c;
@@ -507,6 +524,7 @@ Result<TopicOptions> resolve_topic_options(std::string_view topic, const TopicOp
   out.durability = c->durability;
   out.max_rate_hz = c->max_rate_hz;
   out.max_bandwidth = c->max_bandwidth;
+  out.priority = c->priority;
   out.deadline = c->deadline;
   out.lifespan = c->lifespan;
   return out;

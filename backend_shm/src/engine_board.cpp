@@ -121,6 +121,14 @@ std::uint64_t bridge_releases() noexcept {
   return slots == nullptr ? 0 : header_of(slots)->released.load(std::memory_order_acquire);
 }
 
+bool EngineBell::admit_link(std::size_t bytes, double ns_per_byte, std::int64_t tolerance_ns) noexcept {
+  if (slot_ == nullptr) return true;
+  const std::int64_t now =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  return admit_on_link(header_of(slot_ - index_)->link_tat, now,
+                       static_cast<std::int64_t>(static_cast<double>(bytes) * ns_per_byte), tolerance_ns);
+}
+
 bool notify_engine(std::uint64_t forward) noexcept {
   EngineSlot* slots = process_board().slots.load(std::memory_order_acquire);
   if (notify_in(slots, forward)) return true;

@@ -46,6 +46,7 @@ TopicOptions heartbeat_options(const std::string& transport) {
   o.capacity = 16;
   o.slot_size = kHeartbeatBytes;
   o.reliability = net::Reliability::BestEffort;
+  o.priority = Priority::High;  // the link budget serves the fleet's liveliness first
   return o;
 }
 
@@ -55,6 +56,7 @@ TopicOptions announce_options(const std::string& transport) {
   o.capacity = 4;
   o.slot_size = kAnnouncementBytes;
   o.reliability = net::Reliability::Reliable;
+  o.priority = Priority::High;
   return o;
 }
 
@@ -63,6 +65,7 @@ TopicOptions request_options(const std::string& transport) {
   o.backend = Backend::network(transport);
   o.capacity = 16;
   o.reliability = net::Reliability::Reliable;
+  o.priority = Priority::High;
   return o;
 }
 

@@ -451,7 +451,7 @@ bool Bridge::flush_stash() noexcept {
 // 10 ms meanwhile). True when nothing waits any more.
 bool Bridge::flush_latest() noexcept {
   if (!has_latest_) return true;
-  if (!budget_.admit(now_ns(), latest_.size())) {
+  if (!admit(now_ns(), latest_.size())) {
     engine_->recheck(*this, false);
     return false;
   }
@@ -515,12 +515,12 @@ bool Bridge::send(const void* msg) {
   }
   auto n = ops_.encoded_size(format_, msg);
   if (!n) return report(n.error());
-  if (budget_.active()) [[unlikely]] {
+  if (budgeted()) [[unlikely]] {
     if (has_latest_) {  // a newer message: the one the budget held back is not sent
       has_latest_ = false;
       budget_drop();
     }
-    if (!budget_.admit(now_ns(), *n)) {
+    if (!admit(now_ns(), *n)) {
       latest_.resize(*n);
       ops_.encode(format_, msg, latest_);
       has_latest_ = true;

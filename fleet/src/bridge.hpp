@@ -60,6 +60,11 @@ class EchoLedger {
 
 /// Keeps this host announced on a transport while held (agent.cpp).
 using Presence = std::shared_ptr<void>;
+
+// The host's link budget (network.max_bandwidth): how far ahead of now the link may be booked
+// for a Normal topic to go, and for a Low one (High always goes).
+inline constexpr std::chrono::milliseconds kLinkTolerance{50};
+inline constexpr std::chrono::milliseconds kLinkLowTolerance{10};
 Presence acquire_presence(const std::string& transport);
 
 class Bridge final : public horus::detail::NetworkLink, public net::Listener {
@@ -179,8 +184,16 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
     std::int64_t last_sent_ns = 0;
     bool any_sent = false;
     bool active() const noexcept { return min_interval_ns > 0 || bytes_per_ns > 0; }
-    bool admit(std::int64_t now, std::size_t bytes) noexcept;
+    bool allows(std::int64_t now, std::size_t bytes) noexcept;  // brings the bucket up to date
+    void spend(std::int64_t now, std::size_t bytes) noexcept;
   } budget_;
+  // The host's link budget (network.max_bandwidth: shared by the host's bridges on the engine
+  // board) and this topic's tolerance there, by its priority.
+  double link_ns_per_byte_ = 0;  // 0: no link budget
+  std::int64_t link_tolerance_ns_ = 0;
+  Priority priority_ = Priority::Normal;
+  bool budgeted() const noexcept { return budget_.active() || link_ns_per_byte_ > 0; }
+  bool admit(std::int64_t now, std::size_t bytes) noexcept;  // the topic's budget, then the link's
   std::vector<std::byte> latest_;
   bool has_latest_ = false;
   bool budget_logged_ = false;

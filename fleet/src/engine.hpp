@@ -93,6 +93,10 @@ class Engine {
   void remove_job(std::uint64_t id);
   /// Makes the job with this id due now.
   void wake_job(std::uint64_t id);
+  /// The host's link budget (on the engine board, shared by the host's bridges).
+  bool admit_link(std::size_t bytes, double ns_per_byte, std::int64_t tolerance_ns) noexcept {
+    return bell_.admit_link(bytes, ns_per_byte, tolerance_ns);
+  }
 
  private:
   Engine(const net::TransportInfo& info, net::Config config, std::shared_ptr<net::Transport> transport,

@@ -401,6 +401,69 @@ TEST_P(Faults, ABudgetSendsTheNewestAtItsRateAndCountsWhatItHoldsBack) {
   EXPECT_LE(held_back, 1000 - received) << info_out;
 }
 
+// The host's link budget with priorities: network.max_bandwidth "30 kB/s" on the sending host;
+// a high-priority topic (reliable, 1000 messages at 500 Hz: about 18-20 kB/s) and a low-priority
+// one (the same rate, best effort) from two processes of that host. The high one arrives whole;
+// the low one gets what the link has left (about half), the newest first, the rest counted as
+// budget dropped on the sending host.
+TEST_P(Faults, ALinkBudgetServesTheHighPriorityTopicFirstAndTheLowOneWithWhatIsLeft) {
+  if (!horus::backend_available(GetParam()))
+    GTEST_SKIP() << "this build has no " << horus::to_string(GetParam()) << " backend";
+  if (::geteuid() != 0) GTEST_SKIP() << "needs root for namespace hosts";
+  horus_test::NetnsLan lan(2, "p");
+  if (!lan.ok()) GTEST_SKIP() << "no namespace hosts: " << lan.why();
+  const bool lcm = GetParam() == horus::Backend::Lcm;
+  const std::string id = std::to_string(::getpid());
+  const std::string vital = "fleet.vital_" + id, bulk = "fleet.bulk_" + id;
+  const std::string config = "/tmp/horus_priority_" + id + ".yaml";
+  {
+    std::FILE* f = std::fopen(config.c_str(), "w");
+    ASSERT_NE(f, nullptr);
+    std::fprintf(f,
+                 "network:\n  max_bandwidth: \"30 kB/s\"\ntopics:\n  - match: \"%s\"\n    priority: high\n"
+                 "  - match: \"%s\"\n    priority: low\n",
+                 vital.c_str(), bulk.c_str());
+    std::fclose(f);
+  }
+  const std::vector<std::string> env = {
+      "HORUS_BACKEND=" + std::string(horus::to_string(GetParam())), "HORUS_CONFIG=" + config,
+      "HORUS_DOMAIN_ID=" + std::to_string(1 + (::getpid() + 139) % 200), "HORUS_DDS_LOCALHOST=0",
+      "HORUS_LCM_URL=udpm://239.255.76.68:" + std::to_string(20000 + (::getpid() * 29 + 7) % 20000) + "?ttl=1"};
+  const std::string start = std::to_string(unix_ms() + 3000);
+  std::vector<std::string> vital_pub = {FLEET_MEMBER, vital, "fleet", "1", "1000", start, "-1", "6"};
+  std::vector<std::string> bulk_pub = {FLEET_MEMBER, bulk, "fleet", "1", "1000", start, "-1", "6", "best-effort"};
+  if (!lcm) {
+    vital_pub.push_back("await-reader");
+    bulk_pub.push_back("await-reader");
+  }
+  auto vp = lan.spawn(0, vital_pub, env);
+  auto bp = lan.spawn(0, bulk_pub, env);
+  auto vs = lan.spawn(1, {FLEET_MEMBER, vital, "fleet", "0", "1000", start, "1", "8"}, env);
+  auto bs = lan.spawn(1, {FLEET_MEMBER, bulk, "fleet", "0", "1000", start, "1", "7", "best-effort"}, env);
+  EXPECT_EQ(vs.wait(30s), 0) << "the high-priority topic did not arrive whole:\n" << vs.output();
+  (void)bs.wait(30s);
+  auto info = lan.spawn(0, {HORUS_CLI, "topic", "info", bulk}, env);
+  (void)info.wait(20s);
+  (void)vp.wait(30s);
+  (void)bp.wait(30s);
+  std::remove(config.c_str());
+  const std::string out = bs.output(), info_out = info.output();
+  const auto at = out.find("received ");
+  ASSERT_NE(at, std::string::npos) << out;
+  const long long received = std::atoll(out.c_str() + at + 9);
+  const auto d = info_out.find("budget dropped ");
+  ASSERT_NE(d, std::string::npos) << "horus topic info does not show the budget's drops:\n" << info_out;
+  const long long held_back = std::atoll(info_out.c_str() + d + 15);
+  const auto vat = vs.output().find("received ");
+  std::printf("%s: link 30 kB/s: high priority %s; low priority received %lld of 1000, budget dropped %lld\n",
+              std::string(horus::to_string(GetParam())).c_str(),
+              vat == std::string::npos ? "?" : vs.output().substr(vat, 13).c_str(), received, held_back);
+  EXPECT_GE(received, 150) << "the low-priority topic got nothing of what the link had left:\n" << out;
+  EXPECT_LE(received, 900) << "the low-priority topic was not held back:\n" << out;
+  EXPECT_GE(held_back, 1000 - received - 100) << info_out;  // (best effort: the link may lose a few)
+  EXPECT_LE(held_back, 1000 - received) << info_out;
+}
+
 // A watchdog across hosts: the subscriber on host 1 watches a 100 ms deadline (mapped to the DDS
 // DEADLINE QoS, enforced by the handle on every backend). While the publisher on host 0 sends
 // every 2 ms no period is missed; once it stops, the misses count (5 periods of silence).

@@ -74,6 +74,12 @@ constexpr bool is_network(const Backend& b) noexcept { return b.scope() == Scope
 /// when its transport is registered (built into horus and linked through horus::horus).
 bool backend_available(const Backend& b) noexcept;
 
+/// A fleet topic's share of the host's link (the file's network.max_bandwidth): the host's
+/// bridges serve High first, then Normal, then Low (horus/backend.hpp, TopicOptions::priority).
+enum class Priority : std::uint8_t { Low, Normal, High };
+/// "low", "normal", "high".
+std::string_view to_string(Priority p) noexcept;
+
 /// Per-topic choices made in code (they take precedence over the environment).
 struct TopicOptions {
   std::optional<Backend> backend;         // default: HORUS_BACKEND, else shared memory
@@ -89,6 +95,13 @@ struct TopicOptions {
   // `horus topic info`, "budget dropped"). Local handles are not affected.
   std::optional<double> max_rate_hz = std::nullopt;
   std::optional<std::uint64_t> max_bandwidth = std::nullopt;  // bytes per second
+  // Fleet topics: the topic's share of the host's link budget (network.max_bandwidth in the
+  // file, shared by every process of the host). High always goes (and uses the link); Normal
+  // goes while what the host sent stays within 50 ms of the link's rate; Low within 10 ms, so
+  // that it leaves the link's last bytes to the others. What waits is the newest message
+  // (counted as budget dropped when a newer one replaces it). Default Normal; the fleet's own
+  // heartbeats and announcements are High.
+  std::optional<Priority> priority = std::nullopt;
   // Every backend (mapped to the DDS QoS of the same name on DDS, enforced by the handle
   // everywhere; horus/topic.hpp):
   // - deadline: the period a topic's messages must keep. A receiving handle counts each full

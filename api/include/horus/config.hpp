@@ -55,6 +55,7 @@ struct TopicRule {
   std::optional<std::uint32_t> capacity;
   std::optional<double> max_rate_hz;            // fleet topics: the host's egress budget
   std::optional<std::uint64_t> max_bandwidth;   // bytes per second ("2 MB/s", "20 Mbit/s" in the file)
+  std::optional<Priority> priority;             // fleet topics: the share of the host's link budget
   std::optional<std::chrono::nanoseconds> deadline;  // "100ms", "1.5 s" in the file
   std::optional<std::chrono::nanoseconds> lifespan;
 };
@@ -84,6 +85,7 @@ struct NetworkSection {
   std::optional<bool> localhost_only;
   std::optional<std::string> lcm_url;
   std::optional<std::vector<std::string>> peers;  // unicast discovery to these hosts, multicast off
+  std::optional<std::uint64_t> max_bandwidth;     // the host's link budget for fleet topics, bytes/s
 };
 
 /// A parsed configuration file.
@@ -143,6 +145,8 @@ struct TopicChoice {
   Source max_rate_hz_from = Source::Default;
   std::optional<std::uint64_t> max_bandwidth;   // bytes per second; nullopt: no budget
   Source max_bandwidth_from = Source::Default;
+  std::optional<Priority> priority;  // nullopt: normal
+  Source priority_from = Source::Default;
   std::optional<std::chrono::nanoseconds> deadline;  // nullopt: none
   Source deadline_from = Source::Default;
   std::optional<std::chrono::nanoseconds> lifespan;  // nullopt: messages never expire

@@ -11,6 +11,12 @@
 //   EngineBoardHeader  released  bridge claims given up by a live holder (a topic closed), host-
 //                          wide: the watchers' control threads look at it (one load every 50 ms)
 //                          and look at their topics' claims only when it moved.
+//                      link_tat  the host's link budget (network.max_bandwidth), shared by every
+//                          bridge of the host: when the link would have sent everything admitted
+//                          so far (CLOCK_MONOTONIC ns; a GCRA "theoretical arrival time"). A
+//                          message of b bytes is admitted when link_tat - now <= its priority's
+//                          tolerance and moves link_tat to max(link_tat, now) + b / rate.
+//                          Added in the header's padding: boards of older processes ignore it.
 //   EngineSlot   owner     (pid << 32) | generation; 0: free. The engine claims a slot (under
 //                          flock on the file) and frees it when it stops; a dead owner's slot is
 //                          claimed again (its pid no longer runs).
@@ -51,7 +57,21 @@ inline constexpr std::uint32_t kEngineBits = 64 * kEngineGroups;  // topics per 
 
 struct alignas(2 * kCacheLine) EngineBoardHeader {
   std::atomic<std::uint64_t> released;  // bridge claims given up (ShmSegment::release_bridge)
+  alignas(kCacheLine) std::atomic<std::int64_t> link_tat;  // the host's link budget (see above)
 };
+static_assert(sizeof(EngineBoardHeader) == 2 * kCacheLine, "the board's slots stay where they were");
+
+/// The host link budget's admission (GCRA) on `tat`: true, and `tat` moved by `cost_ns`, when
+/// the link's backlog (tat - now) is at most `tolerance_ns`.
+inline bool admit_on_link(std::atomic<std::int64_t>& tat, std::int64_t now_ns, std::int64_t cost_ns,
+                          std::int64_t tolerance_ns) noexcept {
+  std::int64_t cur = tat.load(std::memory_order_relaxed);
+  for (;;) {
+    const std::int64_t start = cur > now_ns ? cur : now_ns;
+    if (start - now_ns > tolerance_ns) return false;
+    if (tat.compare_exchange_weak(cur, start + cost_ns, std::memory_order_relaxed)) return true;
+  }
+}
 
 struct alignas(2 * kCacheLine) EngineSlot {
   std::atomic<std::uint64_t> owner;    // (pid << 32) | generation; 0: free
@@ -114,6 +134,9 @@ class EngineBell {
       }
     }
   }
+  /// The host's link budget: admits `bytes` at `ns_per_byte` when the link's backlog is within
+  /// `tolerance_ns` (admit_on_link on the board's header).
+  bool admit_link(std::size_t bytes, double ns_per_byte, std::int64_t tolerance_ns) noexcept;
   /// Sleeps while the word holds `seen`, until `deadline` (time_point::max(): none).
   void wait(std::uint32_t seen, std::chrono::steady_clock::time_point deadline) noexcept;
 
