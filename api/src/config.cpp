@@ -440,7 +440,7 @@ Result<const Config*> file_from(const Environment& env) {
 net::FileDefaults file_defaults(const Config* config) {
   if (config == nullptr) return {};
   const auto& n = config->network();
-  return {n.domain_id, n.localhost_only, n.lcm_url, n.peers, "configuration file '" + config->file() + "'"};
+  return {n.domain_id, n.localhost_only, n.lcm_url, n.peers, n.max_bandwidth, "configuration file '" + config->file() + "'"};
 }
 }  // namespace
 

@@ -281,6 +281,14 @@ Result<void> FastddsEndpoint::create(fd::Topic* topic, fd::ContentFilteredTopic*
   };
   if (q.deadline_ns > 0) wq.deadline().period = duration(q.deadline_ns);
   if (q.lifespan_ns > 0) wq.lifespan().duration = duration(q.lifespan_ns);
+  // The host's link budget: fragments paced by the participant's flow controller, by priority
+  // (fastdds.sfc.priority: -10 the highest, 10 the lowest). The write returns at once; the
+  // controller's thread sends.
+  if (transport_->paced()) {
+    wq.publish_mode().kind = fd::ASYNCHRONOUS_PUBLISH_MODE;
+    wq.publish_mode().flow_controller_name = kLinkFlowController;
+    wq.properties().properties().emplace_back("fastdds.sfc.priority", q.priority > 0 ? "-10" : q.priority < 0 ? "10" : "0");
+  }
 
   // The reader is created disabled (subscriber QoS), so the core knows it before data can arrive.
   reader_ = transport_->subscriber()->create_datareader(

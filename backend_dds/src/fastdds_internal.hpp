@@ -38,6 +38,8 @@
 #include <fastdds/dds/topic/TypeSupport.hpp>
 #include <fastdds/rtps/common/Guid.h>
 #include <fastdds/rtps/common/InstanceHandle.h>
+#include <fastdds/rtps/flowcontrol/FlowControllerDescriptor.hpp>
+#include <fastdds/rtps/flowcontrol/FlowControllerSchedulerPolicy.hpp>
 
 #include "fastdds_raw_type.hpp"
 #include "horus/error.hpp"
@@ -53,6 +55,10 @@ namespace rtps = eprosima::fastrtps::rtps;
 using eprosima::fastrtps::types::ReturnCode_t;
 
 inline constexpr std::int32_t kMaxBlockingMs = 100;  // reliable write: bounded wait
+// The host's link budget (net::Config::link_bandwidth): the participant's flow controller and
+// its slice of time.
+inline constexpr const char* kLinkFlowController = "horus.link";
+inline constexpr std::uint64_t kLinkPeriodMs = 5;
 
 // ---- thread context (fastdds_local.cpp) ------------------------------------------------------
 
@@ -233,6 +239,8 @@ class FastddsTransport final : public net::Transport, public std::enable_shared_
 
   // For endpoints.
   fd::Publisher* publisher() const { return publisher_; }
+  /// True when writers go through the link budget's flow controller (kLinkFlowController).
+  bool paced() const { return config_.link_bandwidth > 0; }
   fd::Subscriber* subscriber() const { return subscriber_; }
   void detach(const std::shared_ptr<Core>& core);
   void release_topic(const std::string& wire_topic);

@@ -30,6 +30,7 @@
 #include <netinet/in.h>
 #include <sys/socket.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <cstring>
@@ -189,6 +190,19 @@ Result<void> FastddsTransport::start() {
   // a late process or tool (a robot rebooting, `horus topic echo`) meets the fleet within about
   // a second. The lease stays 20 s.
   pq.wire_protocol().builtin.discovery_config.leaseDuration_announcementperiod = eprosima::fastrtps::Duration_t(1, 0);
+  // The host's link budget (network.max_bandwidth): the writers send through a flow controller
+  // that paces their fragments at it (kLinkPeriodMs slices), higher priority first, so that a
+  // pose goes between two fragments of a camera frame and a large frame does not overflow a
+  // short link queue. Fast DDS cuts fragments to fit one slice.
+  if (config_.link_bandwidth > 0) {
+    auto fc = std::make_shared<eprosima::fastdds::rtps::FlowControllerDescriptor>();
+    fc->name = kLinkFlowController;
+    fc->scheduler = eprosima::fastdds::rtps::FlowControllerSchedulerPolicy::HIGH_PRIORITY;
+    fc->max_bytes_per_period = static_cast<std::int32_t>(
+        std::clamp<std::uint64_t>(config_.link_bandwidth * kLinkPeriodMs / 1000, 1500, INT32_MAX));
+    fc->period_ms = kLinkPeriodMs;
+    pq.flow_controllers().push_back(fc);
+  }
 
   participant_ = factory_->create_participant(static_cast<fd::DomainId_t>(config_.domain_id), pq, &listener_,
                                               fd::StatusMask::none());

@@ -38,9 +38,14 @@ prog="$PWD/$build/bench/horus-slow-link-image"
 . scripts/lib/netns-hosts.sh
 config="$(mktemp /tmp/horus-priority-link.XXXXXX.yaml)" flat="$(mktemp /tmp/horus-priority-flat.XXXXXX.yaml)"
 trap 'nh_cleanup; rm -f "$config" "$flat"' EXIT
-nh_create "pl$$" "10.215.$(( $$ % 250 + 1 ))" robot base
-ip -n "${nh_prefix}h1" link set eth0 txqueuelen 1000
-tc -n "${nh_prefix}h1" qdisc replace dev eth0 root tbf rate "$rate" burst 32kb latency "$queue"
+# Fresh hosts for every run: what one run leaves on a host (its /dev/shm, the remote side's
+# discovery state) must not weigh on the next (seen: Fast DDS frames after an unpaced run).
+fresh_hosts() {
+  nh_cleanup
+  nh_create "pl$$" "10.215.$(( $$ % 250 + 1 ))" robot base
+  ip -n "${nh_prefix}h1" link set eth0 txqueuelen 1000
+  tc -n "${nh_prefix}h1" qdisc replace dev eth0 root tbf rate "$rate" burst 32kb latency "$queue"
+}
 printf 'network:\n  max_bandwidth: "%s"\ntopics:\n  - match: "fleet.camera.**"\n    priority: low\n  - match: "fleet.pose.**"\n    priority: high\n' \
   "$budget" > "$config"
 printf 'network:\n  max_bandwidth: "%s"\n' "$budget" > "$flat"
@@ -56,6 +61,7 @@ row() {  # reads "frames N age_ms p50 P p99 Q max M dropped D"
 for round in $(seq "$rounds"); do
   for b in $backends; do
     for mode in none flat link; do
+      fresh_hosts
       env="HORUS_BACKEND=$b HORUS_DOMAIN_ID=$(( $$ % 200 + 1 )) HORUS_DDS_LOCALHOST=0 HORUS_LCM_URL=udpm://239.255.76.71:$(( 20000 + $$ % 20000 ))?ttl=1&recv_buf_size=8388608"
       [ "$mode" = link ] && env="HORUS_CONFIG=$config $env"
       [ "$mode" = flat ] && env="HORUS_CONFIG=$flat $env"

@@ -6,16 +6,18 @@
 # machine.
 #
 #   sudo bench/fleet/slow_link.sh [--seconds 10] [--rate 20mbit] [--hz 10] [--rounds 2] [--backend all|cyclonedds|fastdds|lcm]
-#                                 [--budget "1.5 MB/s"] [--queue 100ms]
+#                                 [--budget "1.5 MB/s"] [--link "2 MB/s"] [--queue 100ms] [--side 1024]
 #
 # --queue is the tbf queue's length in time (its `latency`): what the link buffers.
 # --budget gives the camera topic that egress budget (max_bandwidth in a configuration file):
 # the camera host then sends the newest frames the budget allows, instead of every frame.
+# --link gives the camera host a link budget (network.max_bandwidth): the same, and Fast DDS
+# paces each frame's fragments at it (a flow controller).
 #
 # Prints, per backend and round: frames received, their age p50 / p99 / max in ms, dropped_count.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-seconds=10 rate=20mbit hz=10 rounds=2 backends="cyclonedds fastdds lcm" build=build/default budget="" queue=100ms
+seconds=10 rate=20mbit hz=10 rounds=2 backends="cyclonedds fastdds lcm" build=build/default budget="" link="" queue=100ms side=1024
 while [ $# -gt 0 ]; do
   case "$1" in
     --seconds) seconds="$2"; shift 2 ;;
@@ -26,6 +28,8 @@ while [ $# -gt 0 ]; do
     --build) build="$2"; shift 2 ;;
     --budget) budget="$2"; shift 2 ;;
     --queue) queue="$2"; shift 2 ;;
+    --link) link="$2"; shift 2 ;;
+    --side) side="$2"; shift 2 ;;
     *) echo "slow_link.sh: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done
@@ -36,13 +40,14 @@ prog="$PWD/$build/bench/horus-slow-link-image"
 trap 'nh_cleanup' EXIT
 nh_create "sl$$" "10.214.$(( $$ % 250 + 1 ))" camera viewer
 config=""
-if [ -n "$budget" ]; then
+if [ -n "$budget" ] || [ -n "$link" ]; then
   config="$(mktemp /tmp/horus-slow-link.XXXXXX.yaml)"
-  printf 'topics:\n  - match: "fleet.camera.**"\n    max_bandwidth: "%s"\n' "$budget" > "$config"
+  [ -z "$link" ] || printf 'network:\n  max_bandwidth: "%s"\n' "$link" > "$config"
+  [ -z "$budget" ] || printf 'topics:\n  - match: "fleet.camera.**"\n    max_bandwidth: "%s"\n' "$budget" >> "$config"
   trap 'nh_cleanup; rm -f "$config"' EXIT
 fi
 printf "%-11s %-10s %5s %7s %7s %7s %8s  (%s, 1 MiB frames at %s Hz, %s s%s)\n" backend link frames p50_ms p99_ms max_ms dropped \
-  "$rate, queue $queue" "$hz" "$seconds" "${budget:+, budget $budget}"
+  "$rate, queue $queue" "$hz" "$seconds" "${budget:+, budget $budget}${link:+, link budget $link}"
 for round in $(seq "$rounds"); do
   for b in $backends; do
     for link in unlimited "$rate"; do
@@ -58,7 +63,7 @@ for round in $(seq "$rounds"); do
       nh_on 2 env $env HORUS_BACKEND="$b" "$prog" sub "fleet.$topic" $(( seconds + 4 )) > "$out" 2>/dev/null &
       sub=$!
       sleep 2
-      nh_on 1 env $env "$prog" pub "fleet.$topic" "$hz" "$seconds" > /dev/null 2>&1 || true
+      nh_on 1 env $env "$prog" pub "fleet.$topic" "$hz" "$seconds" "$side" > /dev/null 2>&1 || true
       wait "$sub" || true
       read -r _ frames _ _ p50 _ p99 _ max _ dropped < "$out" || true
       printf "%-11s %-10s %5s %7s %7s %7s %8s\n" "$b" "$link" "${frames:--}" "${p50:--}" "${p99:--}" "${max:--}" "${dropped:--}"

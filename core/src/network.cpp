@@ -48,6 +48,7 @@ Result<Config> config_from(const Environment& env, const FileDefaults& file) {
   Config config;
   config.domain_id = file.domain_id.value_or(0);
   config.localhost_only = file.localhost_only.value_or(false);
+  config.link_bandwidth = file.link_bandwidth.value_or(0);
   if (!env.domain_id.empty()) {
     const std::string_view v(env.domain_id);
     std::uint32_t id = 0;

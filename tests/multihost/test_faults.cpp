@@ -430,16 +430,16 @@ TEST_P(Faults, ALinkBudgetServesTheHighPriorityTopicFirstAndTheLowOneWithWhatIsL
       "HORUS_DOMAIN_ID=" + std::to_string(1 + (::getpid() + 139) % 200), "HORUS_DDS_LOCALHOST=0",
       "HORUS_LCM_URL=udpm://239.255.76.68:" + std::to_string(20000 + (::getpid() * 29 + 7) % 20000) + "?ttl=1"};
   const std::string start = std::to_string(unix_ms() + 3000);
-  std::vector<std::string> vital_pub = {FLEET_MEMBER, vital, "fleet", "1", "1000", start, "-1", "6"};
-  std::vector<std::string> bulk_pub = {FLEET_MEMBER, bulk, "fleet", "1", "1000", start, "-1", "6", "best-effort"};
+  std::vector<std::string> vital_pub = {FLEET_MEMBER, vital, "fleet", "1", "1000", start, "-1", "8"};
+  std::vector<std::string> bulk_pub = {FLEET_MEMBER, bulk, "fleet", "1", "1000", start, "-1", "8", "best-effort"};
   if (!lcm) {
     vital_pub.push_back("await-reader");
     bulk_pub.push_back("await-reader");
   }
   auto vp = lan.spawn(0, vital_pub, env);
   auto bp = lan.spawn(0, bulk_pub, env);
-  auto vs = lan.spawn(1, {FLEET_MEMBER, vital, "fleet", "0", "1000", start, "1", "8"}, env);
-  auto bs = lan.spawn(1, {FLEET_MEMBER, bulk, "fleet", "0", "1000", start, "1", "7", "best-effort"}, env);
+  auto vs = lan.spawn(1, {FLEET_MEMBER, vital, "fleet", "0", "1000", start, "1", "7"}, env);
+  auto bs = lan.spawn(1, {FLEET_MEMBER, bulk, "fleet", "0", "1000", start, "1", "6", "best-effort"}, env);
   EXPECT_EQ(vs.wait(30s), 0) << "the high-priority topic did not arrive whole:\n" << vs.output();
   (void)bs.wait(30s);
   auto info = lan.spawn(0, {HORUS_CLI, "topic", "info", bulk}, env);

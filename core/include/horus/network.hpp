@@ -40,6 +40,7 @@ struct Qos {
   std::uint32_t depth = 16;  // history depth (KEEP_LAST), from the topic's capacity
   std::int64_t deadline_ns = 0;  // DEADLINE period (writer and reader); 0: none
   std::int64_t lifespan_ns = 0;  // LIFESPAN of a written sample; 0: none
+  std::int8_t priority = 0;      // the topic's share of the host's link: -1 low, 0 normal, 1 high
 };
 
 /// Process-wide settings of a transport (one participant per distinct DDS domain and
@@ -58,6 +59,9 @@ struct Config {
   /// (HORUS_PEERS, network.peers.) DDS only: the LCM transport refuses it.
   std::vector<std::string> peers;
   std::string peers_origin;  // where peers came from, for errors; empty when peers is
+  /// The host's link budget in bytes per second (network.max_bandwidth); 0: none. A transport
+  /// that can pace what it sends (Fast DDS's flow controllers) paces its fragments at it.
+  std::uint64_t link_bandwidth = 0;
   bool operator==(const Config&) const = default;
 };
 
@@ -68,6 +72,7 @@ struct FileDefaults {
   std::optional<bool> localhost_only;
   std::optional<std::string> lcm_url;
   std::optional<std::vector<std::string>> peers;  // checked by check_peer
+  std::optional<std::uint64_t> link_bandwidth;    // network.max_bandwidth
   std::string origin;
 };
 

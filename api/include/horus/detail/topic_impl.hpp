@@ -33,7 +33,10 @@ Result<Topic<T>> Topic<T>::make(std::string_view name, const TopicOptions& reque
     const net::Qos qos{options.reliability.value_or(net::default_qos<T>::reliability),
                        options.durability.value_or(net::default_qos<T>::durability), c.ring.capacity(),
                        options.deadline.value_or(std::chrono::nanoseconds::zero()).count(),
-                       options.lifespan.value_or(std::chrono::nanoseconds::zero()).count()};
+                       options.lifespan.value_or(std::chrono::nanoseconds::zero()).count(),
+                       static_cast<std::int8_t>(options.priority == Priority::High  ? 1
+                                                : options.priority == Priority::Low ? -1
+                                                                                    : 0)};
     if (auto ok = detail::connect_network(c, kWireOps, qos, options); !ok) return std::unexpected(std::move(ok.error()));
     topic.net_dropped_base_ = detail::network_dropped(c);
   }
