@@ -59,6 +59,7 @@ inline constexpr std::int32_t kMaxBlockingMs = 100;  // reliable write: bounded 
 // its slice of time.
 inline constexpr const char* kLinkFlowController = "horus.link";
 inline constexpr std::uint64_t kLinkPeriodMs = 5;
+inline constexpr std::uint32_t kLinkDatagramBytes = 1472;  // an Ethernet frame's UDP payload
 
 // ---- thread context (fastdds_local.cpp) ------------------------------------------------------
 

@@ -195,6 +195,11 @@ Result<void> FastddsTransport::start() {
   // pose goes between two fragments of a camera frame and a large frame does not overflow a
   // short link queue. Fast DDS cuts fragments to fit one slice.
   if (config_.link_bandwidth > 0) {
+    // A constrained link (Wi-Fi): datagrams that fit one Ethernet frame, so that a lost packet
+    // loses one RTPS fragment, not a whole IP-fragmented datagram, and lost IP fragments never
+    // fill the receiving kernel's reassembly memory (seen: 4 MiB of incomplete datagrams after
+    // a congested run made every fragmented datagram fail for 30 s).
+    udp->maxMessageSize = kLinkDatagramBytes;
     auto fc = std::make_shared<eprosima::fastdds::rtps::FlowControllerDescriptor>();
     fc->name = kLinkFlowController;
     fc->scheduler = eprosima::fastdds::rtps::FlowControllerSchedulerPolicy::HIGH_PRIORITY;

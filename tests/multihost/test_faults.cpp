@@ -401,11 +401,11 @@ TEST_P(Faults, ABudgetSendsTheNewestAtItsRateAndCountsWhatItHoldsBack) {
   EXPECT_LE(held_back, 1000 - received) << info_out;
 }
 
-// The host's link budget with priorities: network.max_bandwidth "30 kB/s" on the sending host;
+// The host's link budget with priorities: network.max_bandwidth "24 kB/s" on the sending host;
 // a high-priority topic (reliable, 1000 messages at 500 Hz: about 18-20 kB/s) and a low-priority
 // one (the same rate, best effort) from two processes of that host. The high one arrives whole;
-// the low one gets what the link has left (about half), the newest first, the rest counted as
-// budget dropped on the sending host.
+// the low one gets what the link has left (a fifth to a third at 500 Hz; more when a loaded
+// machine sends slower), the newest first, the rest counted as budget dropped on the sending host.
 TEST_P(Faults, ALinkBudgetServesTheHighPriorityTopicFirstAndTheLowOneWithWhatIsLeft) {
   if (!horus::backend_available(GetParam()))
     GTEST_SKIP() << "this build has no " << horus::to_string(GetParam()) << " backend";
@@ -420,7 +420,7 @@ TEST_P(Faults, ALinkBudgetServesTheHighPriorityTopicFirstAndTheLowOneWithWhatIsL
     std::FILE* f = std::fopen(config.c_str(), "w");
     ASSERT_NE(f, nullptr);
     std::fprintf(f,
-                 "network:\n  max_bandwidth: \"30 kB/s\"\ntopics:\n  - match: \"%s\"\n    priority: high\n"
+                 "network:\n  max_bandwidth: \"24 kB/s\"\ntopics:\n  - match: \"%s\"\n    priority: high\n"
                  "  - match: \"%s\"\n    priority: low\n",
                  vital.c_str(), bulk.c_str());
     std::fclose(f);
@@ -455,11 +455,11 @@ TEST_P(Faults, ALinkBudgetServesTheHighPriorityTopicFirstAndTheLowOneWithWhatIsL
   ASSERT_NE(d, std::string::npos) << "horus topic info does not show the budget's drops:\n" << info_out;
   const long long held_back = std::atoll(info_out.c_str() + d + 15);
   const auto vat = vs.output().find("received ");
-  std::printf("%s: link 30 kB/s: high priority %s; low priority received %lld of 1000, budget dropped %lld\n",
+  std::printf("%s: link 24 kB/s: high priority %s; low priority received %lld of 1000, budget dropped %lld\n",
               std::string(horus::to_string(GetParam())).c_str(),
               vat == std::string::npos ? "?" : vs.output().substr(vat, 13).c_str(), received, held_back);
-  EXPECT_GE(received, 150) << "the low-priority topic got nothing of what the link had left:\n" << out;
-  EXPECT_LE(received, 900) << "the low-priority topic was not held back:\n" << out;
+  EXPECT_GE(received, 20) << "the low-priority topic got nothing of what the link had left:\n" << out;
+  EXPECT_GE(held_back, 100) << "the low-priority topic was not held back:\n" << info_out;
   EXPECT_GE(held_back, 1000 - received - 100) << info_out;  // (best effort: the link may lose a few)
   EXPECT_LE(held_back, 1000 - received) << info_out;
 }
