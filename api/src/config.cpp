@@ -14,7 +14,9 @@
 #include <list>
 #include <mutex>
 #include <set>
+#include <span>
 #include <sstream>
+#include <type_traits>
 #include <utility>
 
 #include "horus/environment.hpp"
@@ -64,6 +66,17 @@ class Parser {
   }
 
   // A scalar's text, or an error naming the key and the type expected.
+  // A quantity at `key` (a bandwidth, a duration): `parse` gives its value or why it is not one.
+  template <class Parse>
+  auto quantity(const YAML::Node& n, const std::string& key, std::string_view expected, Parse parse) const
+      -> Result<std::remove_cvref_t<decltype(std::get<0>(parse(std::string_view{})))>> {
+    auto s = scalar(n, key, expected);
+    if (!s) return std::unexpected(s.error());
+    auto q = parse(*s);
+    if (const auto* why = std::get_if<std::string>(&q)) return bad(n, key, *why);
+    return std::get<0>(q);
+  }
+
   Result<std::string> scalar(const YAML::Node& n, std::string_view key, std::string_view expected) const {
     if (!n.IsScalar()) return bad(n, key, fmt::format("expected {}, found {}", expected, kind(n)));
     return n.Scalar();
@@ -162,11 +175,10 @@ class Parser {
       out.peers = std::move(peers);
     }
     if (const auto v = n["max_bandwidth"]) {
-      auto s = scalar(v, "network.max_bandwidth", "the host's link budget, a bandwidth such as \"2 MB/s\"");
-      if (!s) return std::unexpected(s.error());
-      const auto b = parse_bandwidth(*s);
-      if (const auto* why = std::get_if<std::string>(&b)) return bad(v, "network.max_bandwidth", *why);
-      out.max_bandwidth = std::get<std::uint64_t>(b);
+      auto b = quantity(v, "network.max_bandwidth", "the host's link budget, a bandwidth such as \"2 MB/s\"",
+                        parse_bandwidth);
+      if (!b) return std::unexpected(b.error());
+      out.max_bandwidth = *b;
     }
     return {};
   }
@@ -270,11 +282,9 @@ class Parser {
       r.max_rate_hz = hz;
     }
     if (const auto v = n["max_bandwidth"]) {
-      auto s = scalar(v, where + ".max_bandwidth", "a bandwidth such as \"2 MB/s\"");
-      if (!s) return std::unexpected(s.error());
-      const auto b = parse_bandwidth(*s);
-      if (const auto* why = std::get_if<std::string>(&b)) return bad(v, where + ".max_bandwidth", *why);
-      r.max_bandwidth = std::get<std::uint64_t>(b);
+      auto b = quantity(v, where + ".max_bandwidth", "a bandwidth such as \"2 MB/s\"", parse_bandwidth);
+      if (!b) return std::unexpected(b.error());
+      r.max_bandwidth = *b;
     }
     if (const auto v = n["priority"]) {
       auto s = scalar(v, where + ".priority", "high, normal or low");
@@ -287,11 +297,9 @@ class Parser {
     for (const char* key : {"deadline", "lifespan"}) {
       const auto v = n[key];
       if (!v) continue;
-      auto s = scalar(v, where + "." + key, "a duration such as \"100ms\"");
-      if (!s) return std::unexpected(s.error());
-      const auto d = parse_duration(*s);
-      if (const auto* why = std::get_if<std::string>(&d)) return bad(v, where + "." + key, *why);
-      (std::string_view(key) == "deadline" ? r.deadline : r.lifespan) = std::get<std::chrono::nanoseconds>(d);
+      auto d = quantity(v, where + "." + key, "a duration such as \"100ms\"", parse_duration);
+      if (!d) return std::unexpected(d.error());
+      (std::string_view(key) == "deadline" ? r.deadline : r.lifespan) = *d;
     }
     if ((r.max_rate_hz || r.max_bandwidth || r.priority) && r.scope && *r.scope != Scope::Fleet)
       return bad(n, where, fmt::format("max_rate_hz, max_bandwidth and priority are budgets of the network (fleet topics); "
@@ -530,60 +538,54 @@ Result<TopicOptions> resolve_topic_options(std::string_view topic, const TopicOp
   return out;
 }
 
-std::variant<std::uint64_t, std::string> parse_bandwidth(std::string_view text) {
-  constexpr std::string_view kExpected =
-      "expected bytes per second, or a number with a unit: B/s, kB/s, MB/s, GB/s, KiB/s, MiB/s, GiB/s, kbit/s, "
-      "Mbit/s, Gbit/s (such as \"2 MB/s\" or \"20 Mbit/s\")";
+namespace {
+// A number above 0 and a unit from `units` (a quantity of the file: "2 MB/s", "100ms"),
+// scaled to the unit's factor and checked against [lo, hi]; an error message naming what was
+// wrong and `expected`, or the value. `what` names the kind ("a bandwidth", "a duration").
+struct Unit {
+  std::string_view name;
+  double factor;
+};
+std::variant<double, std::string> parse_quantity(std::string_view text, std::span<const Unit> units, double lo,
+                                                 double hi, std::string_view what, std::string_view range,
+                                                 std::string_view expected) {
   std::string_view t = text;
   while (!t.empty() && t.front() == ' ') t.remove_prefix(1);
   while (!t.empty() && t.back() == ' ') t.remove_suffix(1);
   double value = 0;
   const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), value);
-  if (ec != std::errc{} || !(value > 0))
-    return fmt::format("'{}' is not a bandwidth; {}", text, kExpected);
+  if (ec != std::errc{} || !(value > 0)) return fmt::format("'{}' is not {}; {}", text, what, expected);
   std::string_view unit(end, static_cast<std::size_t>(t.data() + t.size() - end));
   while (!unit.empty() && unit.front() == ' ') unit.remove_prefix(1);
-  struct Unit {
-    std::string_view name;
-    double bytes;
-  };
-  constexpr Unit kUnits[] = {{"", 1},          {"B/s", 1},           {"kB/s", 1e3},      {"MB/s", 1e6},
-                             {"GB/s", 1e9},    {"KiB/s", 1024.0},    {"MiB/s", 1048576.0}, {"GiB/s", 1073741824.0},
-                             {"kbit/s", 125},  {"Mbit/s", 125000},   {"Gbit/s", 125000000}};
-  for (const Unit& u : kUnits) {
+  for (const Unit& u : units) {
     if (unit != u.name) continue;
-    const double bytes = value * u.bytes;
-    if (bytes < 1 || bytes > 1e12)
-      return fmt::format("'{}' is out of range (1 B/s to 1000 GB/s); {}", text, kExpected);
-    return static_cast<std::uint64_t>(bytes);
+    const double scaled = value * u.factor;
+    if (scaled < lo || scaled > hi) return fmt::format("'{}' is out of range ({}); {}", text, range, expected);
+    return scaled;
   }
-  return fmt::format("'{}' has an unknown unit '{}'; {}", text, unit, kExpected);
+  if (unit.empty()) return fmt::format("'{}' has no unit; {}", text, expected);
+  return fmt::format("'{}' has an unknown unit '{}'; {}", text, unit, expected);
+}
+}  // namespace
+
+std::variant<std::uint64_t, std::string> parse_bandwidth(std::string_view text) {
+  static constexpr Unit kUnits[] = {{"", 1},          {"B/s", 1},           {"kB/s", 1e3},      {"MB/s", 1e6},
+                                    {"GB/s", 1e9},    {"KiB/s", 1024.0},    {"MiB/s", 1048576.0}, {"GiB/s", 1073741824.0},
+                                    {"kbit/s", 125},  {"Mbit/s", 125000},   {"Gbit/s", 125000000}};
+  auto q = parse_quantity(text, kUnits, 1, 1e12, "a bandwidth", "1 B/s to 1000 GB/s",
+                          "expected bytes per second, or a number with a unit: B/s, kB/s, MB/s, GB/s, KiB/s, MiB/s, "
+                          "GiB/s, kbit/s, Mbit/s, Gbit/s (such as \"2 MB/s\" or \"20 Mbit/s\")");
+  if (auto* why = std::get_if<std::string>(&q)) return std::move(*why);
+  return static_cast<std::uint64_t>(std::get<double>(q));
 }
 
 std::variant<std::chrono::nanoseconds, std::string> parse_duration(std::string_view text) {
-  constexpr std::string_view kExpected =
-      "expected a duration above 0 with a unit: ns, us, ms, s or min (such as \"100ms\" or \"1.5 s\")";
-  std::string_view t = text;
-  while (!t.empty() && t.front() == ' ') t.remove_prefix(1);
-  while (!t.empty() && t.back() == ' ') t.remove_suffix(1);
-  double value = 0;
-  const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), value);
-  if (ec != std::errc{} || !(value > 0)) return fmt::format("'{}' is not a duration; {}", text, kExpected);
-  std::string_view unit(end, static_cast<std::size_t>(t.data() + t.size() - end));
-  while (!unit.empty() && unit.front() == ' ') unit.remove_prefix(1);
-  if (unit.empty()) return fmt::format("'{}' has no unit; {}", text, kExpected);
-  struct Unit {
-    std::string_view name;
-    double ns;
-  };
-  static constexpr std::array<Unit, 5> kUnits{{{"ns", 1}, {"us", 1e3}, {"ms", 1e6}, {"s", 1e9}, {"min", 60e9}}};
-  for (const Unit& u : kUnits) {
-    if (unit != u.name) continue;
-    const double ns = value * u.ns;
-    if (ns < 1 || ns > 1e15) return fmt::format("'{}' is out of range (1 ns to 11 days); {}", text, kExpected);
-    return std::chrono::nanoseconds(static_cast<std::int64_t>(ns));
-  }
-  return fmt::format("'{}' has an unknown unit '{}'; {}", text, unit, kExpected);
+  static constexpr Unit kUnits[] = {{"ns", 1}, {"us", 1e3}, {"ms", 1e6}, {"s", 1e9}, {"min", 60e9}};
+  auto q = parse_quantity(text, kUnits, 1, 1e15, "a duration", "1 ns to 11 days",
+                          "expected a duration above 0 with a unit: ns, us, ms, s or min (such as \"100ms\" or "
+                          "\"1.5 s\")");
+  if (auto* why = std::get_if<std::string>(&q)) return std::move(*why);
+  return std::chrono::nanoseconds(static_cast<std::int64_t>(std::get<double>(q)));
 }
 
 Result<FleetSettings> fleet_settings() {
