@@ -5,12 +5,17 @@
 // The handshake, on PREFIX.control (GenericMessage, a MessagePack map of strings):
 //   ping -> hello {run, type, size, ping, pong, host, pid}    every 250 ms until a pong is ready
 //   pong -> ready {run, host, pid} | busy {run, host, pid, serving} | error {run, host, pid, what}
-//   ping -> start {run, host, pid}                            the pong it measures with
+//   ping -> start {run, host, pid, stamps}                    the pong it measures with (stamps=1: note echo times)
+//   pong -> stamps {run, t0, d, last}                         echo times, every 50 ms (bench_cmd_internal.hpp)
+//   ping -> flush {run}                                       after the drain: the echo times left, last=1
 //   ping -> bye {run}                                         the run is over
 // A pong opens PREFIX.ping.TYPE and PREFIX.pong.TYPE for a hello's type and echoes what arrives
 // on the first into the second, unchanged, until bye, a start naming another pong, or 10 s
 // without traffic. The ping tags each message with its sequence number (bench_peer.hpp), keeps
 // its send time, and takes one-way latency as half the round trip: one clock, no clock sync.
+// On fleet topics it also prints each way apart (one-way by clock): the pong notes when it echoed
+// a message on its host's clock, and the ping corrects that by the clock offset the fleet's
+// heartbeats measured (horus::Fleet), or by none with --clocks-synced.
 #include "bench_cmd.hpp"
 
 #include <fmt/format.h>
@@ -18,19 +23,20 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "bench_cmd_internal.hpp"
-#include "horus/detail/cache_floor.hpp"
 #include "bench_peer.hpp"
 #include "horus/config.hpp"
 #include "horus/detail/cache_floor.hpp"
@@ -109,6 +115,55 @@ std::string get(const Fields& f, const std::string& k) {
   return it == f.end() ? std::string() : it->second;
 }
 
+// -- echo times -------------------------------------------------------------------------------
+
+std::int64_t clock_base() {
+  std::int64_t best_gap = INT64_MAX, base = 0;
+  for (int i = 0; i < 5; ++i) {
+    const std::int64_t a = bench_now_ns();
+    const std::int64_t u = fleet::host_clock_unix_ns();
+    const std::int64_t b = bench_now_ns();
+    if (b - a < best_gap) {
+      best_gap = b - a;
+      base = u - a - (b - a) / 2;
+    }
+  }
+  return base;
+}
+
+void send_stamps(Control& control, const std::string& run, const std::vector<BenchPeer::EchoStamp>& stamps, bool last) {
+  std::size_t i = 0;
+  do {
+    const std::int64_t first = i < stamps.size() ? stamps[i].at : 0;
+    std::string d;
+    for (; i < stamps.size() && d.size() < kStampsPerMessageBytes; ++i)
+      d += fmt::format("{}{:x}:{:x}", d.empty() ? "" : ",", stamps[i].tag, stamps[i].at - first);
+    if (d.empty() && !last) return;
+    control.send({{"op", "stamps"}, {"run", run}, {"t0", std::to_string(first)}, {"d", d},
+                  {"last", last && i == stamps.size() ? "1" : "0"}});
+  } while (i < stamps.size());
+}
+
+std::optional<std::vector<BenchPeer::EchoStamp>> parse_stamps(const Fields& f) {
+  const std::string t0 = get(f, "t0"), d = get(f, "d");
+  char* end = nullptr;
+  errno = 0;
+  const long long first = std::strtoll(t0.c_str(), &end, 10);
+  if (t0.empty() || *end != '\0' || errno != 0) return std::nullopt;
+  std::vector<BenchPeer::EchoStamp> out;
+  const char* p = d.c_str();
+  while (*p != '\0') {
+    const unsigned long long tag = std::strtoull(p, &end, 16);
+    if (end == p || *end != ':') return std::nullopt;
+    p = end + 1;
+    const long long dt = std::strtoll(p, &end, 16);
+    if (end == p || (*end != ',' && *end != '\0') || dt < 0) return std::nullopt;
+    out.push_back({tag, first + dt});
+    p = *end == ',' ? end + 1 : end;
+  }
+  return out;
+}
+
 // -- arguments --------------------------------------------------------------------------------
 
 bool check_args(const BenchArgs& a, const char* cmd, std::optional<Backend>* backend) {
@@ -139,16 +194,34 @@ struct PongSession {
   std::atomic<bool> stop{false};
   std::atomic<std::uint64_t> echoed{0};
   std::atomic<std::int64_t> last_ns{0};
+  // The echo times the ping asked for (start with stamps=1), at most one per kStampEveryNs,
+  // sent on the control topic every kStampFlushNs.
+  std::atomic<bool> stamps{false};
+  std::mutex stamp_mutex;
+  std::vector<BenchPeer::EchoStamp> pending;
+  std::int64_t clock_base = 0;  // clock_base(): this host's fleet clock minus bench_now_ns()
+  std::int64_t last_flush = 0;
   std::thread thread;
 };
 
+constexpr std::int64_t kStampEveryNs = 1'000'000, kStampFlushNs = 50'000'000;
+constexpr std::size_t kMaxPendingStamps = 4096;
+
 void echo_loop(PongSession& s, bool spin, int cpu) {
   pin_to_cpu(cpu);
+  std::int64_t last_stamp = 0;
   while (!s.stop.load(std::memory_order_relaxed)) {
     bool any = false;
-    while (s.peer_endpoint->echo_one()) {
+    const bool stamps = s.stamps.load(std::memory_order_relaxed);
+    BenchPeer::EchoStamp stamp;
+    while (s.peer_endpoint->echo_one(stamps ? &stamp : nullptr)) {
       s.echoed.fetch_add(1, std::memory_order_relaxed);
       any = true;
+      if (stamps && stamp.at - last_stamp >= kStampEveryNs) {
+        last_stamp = stamp.at;
+        std::lock_guard lock(s.stamp_mutex);
+        if (s.pending.size() < kMaxPendingStamps) s.pending.push_back(stamp);
+      }
     }
     if (any) s.last_ns.store(bench_now_ns(), std::memory_order_relaxed);
     if (spin) bench::spin_pause();
@@ -157,6 +230,20 @@ void echo_loop(PongSession& s, bool spin, int cpu) {
 }
 
 constexpr std::int64_t kPongIdleNs = 10'000'000'000;
+
+// Sends what the echo thread noted since the last flush (every kStampFlushNs, and at the end).
+// `last`: the ping asked (flush), it waits for a message with last=1.
+void flush_stamps(Control& control, PongSession& s, std::int64_t now, bool force, bool last = false) {
+  if (!s.stamps.load() || (!force && now - s.last_flush < kStampFlushNs)) return;
+  s.last_flush = now;
+  std::vector<BenchPeer::EchoStamp> batch;
+  {
+    std::lock_guard lock(s.stamp_mutex);
+    batch.swap(s.pending);
+  }
+  for (auto& b : batch) b.at += s.clock_base;
+  send_stamps(control, s.run, batch, last);
+}
 
 }  // namespace
 
@@ -191,7 +278,7 @@ int run_pong(const BenchArgs& a, const std::optional<Backend>& backend, const st
     ++finished;
   };
   while (!stop.load()) {
-    (void)control->wait(std::chrono::milliseconds(100));
+    (void)control->wait(std::chrono::milliseconds(sessions.empty() ? 100 : 20));
     while (auto f = control->recv()) {
       const std::string op = get(*f, "op"), run = get(*f, "run");
       if (op == "hello") {
@@ -222,6 +309,7 @@ int run_pong(const BenchArgs& a, const std::optional<Backend>& backend, const st
         s->ping_topic = ping_topic;
         s->peer_endpoint = std::move(peer);
         s->last_ns.store(bench_now_ns());
+        s->clock_base = clock_base();
         auto* raw = s.get();
         s->thread = std::thread([raw, spin = a.spin, cpu = a.cpu] { echo_loop(*raw, spin, cpu); });
         if (!a.quiet)
@@ -232,14 +320,20 @@ int run_pong(const BenchArgs& a, const std::optional<Backend>& backend, const st
         control->send({{"op", "ready"}, {"run", run}, {"host", host}, {"hostid", hostid}, {"pid", pid}});
       } else if (op == "start") {
         if (get(*f, "host") != host || get(*f, "pid") != pid) close(run, "the ping chose another pong");
+        else if (auto it = sessions.find(run); it != sessions.end() && get(*f, "stamps") == "1")
+          it->second->stamps.store(true);
+      } else if (op == "flush") {
+        if (auto it = sessions.find(run); it != sessions.end()) flush_stamps(*control, *it->second, bench_now_ns(), true, true);
       } else if (op == "bye") {
         close(run, "done");
       }
     }
     const auto now = bench_now_ns();
     std::vector<std::string> idle;
-    for (const auto& [r, s] : sessions)
+    for (const auto& [r, s] : sessions) {
+      flush_stamps(*control, *s, now, false);
       if (now - s->last_ns.load() > kPongIdleNs) idle.push_back(r);
+    }
     for (const auto& r : idle) close(r, "no traffic for 10 s");
     if (a.once && finished > 0 && sessions.empty()) break;
   }

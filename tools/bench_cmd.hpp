@@ -21,6 +21,7 @@ struct BenchArgs {
   double handshake = 0;          // seconds the pong may take to answer (0: the warm-up; horus bench local: longer)
   double timeout = 1;            // --timeout S: an echo later than this is lost
   bool remote = false;           // --remote: the pong must be on another host
+  bool clocks_synced = false;    // --clocks-synced: the hosts' clocks agree (PTP): no offset for one-way by clock
   bool spin = false;             // --spin: poll instead of sleeping in recv_for
   bool quiet = false;            // --quiet: no progress line
   std::string json, csv, plot;   // output files ("-": stdout for json and csv)

@@ -10,8 +10,10 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "bench_cmd.hpp"
+#include "bench_peer.hpp"
 #include "bench_stats.hpp"
 #include "horus/config.hpp"
 #include "horus/msg/generic.hpp"
@@ -74,6 +76,21 @@ class Control {
 // A control message's field `k` (empty when it has none).
 std::string get(const Fields& f, const std::string& k);
 
+// Echo times (the ping asks for them with stamps=1 in its start): the pong notes, at most once
+// a millisecond, a message's tag and when it echoed it on its host's fleet clock
+// (fleet::host_clock_unix_ns, the clock the fleet's heartbeats compare), and sends them on the
+// control topic: {op: stamps, run, t0: the first time (Unix ns), d: "TAG:DT,..." (hex; DT: ns
+// after t0), last: 1 on the last answer to the ping's {op: flush, run}}, a message per
+// kStampsPerMessageBytes of text.
+constexpr std::size_t kStampsPerMessageBytes = 3000;
+// This host's fleet clock minus bench_now_ns() (the pair of readings closest in time of five).
+std::int64_t clock_base();
+void send_stamps(Control& control, const std::string& run, const std::vector<BenchPeer::EchoStamp>& stamps,
+                 bool last);
+// The stamps of a control message (`at`: Unix ns of the pong's fleet clock); nothing when it is
+// malformed.
+std::optional<std::vector<BenchPeer::EchoStamp>> parse_stamps(const Fields& f);
+
 // Checks the arguments and, when `backend` is given, parses --backend into it; prints what is
 // wrong and returns false otherwise.
 bool check_args(const BenchArgs& a, const char* cmd, std::optional<Backend>* backend = nullptr);
@@ -96,6 +113,14 @@ struct PingResult {
   std::uint32_t window = 0;
   LatencyHistogram one_way;
   std::int64_t start_unix_ns = 0;
+  // One-way latencies by clock, each way, from the pong's echo times (fleet topics): the pong's
+  // clock minus ours from `source` ("same host", "synced": --clocks-synced, "fleet": the
+  // heartbeats' NTP-style offset; "none": not measured, `why`).
+  std::string pong_hostid;
+  std::string clock_source = "none", clock_why;
+  std::int64_t clock_offset_ns = 0, clock_uncertainty_ns = 0;
+  std::uint64_t clock_below_zero = 0;  // samples below 0 each way (the offset's error exceeds them): counted as 0
+  LatencyHistogram forward, back;      // ping -> pong, pong -> ping
 };
 
 // One ping run: the handshake with a pong, the warm-up, the measurement and the drain.

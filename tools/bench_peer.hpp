@@ -44,8 +44,15 @@ class BenchPeer {
   virtual bool send(std::uint64_t tag, std::int64_t& sent_at) = 0;
   /// The tag of the next received message, or nothing when none is waiting.
   virtual std::optional<std::uint64_t> recv_tag() = 0;
-  /// Receives one message and sends it back unchanged; false when none was waiting.
-  virtual bool echo_one() = 0;
+  /// What the pong notes of an echo when the ping asks for its clock (bench_cmd.cpp): the
+  /// message's tag and the time (bench_now_ns()) between receiving it and sending it back.
+  struct EchoStamp {
+    std::uint64_t tag = 0;
+    std::int64_t at = 0;
+  };
+  /// Receives one message and sends it back unchanged; false when none was waiting. Fills
+  /// `stamp` when it is not null.
+  virtual bool echo_one(EchoStamp* stamp) = 0;
   /// Sleeps until a message is waiting or `timeout` passes; true when one is.
   virtual bool wait(std::chrono::nanoseconds timeout) = 0;
   /// Tags are carried modulo this (the field that carries them: 2^23 for a float, 2^62 for a

@@ -223,19 +223,16 @@ class BenchPeerOf final : public BenchPeer {
   std::optional<std::uint64_t> recv_tag() override {
     auto m = in_.recv();
     if (!m) return std::nullopt;
-    if constexpr (Topic<M>::kPooled) {
-      std::uint64_t t = 0;
-      const auto bytes = static_cast<const M&>(*m).data();
-      std::memcpy(&t, bytes.data(), std::min<std::size_t>(sizeof t, bytes.size()));
-      return t;
-    } else {
-      return take_tag(static_cast<const M&>(*m));
-    }
+    return tag_of(static_cast<const M&>(*m));
   }
 
-  bool echo_one() override {
+  bool echo_one(EchoStamp* stamp) override {
     auto m = in_.recv();
     if (!m) return false;
+    if (stamp != nullptr) {
+      stamp->tag = tag_of(static_cast<const M&>(*m));
+      stamp->at = bench_now_ns();
+    }
     out_.send(static_cast<const M&>(*m));
     return true;
   }
@@ -274,6 +271,17 @@ class BenchPeerOf final : public BenchPeer {
   std::string backend() const override { return std::string(to_string(out_.backend())); }
 
  private:
+  static std::uint64_t tag_of(const M& m) {
+    if constexpr (Topic<M>::kPooled) {
+      std::uint64_t t = 0;
+      const auto bytes = m.data();
+      std::memcpy(&t, bytes.data(), std::min<std::size_t>(sizeof t, bytes.size()));
+      return t;
+    } else {
+      return take_tag(m);
+    }
+  }
+
   Topic<M> in_;
   Topic<M> out_;
   M sample_{};

@@ -33,6 +33,7 @@
 #include "bench_stats.hpp"
 #include "horus/config.hpp"
 #include "horus/detail/cache_floor.hpp"
+#include "horus/fleet.hpp"
 
 extern char** environ;
 
@@ -89,6 +90,75 @@ class Ledger {
   std::vector<Slot> slots_;
   std::uint64_t oldest_ = 0, outstanding_ = 0;
 };
+
+// The ping's side of one-way by clock: the send and receive times of measured echoes (a ring by
+// sequence number), matched with the pong's echo times as they arrive on the control topic.
+class ClockSamples {
+ public:
+  static constexpr std::size_t kSize = std::size_t{1} << 16;
+  static constexpr std::size_t kMaxMatched = std::size_t{1} << 22;
+  ClockSamples() : ring_(kSize) {}
+  void echoed(std::uint64_t seq, std::int64_t sent, std::int64_t received) {
+    ring_[seq & (kSize - 1)] = Entry{seq, sent, received};
+  }
+  // The pong echoed `seq` at `pong_unix` (its fleet clock); ignored unless `seq` was measured.
+  void stamped(std::uint64_t seq, std::int64_t pong_unix) {
+    const auto& e = ring_[seq & (kSize - 1)];
+    if (e.seq != seq || matched_.size() >= kMaxMatched) return;
+    matched_.push_back(Match{e.sent, pong_unix, e.received});
+  }
+  std::size_t size() const { return matched_.size(); }
+  // Each way's latency with the pong's clock taken as ours + `offset`; `base`: our fleet clock
+  // minus bench_now_ns().
+  void resolve(std::int64_t base, std::int64_t offset, PingResult& r) const {
+    for (const auto& m : matched_) {
+      const std::int64_t pong = m.pong - offset - base;  // on our steady clock
+      const std::int64_t there = pong - m.sent, back = m.received - pong;
+      if (there < 0 || back < 0) ++r.clock_below_zero;
+      r.forward.add(static_cast<std::uint64_t>(std::max<std::int64_t>(0, there)));
+      r.back.add(static_cast<std::uint64_t>(std::max<std::int64_t>(0, back)));
+    }
+  }
+
+ private:
+  struct Entry {
+    std::uint64_t seq = UINT64_MAX;
+    std::int64_t sent = 0, received = 0;
+  };
+  struct Match {
+    std::int64_t sent, pong, received;
+  };
+  std::vector<Entry> ring_;
+  std::vector<Match> matched_;
+};
+
+// The pong's clock against ours, for one-way by clock: r.clock_*.
+void choose_clock(const BenchArgs& a, const std::string& hostid, Fleet* fleet, PingResult& r) {
+  if (r.pong_hostid == hostid) {
+    r.clock_source = "same host";
+    return;
+  }
+  if (a.clocks_synced) {
+    r.clock_source = "synced";
+    return;
+  }
+  if (fleet == nullptr) return;  // clock_why says why
+  for (const auto& h : fleet->hosts()) {
+    if (fmt::format("{:016x}", h.id) != r.pong_hostid) continue;
+    if (!h.clock_offset) {
+      r.clock_why = fmt::format("the fleet has no clock offset for {} yet (none of its heartbeats was echoed); "
+                                "--clocks-synced uses the clocks as they are",
+                                h.name);
+      return;
+    }
+    r.clock_source = "fleet";
+    r.clock_offset_ns = std::chrono::nanoseconds(*h.clock_offset).count();
+    r.clock_uncertainty_ns = h.clock_uncertainty ? std::chrono::nanoseconds(*h.clock_uncertainty).count() : 0;
+    return;
+  }
+  r.clock_why = fmt::format("the fleet view has no host {} ({}): is the fleet layer off there (fleet.announce: false)?",
+                            r.pong_host, r.pong_hostid);
+}
 
 std::string no_pong_error(const PingResult& r, const std::string& prefix, const Backend& b, const std::string& origin,
                           bool remote, const std::vector<std::string>& refusals) {
@@ -157,6 +227,15 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
                                     "match: \"{}.**\" scope: fleet",
                                     r.ping_topic, choice->backend.scope() == Scope::Process ? "process" : "host",
                                     to_string(choice->backend.scope()), choice_origin(*choice), a.prefix));
+  // One-way by clock on fleet topics (on one host the round trip's half is as good).
+  const bool by_clock = choice->backend.scope() == Scope::Fleet;
+  std::unique_ptr<Fleet> fleet;
+  if (by_clock && !a.clocks_synced) {
+    FleetOptions fo;
+    fo.transport = std::string(choice->backend.transport());
+    if (auto f = Fleet::open(fo)) fleet = std::move(*f);
+    else r.clock_why = "no fleet view: " + f.error().message();
+  }
   auto control = Control::open(a.prefix, backend);
   if (!control) return fail_with(2, control.error().message());
   r.control_topic = control->name();
@@ -209,6 +288,7 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
         if (r.pong_host.empty()) {
           r.pong_host = get(*f, "host");
           r.pong_pid = get(*f, "pid");
+          r.pong_hostid = get(*f, "hostid");
         }
       } else if (op == "busy") {
         // That pong reads the same ping topic for another ping: it would echo our messages too.
@@ -223,7 +303,7 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
   }
   // The chosen pong; the others close their side (sent three times: LCM may lose one).
   for (int i = 0; i < 3; ++i)
-    control->send({{"op", "start"}, {"run", run}, {"host", r.pong_host}, {"pid", r.pong_pid}});
+    control->send({{"op", "start"}, {"run", run}, {"host", r.pong_host}, {"pid", r.pong_pid}, {"stamps", by_clock ? "1" : "0"}});
   const std::int64_t handshake_done = bench_now_ns();
 
   // 2. Traffic: warm-up (not measured), then the measurement, then the drain.
@@ -242,11 +322,30 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
   const bool is_tty = ::isatty(2) != 0;
   enum Phase { kWarm, kMeasure, kDrain } phase = kWarm;
 
-  auto on_echo = [&](std::uint64_t tag, std::int64_t now) {
-    // The sequence number this tag stands for: the latest sent one congruent to it.
+  // The sequence number a tag stands for: the latest sent one congruent to it.
+  auto seq_of = [&](std::uint64_t tag) -> std::optional<std::uint64_t> {
     const std::uint64_t back = (seq - 1 - tag % modulus) % modulus;
-    if (seq == 0 || back >= seq) return;
-    const std::uint64_t s = seq - 1 - back;
+    if (seq == 0 || back >= seq) return std::nullopt;
+    return seq - 1 - back;
+  };
+  auto clock = std::make_unique<ClockSamples>();
+  const std::int64_t base = clock_base();
+  std::int64_t last_control = 0;
+  bool stamps_done = false;
+  auto read_control = [&] {
+    while (auto f = control->recv()) {
+      if (get(*f, "run") != run || get(*f, "op") != "stamps") continue;
+      if (auto stamps = parse_stamps(*f))
+        for (const auto& st : *stamps)
+          if (auto s = seq_of(st.tag); s && *s >= measure_from) clock->stamped(*s, st.at);
+      if (get(*f, "last") == "1") stamps_done = true;
+    }
+  };
+
+  auto on_echo = [&](std::uint64_t tag, std::int64_t now) {
+    const auto resolved = seq_of(tag);
+    if (!resolved) return;
+    const std::uint64_t s = *resolved;
     std::int64_t t = 0;
     const auto kind = ledger->received(s, t);
     ++echoes;
@@ -268,6 +367,7 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
     const auto one_way = static_cast<std::uint64_t>(std::max<std::int64_t>(0, now - t) / 2);
     r.one_way.add(one_way);
     interval->add(one_way);
+    if (by_clock) clock->echoed(s, t, now);
   };
 
   while (true) {
@@ -355,8 +455,12 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
       if (wait > 0) (void)peer->wait(std::chrono::nanoseconds(wait));
       while (auto tag = peer->recv_tag()) on_echo(*tag, bench_now_ns());
     }
-    // Progress, once a second.
     now = bench_now_ns();
+    if (by_clock && now - last_control >= 10'000'000) {
+      read_control();
+      last_control = now;
+    }
+    // Progress, once a second.
     if (!a.quiet && phase == kMeasure && now - last_progress >= 1'000'000'000) {
       const double el = static_cast<double>(now - measure_start) / 1e9;
       const double dt = static_cast<double>(now - last_progress) / 1e9;
@@ -372,6 +476,25 @@ PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, c
   }
   if (!a.quiet && is_tty) fmt::print(stderr, "\n");
   if (measure_from == UINT64_MAX) return fail_with(130, "interrupted during the warm-up; nothing was measured");
+  if (by_clock) {
+    // The pong's last echo times (it sends them every 50 ms; asked again while they do not come).
+    const std::int64_t flush_start = bench_now_ns();
+    for (std::int64_t asked = 0; !stamps_done && !stop.load();) {
+      const auto now = bench_now_ns();
+      if (now - flush_start > 1'000'000'000) break;
+      if (now - asked >= 250'000'000) {
+        control->send({{"op", "flush"}, {"run", run}});
+        asked = now;
+      }
+      (void)control->wait(std::chrono::milliseconds(20));
+      read_control();
+    }
+    choose_clock(a, hostid, fleet.get(), r);
+    if (r.clock_source != "none") {
+      if (clock->size() == 0) r.clock_why = "the pong sent no echo times (a pong older than this ping?)";
+      clock->resolve(base, r.clock_offset_ns, r);
+    }
+  }
   r.sent = seq - measure_from;
   r.lost = r.sent - r.received;
   r.dropped = peer->dropped();
@@ -404,8 +527,19 @@ double mb_per_s(const PingResult& r) {
   return r.measured_s > 0 ? static_cast<double>(r.received) * static_cast<double>(r.message_bytes) / r.measured_s / 1e6 : 0;
 }
 
+nlohmann::json latency_json(const LatencyHistogram& h) {
+  return {{"min", h.min()},
+          {"p50", h.quantile(0.5)},
+          {"p90", h.quantile(0.9)},
+          {"p99", h.quantile(0.99)},
+          {"p99_9", h.quantile(0.999)},
+          {"max", h.max()},
+          {"mean", h.mean()},
+          {"stddev", h.stddev()},
+          {"jitter", h.jitter()}};
+}
+
 nlohmann::json result_json(const BenchArgs& a, const PingResult& r) {
-  const auto& h = r.one_way;
   return {{"tool", "horus bench ping"},
           {"type", r.type},
           {"payload", r.payload},
@@ -432,16 +566,17 @@ nlohmann::json result_json(const BenchArgs& a, const PingResult& r) {
           {"duplicates", r.duplicates},
           {"refused", r.refused},
           {"dropped", r.dropped},
-          {"one_way_ns",
-           {{"min", h.min()},
-            {"p50", h.quantile(0.5)},
-            {"p90", h.quantile(0.9)},
-            {"p99", h.quantile(0.99)},
-            {"p99_9", h.quantile(0.999)},
-            {"max", h.max()},
-            {"mean", h.mean()},
-            {"stddev", h.stddev()},
-            {"jitter", h.jitter()}}},
+          {"one_way_ns", latency_json(r.one_way)},
+          {"clock",
+           {{"source", r.clock_source},
+            {"why", r.clock_why},
+            {"offset_ns", r.clock_offset_ns},
+            {"uncertainty_ns", r.clock_uncertainty_ns}}},
+          {"by_clock",
+           {{"samples", r.forward.count()},
+            {"below_zero", r.clock_below_zero},
+            {"forward_ns", latency_json(r.forward)},
+            {"return_ns", latency_json(r.back)}}},
           {"throughput", {{"msgs_per_s", msgs_per_s(r)}, {"mb_per_s", mb_per_s(r)}}}};
 }
 
@@ -565,6 +700,22 @@ void print_result(std::FILE* out, const BenchArgs& a, const PingResult& r) {
              f(h.quantile(0.9)), f(h.quantile(0.99)), f(h.quantile(0.999)), f(h.max()));
   fmt::print(out, "  mean {}   stddev {}   jitter {} (mean change between consecutive messages)\n", format_ns(h.mean()),
              format_ns(h.stddev()), format_ns(h.jitter()));
+  if (r.forward.count() > 0) {
+    const std::string from =
+        r.clock_source == "fleet"
+            ? fmt::format("{}'s clock - ours: {:+.6f} s +- {}, from the fleet's heartbeats", r.pong_host,
+                          static_cast<double>(r.clock_offset_ns) / 1e9, format_ns(static_cast<double>(r.clock_uncertainty_ns)))
+        : r.clock_source == "synced" ? std::string("the clocks as they are (--clocks-synced)")
+                                     : std::string("one clock: the pong runs on this host");
+    fmt::print(out, "one-way latency by clock ({}), {} samples{}:\n", from, r.forward.count(),
+               r.clock_below_zero ? fmt::format(", {} below 0 counted as 0 (the offset is off by more)", r.clock_below_zero)
+                                  : std::string());
+    for (const auto* way : {&r.forward, &r.back})
+      fmt::print(out, "  {}  min {}   p50 {}   p99 {}   p99.9 {}   max {}\n", way == &r.forward ? "ping -> pong" : "pong -> ping",
+                 f(way->min()), f(way->quantile(0.5)), f(way->quantile(0.99)), f(way->quantile(0.999)), f(way->max()));
+  } else if (!r.clock_why.empty()) {
+    fmt::print(out, "one-way latency by clock: not measured: {}\n", r.clock_why);
+  }
   fmt::print(out, "messages: sent {}, received {}, lost {} ({:.3f} %{}), reordered {}, duplicates {}{}\n", r.sent,
              r.received, r.lost, r.sent ? 100.0 * static_cast<double>(r.lost) / static_cast<double>(r.sent) : 0.0,
              r.late ? fmt::format(", {} of them came back after --timeout", r.late) : std::string(), r.reordered,

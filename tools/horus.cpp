@@ -188,6 +188,7 @@ int main(int argc, char** argv) {
   bench_ping->add_option("--warmup", bench_args.warmup, "seconds before measuring; the pong must answer within them (default 2)");
   bench_ping->add_option("--timeout", bench_args.timeout, "an echo later than this many seconds counts as lost (default 1)");
   bench_ping->add_flag("--remote", bench_args.remote, "the pong must be on another host (fail at once if the configuration keeps the topics here)");
+  bench_ping->add_flag("--clocks-synced", bench_args.clocks_synced, "the hosts' clocks agree (PTP): one-way by clock uses them as they are, not the fleet's measured offset");
   bench_ping->add_option("--json", bench_args.json, "write the summary as JSON to FILE ('-': stdout)");
   bench_ping->add_option("--csv", bench_args.csv, "append the summary as a CSV row to FILE (a header first in a new file; '-': stdout)");
   bench_ping->add_option("--plot", bench_args.plot, "draw the latency histogram and CDF into FILE.png (gnuplot)");

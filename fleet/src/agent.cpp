@@ -195,8 +195,6 @@ class Agent {
     }
     settings_ = *settings;
     if (!settings_.announce) return;  // fleet.announce: false
-    if (const std::string& shift = Environment::read().test_clock_offset_ms; !shift.empty())
-      clock_shift_ns_ = std::strtoll(shift.c_str(), nullptr, 10) * 1'000'000LL;
     // Open the topics; retry while they do not open (a transport busy closing, say).
     for (int attempt = 0;; ++attempt) {
       if (open_topics()) break;
@@ -276,7 +274,7 @@ class Agent {
       view_dirty_ = true;
     }
     Tracked& t = found->second;
-    const std::int64_t now_unix = detail::unix_ns();
+    const std::int64_t now_unix = host_clock_unix_ns();
     t.link.on_heartbeat(h, self_, now, now_unix);
     ViewedHost& v = t.view;
     if (v.host != h.host || v.period_ms != h.period_ms) view_dirty_ = true;
@@ -361,7 +359,7 @@ class Agent {
     hb.host = name_;
     hb.seq = ++seq_;
     hb.sent_ns = detail::steady_ns();
-    hb.sent_unix_ns = detail::unix_ns() + clock_shift_ns_;
+    hb.sent_unix_ns = host_clock_unix_ns();
     hb.period_ms = static_cast<std::uint32_t>(settings_.heartbeat.count());
     hb.announce_version = sent_version_.load(std::memory_order_relaxed);
     hb.processes = processes_.load(std::memory_order_relaxed);
@@ -541,9 +539,6 @@ class Agent {
   bool view_dirty_ = false;
   std::uint64_t view_version_ = 0;
   std::uint64_t view_sent_ns_ = 0;
-  // A test hook: what this host's heartbeats add to their realtime stamp (a host whose clock is
-  // off), HORUS_TEST_CLOCK_OFFSET_MS.
-  std::int64_t clock_shift_ns_ = 0;
   std::map<std::string, Sample> samples_;
   Announcement current_;                        // the announcer's
   std::atomic<std::uint64_t> sent_version_{0};  // the announcer writes, heartbeats carry it
@@ -593,6 +588,14 @@ std::uint64_t host_id() {
     return h == 0 ? 1 : h;
   }();
   return id;
+}
+
+std::int64_t host_clock_unix_ns() noexcept {
+  static const std::int64_t shift = [] {
+    const std::string& ms = Environment::read().test_clock_offset_ms;
+    return ms.empty() ? 0 : std::strtoll(ms.c_str(), nullptr, 10) * 1'000'000LL;
+  }();
+  return detail::unix_ns() + shift;
 }
 
 std::string host_name() {

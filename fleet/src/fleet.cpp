@@ -129,7 +129,7 @@ struct Fleet::State {
       Record& r = seen(h.host_id, h.host, now, events);
       r.host.period = std::chrono::milliseconds(h.period_ms);
       ++r.host.heartbeats;
-      const std::int64_t now_unix = fleet::detail::unix_ns();
+      const std::int64_t now_unix = fleet::host_clock_unix_ns();
       r.host.last_seen_unix_ms = now_unix / 1'000'000;
       r.host.lost_since_unix_ms = 0;
       if (h.host_id != self) {

@@ -73,7 +73,7 @@ nlohmann::json check_summary(const std::string& json_file, const std::string& ou
   for (const char* k : {"tool", "type", "payload", "message_bytes", "tag", "topics", "backend", "where", "host",
                         "pong_host", "pong_pid", "mode", "rate_hz", "window", "warmup_s", "duration_s", "sent",
                         "received", "lost", "late", "reordered", "duplicates", "refused", "dropped", "one_way_ns",
-                        "throughput", "start_unix_ns"})
+                        "throughput", "start_unix_ns", "clock", "by_clock"})
     EXPECT_TRUE(j.contains(k)) << "the JSON lacks " << k << "\n" << text;
   for (const char* k : {"min", "p50", "p90", "p99", "p99_9", "max", "mean", "stddev", "jitter"})
     EXPECT_TRUE(j.at("one_way_ns").contains(k)) << "one_way_ns lacks " << k << "\n" << text;
@@ -94,7 +94,9 @@ class BenchBetweenHosts : public ::testing::TestWithParam<horus::Backend> {};
 
 // Pong on host 2, ping on host 1 with --remote: a Pose2D stream at a rate, then large data
 // (an Image through the pool and the network); JSON, CSV and the PNG plot. Before the pong
-// starts, the ping says no pong answered and what to check.
+// starts, the ping says no pong answered and what to check. Host 2's clock is 2.5 s ahead (the
+// fleet's test hook): one-way by clock corrects it by the offset the fleet's heartbeats measured,
+// and with --clocks-synced (no correction) the way there takes the 2.5 s.
 TEST_P(BenchBetweenHosts, PingMeasuresRoundTripsToAPongOnAnotherHost) {
   if (!horus::backend_available(GetParam()))
     GTEST_SKIP() << "this build has no " << horus::to_string(GetParam()) << " backend";
@@ -120,7 +122,9 @@ TEST_P(BenchBetweenHosts, PingMeasuresRoundTripsToAPongOnAnotherHost) {
     EXPECT_NE(out.find("firewall"), std::string::npos) << out;
     EXPECT_NE(out.find(GetParam() == horus::Backend::Lcm ? "multicast route" : "DDS domain"), std::string::npos) << out;
   }
-  auto pong = cli(1, {"bench", "pong"});
+  auto pong_env = env;
+  pong_env.emplace_back("HORUS_TEST_CLOCK_OFFSET_MS=2500");
+  auto pong = lan.spawn(1, {HORUS_CLI, "bench", "pong"}, pong_env);
   ASSERT_TRUE(pong_listening(pong)) << pong.output();
   const std::string json = scratch("remote.json"), csv = scratch("remote.csv"), png = scratch("remote.png");
   std::remove(csv.c_str());
@@ -144,6 +148,18 @@ TEST_P(BenchBetweenHosts, PingMeasuresRoundTripsToAPongOnAnotherHost) {
     EXPECT_NE(out.find("one-way latency (round trip / 2)"), std::string::npos) << out;
     EXPECT_NE(out.find("p99.9"), std::string::npos) << out;
     EXPECT_NE(out.find(" s] sent "), std::string::npos) << "no progress line\n" << out;
+    // Each way by clock, host 2's clock corrected by the fleet's offset (within 50 ms of 2.5 s).
+    const auto& clock = j.at("clock");
+    ASSERT_EQ(clock.at("source"), "fleet") << out;
+    EXPECT_NEAR(clock.at("offset_ns").get<double>(), 2.5e9, 5e7) << out;
+    const auto& by_clock = j.at("by_clock");
+    EXPECT_GE(by_clock.at("samples").get<std::uint64_t>(), 500u) << out;
+    for (const char* way : {"forward_ns", "return_ns"}) {
+      const auto p50 = by_clock.at(way).at("p50").get<std::uint64_t>();
+      EXPECT_GT(p50, 0u) << way << "\n" << out;
+      EXPECT_LT(p50, 50'000'000u) << way << "\n" << out;
+    }
+    EXPECT_NE(out.find("one-way latency by clock (" + lan.host(1) + "'s clock - ours: +2."), std::string::npos) << out;
     const auto rows = read_file(csv);
     EXPECT_EQ(std::count(rows.begin(), rows.end(), '\n'), 2) << rows;
     EXPECT_EQ(rows.rfind("backend,", 0), 0u) << rows;
@@ -153,6 +169,19 @@ TEST_P(BenchBetweenHosts, PingMeasuresRoundTripsToAPongOnAnotherHost) {
       EXPECT_EQ(image.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << out;
       std::remove(png.c_str());
     }
+  }
+  // The clocks taken as they are: the way there takes host 2's 2.5 s, the way back less than 0.
+  {
+    auto ping = cli(0, {"bench", "ping", "--remote", "--rate", "200", "--count", "100", "--warmup", "1",
+                        "--clocks-synced", "--json", json, "-q"});
+    const int rc = ping.wait(60s);
+    const auto out = ping.output();
+    ASSERT_EQ(rc, 0) << out << "\npong:\n" << pong.output();
+    const auto j = check_summary(json, out);
+    EXPECT_EQ(j.at("clock").at("source"), "synced") << out;
+    const auto& by_clock = j.at("by_clock");
+    EXPECT_GT(by_clock.at("forward_ns").at("p50").get<double>(), 2.4e9) << out;
+    EXPECT_EQ(by_clock.at("below_zero"), by_clock.at("samples")) << out;
   }
   // Large data: an Image of 200 000 bytes through the pool and the network.
   {

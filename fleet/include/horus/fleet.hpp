@@ -142,6 +142,9 @@ namespace fleet {
 /// domain and namespace).
 std::uint64_t host_id();
 std::string host_name();
+/// This host's realtime clock (Unix ns) as its heartbeats carry it: the clock that
+/// FleetHost::clock_offset compares (shifted by HORUS_TEST_CLOCK_OFFSET_MS in tests).
+std::int64_t host_clock_unix_ns() noexcept;
 /// Installs the fleet layer in api/ (the composition root horus::horus calls it before main()).
 void install();
 }  // namespace fleet
