@@ -4,6 +4,7 @@
 #include <zlib.h>
 #include <zstd.h>
 
+#include <algorithm>
 #include <array>
 #include <memory>
 
@@ -142,16 +143,42 @@ Result<void> compress(Compression c, std::span<const std::byte> in, std::vector<
   return fail(Errc::InvalidArgument, "unknown compression");
 }
 
+std::uint64_t decompressed_bound(std::string_view compression, std::uint64_t n) noexcept {
+  constexpr std::uint64_t kMaxInput = std::uint64_t{1} << 40;  // no file of ours is larger
+  n = std::min(n, kMaxInput);
+  if (compression == "zstd") return n / 4 * (std::uint64_t{128} << 10) + (std::uint64_t{128} << 10);
+  if (compression == "lz4") return n * 255 + (std::uint64_t{64} << 10);
+  return n;
+}
+
 Result<void> decompress(std::string_view compression, std::span<const std::byte> in, std::uint64_t size,
-                        std::vector<std::byte>& out, const std::string& where) {
-  if (size > (std::uint64_t{1} << 40))
-    return fail(Errc::Corrupt, fmt::format("{}: an uncompressed size of {} bytes is not plausible", where, size));
+                        std::vector<std::byte>& out, const std::string& where, std::uint64_t max_size) {
   if (compression.empty()) {
     if (in.size() != size)
       return fail(Errc::Corrupt, fmt::format("{}: uncompressed records of {} bytes where the chunk says {}", where,
                                              in.size(), size));
     out.assign(in.begin(), in.end());
     return {};
+  }
+  if (compression != "zstd" && compression != "lz4")
+    return fail(Errc::Corrupt,
+                fmt::format("{}: unknown compression '{}'; expected zstd, lz4 or none", where, compression));
+  // Nothing is allocated for a size the bytes cannot hold (a 135-byte "bomb" that claims 1 TiB).
+  if (const auto bound = decompressed_bound(compression, in.size()); size > bound)
+    return fail(Errc::Corrupt, fmt::format("{}: {} bytes of {} data claim {} bytes uncompressed; they can hold at "
+                                           "most {}",
+                                           where, in.size(), compression, size, bound));
+  if (size > max_size)
+    return fail(Errc::LimitReached, fmt::format("{}: {} bytes uncompressed is above the reader's limit of {} bytes "
+                                                "(ReadOptions::max_chunk_bytes)",
+                                                where, size, max_size));
+  if (compression == "zstd") {
+    const unsigned long long framed = ZSTD_getFrameContentSize(in.data(), in.size());
+    if (framed == ZSTD_CONTENTSIZE_ERROR)
+      return fail(Errc::Corrupt, fmt::format("{}: the zstd frame header is not valid", where));
+    if (framed != ZSTD_CONTENTSIZE_UNKNOWN && framed != size)
+      return fail(Errc::Corrupt, fmt::format("{}: the zstd frame holds {} bytes where the chunk says {}", where,
+                                             framed, size));
   }
   out.resize(static_cast<std::size_t>(size));
   if (compression == "zstd") {
@@ -163,7 +190,7 @@ Result<void> decompress(std::string_view compression, std::span<const std::byte>
                                              n, size));
     return {};
   }
-  if (compression == "lz4") {
+  {  // lz4
     LZ4F_dctx* raw = nullptr;
     if (LZ4F_isError(LZ4F_createDecompressionContext(&raw, LZ4F_VERSION)) != 0)
       return fail(Errc::Io, where + ": out of memory for an lz4 decompressor");
@@ -185,10 +212,8 @@ Result<void> decompress(std::string_view compression, std::span<const std::byte>
     if (done_out != size)
       return fail(Errc::Corrupt, fmt::format("{}: lz4 data decompresses to {} bytes where the chunk says {}", where,
                                              done_out, size));
-    return {};
   }
-  return fail(Errc::Corrupt,
-              fmt::format("{}: unknown compression '{}'; expected zstd, lz4 or none", where, compression));
+  return {};
 }
 
 }  // namespace detail

@@ -113,9 +113,15 @@ class In {
 
 /// Compresses `in` (zstd level 1, or an LZ4 frame) into `out` (replaced).
 Result<void> compress(Compression c, std::span<const std::byte> in, std::vector<std::byte>& out);
+/// The most a compressed stream of `n` bytes can decompress to: zstd's densest block (an RLE
+/// block: 4 bytes for 128 KiB) and LZ4's densest sequence (255 bytes of match per byte), with
+/// room for their frame headers.
+std::uint64_t decompressed_bound(std::string_view compression, std::uint64_t n) noexcept;
 /// Decompresses into exactly `size` bytes; Errc::Corrupt naming `where` when the data is not a
-/// valid stream of that size.
+/// valid stream of that size, when `size` is more than the compressed bytes could hold
+/// (decompressed_bound) or than the frame's own content size, and Errc::LimitReached when it is above
+/// `max_size`: checked before anything is allocated.
 Result<void> decompress(std::string_view compression, std::span<const std::byte> in, std::uint64_t size,
-                        std::vector<std::byte>& out, const std::string& where);
+                        std::vector<std::byte>& out, const std::string& where, std::uint64_t max_size);
 
 }  // namespace horus::mcap::detail

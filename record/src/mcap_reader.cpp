@@ -303,8 +303,8 @@ struct Reader::Impl {
         const auto records = in.bytes(n_records, "records");
         if (!in.ok()) return std::unexpected(corrupt(in.error()->message()));
         const std::string where = fmt::format("the Chunk at offset {}", r.at);
-        if (auto ok = detail::decompress(compression, records, uncompressed_size, chunk, where); !ok)
-          return std::unexpected(corrupt(ok.error().message()));
+        if (auto ok = detail::decompress(compression, records, uncompressed_size, chunk, where, options.max_chunk_bytes); !ok)
+          return std::unexpected(Error(ok.error().code(), path + ": " + ok.error().message()));
         if (uncompressed_crc != 0 && crc32(chunk) != uncompressed_crc)
           return std::unexpected(corrupt(fmt::format("{}: its records' CRC is {:08x}, the chunk says {:08x}", where,
                                                      crc32(chunk), uncompressed_crc)));

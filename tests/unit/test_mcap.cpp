@@ -6,6 +6,7 @@
 
 #include <unistd.h>
 
+#include <array>
 #include <cstring>
 #include <fstream>
 #include <random>
@@ -231,12 +232,13 @@ class McapDamage : public ::testing::Test {
     return std::nullopt;
   }
   // The offset of the first record with `op` after the magic (top level).
-  std::size_t first_record(std::uint8_t op) const {
+  std::size_t first_record(std::uint8_t op) const { return first_record(op, good_); }
+  static std::size_t first_record(std::uint8_t op, const std::vector<std::byte>& file) {
     std::size_t at = 8;
-    while (at + 9 <= good_.size()) {
+    while (at + 9 <= file.size()) {
       std::uint64_t n = 0;
-      for (int i = 0; i < 8; ++i) n |= static_cast<std::uint64_t>(good_[at + 1 + static_cast<std::size_t>(i)]) << (8 * i);
-      if (static_cast<std::uint8_t>(good_[at]) == op) return at;
+      for (int i = 0; i < 8; ++i) n |= static_cast<std::uint64_t>(file[at + 1 + static_cast<std::size_t>(i)]) << (8 * i);
+      if (static_cast<std::uint8_t>(file[at]) == op) return at;
       at += 9 + n;
     }
     return 0;
@@ -286,6 +288,45 @@ TEST_F(McapDamage, AnUnknownCompressionIsNamed) {
   const auto e = error_of(b);
   ASSERT_TRUE(e);
   EXPECT_NE(e->message().find("unknown compression 'lzX'"), std::string::npos) << e->message();
+}
+
+// A chunk that claims far more than its bytes can hold (a "decompression bomb": 1 TiB, 8 GiB,
+// 512 MiB from a few kilobytes of lz4, and of zstd) is refused before anything is allocated, with
+// what it claims and what it could hold; a claim its bytes could hold but above the reader's
+// limit is Errc::LimitReached naming ReadOptions::max_chunk_bytes.
+TEST_F(McapDamage, AChunkThatClaimsMoreThanItsBytesCanHoldIsRefusedBeforeAllocating) {
+  auto claim = [](std::vector<std::byte> b, std::size_t chunk, std::uint64_t size) {
+    for (int i = 0; i < 8; ++i) b[chunk + 9 + 16 + static_cast<std::size_t>(i)] = static_cast<std::byte>(size >> (8 * i));
+    return b;
+  };
+  const std::string zstd_path = temp_path("damage_zstd");
+  (void)write_sample(zstd_path, mcap::Compression::Zstd, 120, 8 * 1024);
+  const auto zstd = read_file(zstd_path);
+  ::unlink(zstd_path.c_str());
+  for (const auto* file : std::array<const std::vector<std::byte>*, 2>{&good_, &zstd}) {
+    const std::size_t chunk = first_record(0x06, *file);
+    ASSERT_NE(chunk, 0u);
+    for (const std::uint64_t size : {std::uint64_t{1} << 40, std::uint64_t{8} << 30, std::uint64_t{512} << 20}) {
+      const auto e = error_of(claim(*file, chunk, size));
+      ASSERT_TRUE(e) << size;
+      EXPECT_EQ(e->code(), Errc::Corrupt) << e->message();
+      EXPECT_NE(e->message().find("claim " + std::to_string(size) + " bytes uncompressed; they can hold at most"),
+                std::string::npos)
+          << e->message();
+    }
+  }
+  write_file(path_, good_);
+  mcap::ReadOptions small;
+  small.max_chunk_bytes = 1000;
+  auto r = mcap::Reader::open(path_, small);
+  ASSERT_TRUE(r) << r.error().message();
+  horus::Result<void> status;
+  (void)read_all(**r, &status);
+  ASSERT_FALSE(status);
+  EXPECT_EQ(status.error().code(), Errc::LimitReached) << status.error().message();
+  EXPECT_NE(status.error().message().find("above the reader's limit of 1000 bytes (ReadOptions::max_chunk_bytes)"),
+            std::string::npos)
+      << status.error().message();
 }
 
 TEST_F(McapDamage, AChangedChannelRecordFailsTheDataSectionCrc) {

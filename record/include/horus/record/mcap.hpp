@@ -110,6 +110,10 @@ struct ReadOptions {
   /// Reads what is whole in a file that ends early (a killed recorder): records up to the last
   /// complete one, and no error for the missing end (Reader::truncated() says so).
   bool recover = false;
+  /// The most a chunk may decompress to: a chunk that claims more is an error
+  /// (Errc::LimitReached) before anything is allocated. Chunks that this writer makes hold
+  /// WriterOptions::chunk_size bytes or one larger message.
+  std::uint64_t max_chunk_bytes = std::uint64_t{1} << 30;
 };
 
 /// Reads one MCAP file (mapped into memory).
