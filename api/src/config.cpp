@@ -39,7 +39,8 @@ std::string_view to_string(Source s) noexcept {
 namespace {
 
 constexpr std::array<std::string_view, 3> kTopLevelKeys{"network", "fleet", "topics"};
-constexpr std::array<std::string_view, 4> kFleetKeys{"announce", "heartbeat_ms", "announce_ms", "misses"};
+constexpr std::array<std::string_view, 6> kFleetKeys{"announce", "heartbeat_ms", "announce_ms", "misses", "max_hosts",
+                                                      "forget_after"};
 constexpr std::array<std::string_view, 6> kNetworkKeys{"backend", "domain_id",     "localhost_only",
                                                        "lcm_url", "peers", "max_bandwidth"};
 constexpr std::array<std::string_view, 11> kRuleKeys{"match",         "scope",    "backend",  "reliability",
@@ -207,6 +208,16 @@ class Parser {
       auto m = integer(v, "fleet.misses", 1, 100, "a number of missed heartbeats; expected an integer from 1 to 100");
       if (!m) return std::unexpected(m.error());
       out.misses = *m;
+    }
+    if (const auto v = n["max_hosts"]) {
+      auto m = integer(v, "fleet.max_hosts", 8, 65536, "a number of hosts; expected an integer from 8 to 65536");
+      if (!m) return std::unexpected(m.error());
+      out.max_hosts = *m;
+    }
+    if (const auto v = n["forget_after"]) {
+      auto d = quantity(v, "fleet.forget_after", "a duration such as \"1h\" or \"10min\"", parse_duration);
+      if (!d) return std::unexpected(d.error());
+      out.forget_after = *d;
     }
     return {};
   }
@@ -580,9 +591,9 @@ std::variant<std::uint64_t, std::string> parse_bandwidth(std::string_view text) 
 }
 
 std::variant<std::chrono::nanoseconds, std::string> parse_duration(std::string_view text) {
-  static constexpr Unit kUnits[] = {{"ns", 1}, {"us", 1e3}, {"ms", 1e6}, {"s", 1e9}, {"min", 60e9}};
+  static constexpr Unit kUnits[] = {{"ns", 1}, {"us", 1e3}, {"ms", 1e6}, {"s", 1e9}, {"min", 60e9}, {"h", 3600e9}};
   auto q = parse_quantity(text, kUnits, 1, 1e15, "a duration", "1 ns to 11 days",
-                          "expected a duration above 0 with a unit: ns, us, ms, s or min (such as \"100ms\" or "
+                          "expected a duration above 0 with a unit: ns, us, ms, s, min or h (such as \"100ms\" or "
                           "\"1.5 s\")");
   if (auto* why = std::get_if<std::string>(&q)) return std::move(*why);
   return std::chrono::nanoseconds(static_cast<std::int64_t>(std::get<double>(q)));
@@ -599,6 +610,8 @@ Result<FleetSettings> fleet_settings() {
     if (f.heartbeat_ms) out.heartbeat = std::chrono::milliseconds(*f.heartbeat_ms);
     if (f.announce_ms) out.announce_period = std::chrono::milliseconds(*f.announce_ms);
     if (f.misses) out.misses = *f.misses;
+    if (f.max_hosts) out.max_hosts = *f.max_hosts;
+    if (f.forget_after) out.forget_after = *f.forget_after;
     if (const auto& b = (*config)->network().backend) out.transport = *b;
   }
   if (!env.fleet_heartbeat_ms.empty()) {

@@ -262,17 +262,22 @@ class Agent {
     if (h.host.empty() || h.host.size() > 255 || h.period_ms < kMinHeartbeatMs || h.period_ms > kMaxHeartbeatMs)
       return;  // horus::Fleet counts it as malformed
     const std::uint64_t now = detail::steady_ns();
-    heard_[h.host_id] = {h.sent_ns, now};
     // The fleet view: every agent keeps it (it may come to speak for the host), the speaker
-    // publishes it.
+    // publishes it. At most kViewHosts (and fleet.max_hosts) hosts: a new one takes the place
+    // of the host lost longest ago, or is not tracked (nor echoed) while all of them live.
     auto found = tracked_.find(h.host_id);
     if (found == tracked_.end()) {
-      if (tracked_.size() >= detail::kViewHosts) return;
+      std::vector<std::uint64_t> forgotten;
+      const std::size_t max = std::min<std::size_t>(detail::kViewHosts, settings_.max_hosts);
+      const bool room = detail::make_room(tracked_, max, lost_since, &forgotten);
+      for (const auto id : forgotten) heard_.erase(id);
+      if (!room) return;
       found = tracked_.emplace(h.host_id, Tracked{}).first;
       found->second.view.host_id = h.host_id;
       found->second.view.first_seen_unix_ns = detail::unix_ns();
       view_dirty_ = true;
     }
+    heard_[h.host_id] = {h.sent_ns, now};
     Tracked& t = found->second;
     const std::int64_t now_unix = host_clock_unix_ns();
     t.link.on_heartbeat(h, self_, now, now_unix);
@@ -309,6 +314,10 @@ class Agent {
         view_dirty_ = true;
       }
     }
+    std::vector<std::uint64_t> forgotten;
+    detail::forget_lost(tracked_, settings_.forget_after, detail::unix_ns(), lost_since, &forgotten);
+    for (const auto id : forgotten) heard_.erase(id);
+    if (!forgotten.empty()) view_dirty_ = true;
     if (!speaker || !view_) return;
     if (!view_dirty_ && now - view_sent_ns_ < 1'000'000'000ULL) return;
     FleetView view;
@@ -535,6 +544,7 @@ class Agent {
     std::uint64_t last_ns = 0;  // its last heartbeat (steady clock)
   };
   std::map<std::uint64_t, Tracked> tracked_;  // the executor's thread's
+  static std::int64_t lost_since(const Tracked& t) { return t.view.lost_since_unix_ns; }
   std::optional<Topic<FleetView>> view_;
   bool view_dirty_ = false;
   std::uint64_t view_version_ = 0;

@@ -61,6 +61,8 @@ struct Fleet::State {
   std::string transport;
   std::uint64_t self = fleet::host_id();
   std::uint32_t misses = 3;
+  std::size_t max_hosts = 1024;
+  std::chrono::nanoseconds forget_after = std::chrono::hours(1);
   fleet::detail::Presence presence;  // keeps this host announced while the Fleet lives
   Clock::time_point last_check{};    // check()'s previous run (the executor's thread)
 
@@ -95,8 +97,15 @@ struct Fleet::State {
     events.clear();
   }
 
-  // A sign of life from `id`: a new host joins, a lost one rejoins.
-  Record& seen(std::uint64_t id, const std::string& name, Clock::time_point now, std::vector<FleetEvent>& events) {
+  static std::int64_t lost_since_ns(const Record& r) { return r.host.lost_since_unix_ms * 1'000'000; }
+
+  // A sign of life from `id`: a new host joins (when there is room: nullptr and counted as
+  // malformed when max_hosts hosts live), a lost one rejoins.
+  Record* seen(std::uint64_t id, const std::string& name, Clock::time_point now, std::vector<FleetEvent>& events) {
+    if (!hosts.contains(id) && !fleet::detail::make_room(hosts, max_hosts, lost_since_ns)) {
+      malformed.fetch_add(1, std::memory_order_relaxed);
+      return nullptr;
+    }
     auto [it, fresh] = hosts.try_emplace(id);
     Record& r = it->second;
     r.host.id = id;
@@ -111,7 +120,7 @@ struct Fleet::State {
       ++r.host.rejoins;
       events.push_back({FleetEvent::Kind::Rejoined, r.host});
     }
-    return r;
+    return &r;
   }
 
   void on_heartbeat(const Heartbeat& h) {
@@ -126,7 +135,9 @@ struct Fleet::State {
     bool want = false;
     {
       std::lock_guard lock(mutex);
-      Record& r = seen(h.host_id, h.host, now, events);
+      Record* found = seen(h.host_id, h.host, now, events);
+      if (found == nullptr) return;
+      Record& r = *found;
       r.host.period = std::chrono::milliseconds(h.period_ms);
       ++r.host.heartbeats;
       const std::int64_t now_unix = fleet::host_clock_unix_ns();
@@ -155,7 +166,8 @@ struct Fleet::State {
   }
 
   void on_announce(const Announcement& a) {
-    if (a.host_id == 0 || a.host.empty() || a.host.size() > 255) {
+    if (a.host_id == 0 || a.host.empty() || a.host.size() > 255 || a.processes.size() > fleet::detail::kMaxAnnouncedProcesses ||
+        a.topics.size() > fleet::detail::kMaxAnnouncedTopics || a.types.size() > fleet::detail::kMaxAnnouncedTopics) {
       malformed.fetch_add(1, std::memory_order_relaxed);
       return;
     }
@@ -171,7 +183,9 @@ struct Fleet::State {
     std::vector<FleetEvent> events;
     {
       std::lock_guard lock(mutex);
-      Record& r = seen(a.host_id, a.host, now, events);
+      Record* found = seen(a.host_id, a.host, now, events);
+      if (found == nullptr) return;
+      Record& r = *found;
       if (a.heartbeat_ms >= kMinHeartbeatMs && a.heartbeat_ms <= kMaxHeartbeatMs && r.host.period.count() == 0)
         r.host.period = std::chrono::milliseconds(a.heartbeat_ms);
       r.host.shm_namespace = a.shm_namespace;
@@ -219,6 +233,7 @@ struct Fleet::State {
           events.push_back({FleetEvent::Kind::Lost, r.host});
         }
       }
+      fleet::detail::forget_lost(hosts, forget_after, fleet::detail::unix_ns(), lost_since_ns);
     }
     emit(events);
   }
@@ -235,6 +250,7 @@ struct Fleet::State {
     std::lock_guard lock(mutex);
     for (const auto& v : latest->hosts) {
       if (v.host_id == 0 || v.host_id == self || v.host.empty() || v.state > 2 || hosts.contains(v.host_id)) continue;
+      if (hosts.size() >= max_hosts) break;
       Record& r = hosts[v.host_id];
       r.host.id = v.host_id;
       r.host.name = v.host;
@@ -279,6 +295,8 @@ Result<std::unique_ptr<Fleet>> Fleet::open(Executor& executor, FleetOptions opti
   auto state = std::make_shared<State>();
   state->transport = options.transport.value_or(settings->transport);
   state->misses = options.misses.value_or(settings->misses);
+  state->max_hosts = settings->max_hosts;
+  state->forget_after = settings->forget_after;
   if (state->transport.empty())
     return fail(Errc::Config,
                 "horus::Fleet: no network backend to watch the fleet on; set HORUS_BACKEND=cyclonedds|fastdds|lcm, "

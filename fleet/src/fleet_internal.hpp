@@ -36,6 +36,46 @@ TopicOptions view_options();
 inline constexpr std::size_t kViewBytes = 64 * 1024;
 inline constexpr std::size_t kViewHosts = 256;  // at most this many hosts in a view
 
+/// What an announcement may list (more is refused as malformed): processes, topics, types.
+inline constexpr std::size_t kMaxAnnouncedProcesses = 4096;
+inline constexpr std::size_t kMaxAnnouncedTopics = 16384;
+
+/// Forgets the hosts of `hosts` (a map by id) lost for longer than `forget_after`;
+/// `lost_since(record)` is when one was lost (Unix ns, 0: it is not lost). The ids forgotten go
+/// to `forgotten` when it is given.
+template <class Map, class LostSince>
+void forget_lost(Map& hosts, std::chrono::nanoseconds forget_after, std::int64_t now_unix_ns, LostSince lost_since,
+                 std::vector<std::uint64_t>* forgotten = nullptr) {
+  for (auto it = hosts.begin(); it != hosts.end();) {
+    const std::int64_t since = lost_since(it->second);
+    if (since != 0 && now_unix_ns - since > forget_after.count()) {
+      if (forgotten != nullptr) forgotten->push_back(it->first);
+      it = hosts.erase(it);
+    } else {
+      ++it;
+    }
+  }
+}
+
+/// Makes room for one more host in `hosts` when it holds `max` already: forgets the host lost
+/// longest ago (its id goes to `forgotten`). False when every host is alive: the newcomer is
+/// refused (a flood of forged host ids cannot push out the hosts that live).
+template <class Map, class LostSince>
+bool make_room(Map& hosts, std::size_t max, LostSince lost_since, std::vector<std::uint64_t>* forgotten = nullptr) {
+  if (hosts.size() < max) return true;
+  auto oldest = hosts.end();
+  std::int64_t when = INT64_MAX;
+  for (auto it = hosts.begin(); it != hosts.end(); ++it)
+    if (const std::int64_t since = lost_since(it->second); since != 0 && since < when) {
+      when = since;
+      oldest = it;
+    }
+  if (oldest == hosts.end()) return false;
+  if (forgotten != nullptr) forgotten->push_back(oldest->first);
+  hosts.erase(oldest);
+  return true;
+}
+
 /// The link to one host, from its heartbeats: round trip (from our heartbeat that it echoes),
 /// loss (gaps in its sequence numbers over the last kLossWindow), and the offset of its
 /// realtime clock against ours, NTP-style: offset = its send time + RTT/2 - our receive time,

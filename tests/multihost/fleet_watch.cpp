@@ -1,7 +1,7 @@
 // horus_fleet_watch: one host's view of the fleet, for the multi-host tests (test_fleet.cpp).
 //
 //   horus_fleet_watch <seconds> [--publish TOPIC START_UNIX_MS HZ] [--subscribe TOPIC]
-//                     [--user-type TOPIC] [--garbage N]
+//                     [--user-type TOPIC] [--garbage N] [--forge-heartbeats N] [--memory]
 //
 // Opens a horus::Fleet on the backend of HORUS_BACKEND and prints, one line each, as they happen:
 //   start <unix_ms>
@@ -13,6 +13,9 @@
 // --garbage sends N samples of raw bytes that are no Announcement on horus.fleet.announce (its
 // own endpoint, not horus's), then N Announcements whose type signature does not hash to its
 // type (host "forged"): every other host must count and ignore all 2N.
+// --forge-heartbeats sends N heartbeats, each from another forged host id (host "forged-<i>"),
+// 10 000 a second, then prints "forged sent <n>".
+// --memory prints every 500 ms "memory <ms since start> rss_kb <n> hosts <n> malformed <n>".
 // At the end (after <seconds>) it prints each host it knows:
 //   host <name> <state> rejoins <n> rtt_us <n|-> processes <n> topics <n> announced <0|1>
 // and "malformed <n>".
@@ -134,6 +137,46 @@ int send_garbage(int n) {
   return 0;
 }
 
+// A flood of heartbeats from hosts that do not exist: the fleet layer must keep its tables bounded.
+int forge_heartbeats(int n) {
+  const auto backend = horus::backend_from_environment();
+  if (!backend || !horus::is_network(*backend)) return 4;
+  horus::TopicOptions o;
+  o.backend = *backend;
+  o.capacity = 16;
+  o.slot_size = 16 * 1024;
+  o.reliability = horus::net::Reliability::BestEffort;
+  auto hb = horus::Topic<horus::fleet::Heartbeat>::open(horus::fleet::kHeartbeatTopic, o);
+  if (!hb) {
+    std::fprintf(stderr, "%s\n", hb.error().message().c_str());
+    return 4;
+  }
+  hb->publish_only();
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 0; i < n; ++i) {
+    horus::fleet::Heartbeat h;
+    h.host_id = 0x5eed000000000000ULL + static_cast<std::uint64_t>(i) + 1;
+    h.host = "forged-" + std::to_string(i);
+    h.seq = 1;
+    h.period_ms = 100;
+    hb->send(h);
+    if (i % 100 == 99) std::this_thread::sleep_until(start + std::chrono::milliseconds((i + 1) / 10));
+  }
+  line(fmt::format("forged sent {}", n));
+  return 0;
+}
+
+long rss_kb() {
+  std::FILE* f = std::fopen("/proc/self/status", "r");
+  if (f == nullptr) return -1;
+  char buf[256];
+  long kb = -1;
+  while (std::fgets(buf, sizeof buf, f) != nullptr)
+    if (std::strncmp(buf, "VmRSS:", 6) == 0) kb = std::atol(buf + 6);
+  std::fclose(f);
+  return kb;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -146,7 +189,8 @@ int main(int argc, char** argv) {
   std::string pub_topic, sub_topic, user_topic;
   std::int64_t pub_start = 0;
   double pub_hz = 0;
-  int garbage = 0;
+  int garbage = 0, forge = 0;
+  bool memory = false;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--publish" && i + 3 < argc) {
@@ -159,6 +203,10 @@ int main(int argc, char** argv) {
       user_topic = argv[++i];
     } else if (a == "--garbage" && i + 1 < argc) {
       garbage = std::atoi(argv[++i]);
+    } else if (a == "--forge-heartbeats" && i + 1 < argc) {
+      forge = std::atoi(argv[++i]);
+    } else if (a == "--memory") {
+      memory = true;
     } else {
       std::fprintf(stderr, "unknown argument %s\n", a.c_str());
       return 2;
@@ -193,12 +241,23 @@ int main(int argc, char** argv) {
   if (garbage > 0) {
     if (const int rc = send_garbage(garbage); rc != 0) return rc;
   }
+  if (forge > 0) {
+    if (const int rc = forge_heartbeats(forge); rc != 0) return rc;
+  }
 
   const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
   std::set<std::int64_t> got;
   std::int64_t seq = 0;
   auto next_user = std::chrono::steady_clock::now();
+  const auto started = std::chrono::steady_clock::now();
+  auto next_memory = started;
   while (std::chrono::steady_clock::now() < end) {
+    if (memory && std::chrono::steady_clock::now() >= next_memory) {
+      line(fmt::format("memory {} rss_kb {} hosts {} malformed {}",
+                       std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - started).count(),
+                       rss_kb(), (*fleet)->hosts().size(), (*fleet)->malformed()));
+      next_memory += std::chrono::milliseconds(500);
+    }
     if (pub) {
       // Message seq is due at start + seq / hz.
       const std::int64_t now = unix_ms();

@@ -14,6 +14,7 @@
 #include <map>
 #include <set>
 #include <utility>
+#include <fstream>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -405,3 +406,59 @@ INSTANTIATE_TEST_SUITE_P(Backends, Fleet, ::testing::Values(horus::Backend::Cycl
                          [](const auto& param_info) { return std::string(horus::to_string(param_info.param)); });
 
 }  // namespace
+
+// A flood of 100 000 heartbeats, each from another forged host id (10 000 a second, from a
+// process of the same namespace host), against a watcher whose file says fleet.max_hosts 64 and
+// fleet.forget_after 2 s: its Fleet never holds more than 64 hosts, what did not fit is counted
+// in malformed(), its RSS does not grow with the flood, and the forged hosts, lost after their
+// one heartbeat, are forgotten 2 s later.
+TEST(FleetLimits, AFloodOfForgedHostIdsKeepsTheTablesBounded) {
+  const horus::Backend b = horus::backend_available(horus::Backend::Lcm) ? horus::Backend::Lcm : horus::Backend::CycloneDds;
+  if (!horus::backend_available(b)) GTEST_SKIP() << "this build has no network backend";
+  horus_test::NetnsLan lan(1);
+  if (!lan.ok()) GTEST_SKIP() << "no namespace hosts: " << lan.why();
+  const std::string config = "/tmp/horus_test_fleet_limits_" + std::to_string(::getpid()) + ".yaml";
+  {
+    std::ofstream f(config);
+    f << "fleet:\n  max_hosts: 64\n  forget_after: 2s\n";
+  }
+  auto env = fleet_env(b);
+  env.push_back("HORUS_CONFIG=" + config);
+  auto watcher = lan.spawn(0, {FLEET_WATCH, "22", "--memory"}, env);
+  const auto up = std::chrono::steady_clock::now() + 20s;
+  while (watcher.output().find("memory ") == std::string::npos && std::chrono::steady_clock::now() < up)
+    std::this_thread::sleep_for(20ms);
+  auto forger = lan.spawn(0, {FLEET_WATCH, "1", "--forge-heartbeats", "100000"}, env);
+  EXPECT_EQ(forger.wait(60s), 0) << forger.output();
+  EXPECT_NE(forger.output().find("forged sent 100000"), std::string::npos) << forger.output();
+  ASSERT_EQ(watcher.wait(60s), 0) << watcher.output();
+  std::remove(config.c_str());
+  const std::string out = watcher.output();
+  // memory <ms> rss_kb <n> hosts <n> malformed <n>
+  std::istringstream lines(out);
+  std::string l;
+  long rss_flood_start = -1, rss_max = 0;
+  std::size_t hosts_max = 0;
+  std::uint64_t malformed = 0;
+  while (std::getline(lines, l)) {
+    long ms = 0, rss = 0;
+    std::size_t hosts = 0;
+    unsigned long long bad = 0;
+    if (std::sscanf(l.c_str(), "memory %ld rss_kb %ld hosts %zu malformed %llu", &ms, &rss, &hosts, &bad) != 4) continue;
+    hosts_max = std::max(hosts_max, hosts);
+    malformed = bad;
+    if (bad >= 2000 && rss_flood_start < 0) rss_flood_start = rss;
+    if (rss_flood_start >= 0) rss_max = std::max(rss_max, rss);
+  }
+  std::printf("forged flood: at most %zu hosts held, %llu refused (malformed), RSS %ld kB at the flood's start, at most "
+              "%ld kB after\n",
+              hosts_max, static_cast<unsigned long long>(malformed), rss_flood_start, rss_max);
+  EXPECT_LE(hosts_max, 64u) << out;
+  EXPECT_GE(malformed, 20000u) << "the flood hardly reached the watcher\n" << out;
+  ASSERT_GE(rss_flood_start, 0) << out;
+  EXPECT_LT(rss_max - rss_flood_start, 8 * 1024) << "RSS grew with the flood (kB)\n" << out;
+  // The forged hosts were lost, then forgotten: the last list has this host alone.
+  const auto last_list = out.find("\nhost ");
+  ASSERT_NE(last_list, std::string::npos) << out;
+  EXPECT_EQ(out.find("host forged-", last_list), std::string::npos) << out;
+}

@@ -69,8 +69,9 @@ TEST(QosConfig, DurationsParseWithTheirUnitsAndBadOnesSayWhatIsExpected) {
   EXPECT_EQ(ns("1.5 s"), 1'500'000'000);
   EXPECT_EQ(ns("250us"), 250'000);
   EXPECT_EQ(ns("2min"), 120'000'000'000);
+  EXPECT_EQ(ns("1h"), 3'600'000'000'000);
   for (const auto& [text, expected] : std::vector<std::pair<std::string, std::string>>{
-           {"soon", "is not a duration"}, {"100", "has no unit"}, {"5 h", "unknown unit 'h'"}, {"-1s", "is not a duration"}}) {
+           {"soon", "is not a duration"}, {"100", "has no unit"}, {"5 d", "unknown unit 'd'"}, {"-1s", "is not a duration"}}) {
     const auto d = horus::parse_duration(text);
     ASSERT_TRUE(std::holds_alternative<std::string>(d)) << text;
     EXPECT_NE(std::get<std::string>(d).find(expected), std::string::npos) << std::get<std::string>(d);

@@ -154,6 +154,8 @@ TEST_F(ConfigTest, EveryErrorNamesTheFileTheLineTheKeyAndWhatIsValid) {
       {"netwrok:\n  backend: lcm\n", {"robot.yaml, line 1", "'netwrok'", "unknown key", "network, fleet or topics"}},
       {"fleet:\n  heartbeat_ms: 5\n", {"line 2", "fleet.heartbeat_ms", "'5'", "10 to 60000"}},
       {"fleet:\n  misses: 0\n", {"line 2", "fleet.misses", "1 to 100"}},
+      {"fleet:\n  max_hosts: 4\n", {"line 2", "fleet.max_hosts", "8 to 65536"}},
+      {"fleet:\n  forget_after: soon\n", {"line 2", "fleet.forget_after", "'soon'", "min or h"}},
       {"fleet:\n  announce: often\n", {"line 2", "fleet.announce", "true or false"}},
       {"fleet:\n  heartbeat: 100\n", {"line 2", "fleet.heartbeat", "unknown key", "heartbeat_ms"}},
       {"topics:\n  - match: a.**\n    scop: host\n", {"line 3", "topics[0].scop", "unknown key", "scope"}},
@@ -333,15 +335,20 @@ TEST_F(ConfigTest, TheFleetSectionAndTheEnvironmentSetTheFleetLayer) {
   ASSERT_TRUE(d.has_value()) << d.error().message();
   EXPECT_EQ(d->heartbeat, std::chrono::milliseconds(100));
   EXPECT_EQ(d->misses, 3u);
+  EXPECT_EQ(d->max_hosts, 1024u);
+  EXPECT_EQ(d->forget_after, std::chrono::hours(1));
   EXPECT_TRUE(d->announce);
   EXPECT_EQ(d->transport, "");  // no network backend configured: the fleet layer has none
-  TempFile file("network:\n  backend: lcm\nfleet:\n  heartbeat_ms: 250\n  announce_ms: 5000\n  misses: 5\n  announce: false\n");
+  TempFile file("network:\n  backend: lcm\nfleet:\n  heartbeat_ms: 250\n  announce_ms: 5000\n  misses: 5\n  announce: false\n"
+                "  max_hosts: 200\n  forget_after: 10min\n");
   ::setenv("HORUS_CONFIG", file.path.c_str(), 1);
   auto f = horus::fleet_settings();
   ASSERT_TRUE(f.has_value()) << f.error().message();
   EXPECT_EQ(f->heartbeat, std::chrono::milliseconds(250));
   EXPECT_EQ(f->announce_period, std::chrono::milliseconds(5000));
   EXPECT_EQ(f->misses, 5u);
+  EXPECT_EQ(f->max_hosts, 200u);
+  EXPECT_EQ(f->forget_after, std::chrono::minutes(10));
   EXPECT_FALSE(f->announce);
   EXPECT_EQ(f->transport, "lcm");
   ::setenv("HORUS_FLEET_HEARTBEAT_MS", "40", 1);

@@ -10,6 +10,8 @@
 //     heartbeat_ms: 100             # heartbeat period (HORUS_FLEET_HEARTBEAT_MS overrides), 10..60000
 //     announce_ms: 2000             # full announcements: this often, and at once on change or request
 //     misses: 3                     # heartbeats missed before a host is lost (+ one period of tolerance)
+//     max_hosts: 1024               # hosts a process keeps; the lost one lost longest ago makes room
+//     forget_after: 1h              # a host lost this long is forgotten (a duration: s, min, h)
 //   topics:                         # the first rule whose pattern matches wins
 //     - match: "fleet.**"           # '*' = one dot-separated segment, '**' = any number (also none)
 //       scope: fleet                # process | host | fleet
@@ -64,7 +66,7 @@ struct TopicRule {
 /// GB/s, KiB/s, MiB/s, GiB/s, kbit/s, Mbit/s, Gbit/s; "2 MB/s", "20Mbit/s"); an error message
 /// saying what is wrong, or the bytes per second.
 std::variant<std::uint64_t, std::string> parse_bandwidth(std::string_view text);
-/// Parses a duration above 0: a number with a unit, ns, us, ms, s or min ("100ms", "1.5 s");
+/// Parses a duration above 0: a number with a unit, ns, us, ms, s, min or h ("100ms", "1.5 s");
 /// an error message saying what is wrong, or the duration.
 std::variant<std::chrono::nanoseconds, std::string> parse_duration(std::string_view text);
 
@@ -75,6 +77,8 @@ struct FleetSection {
   std::optional<std::uint32_t> heartbeat_ms;
   std::optional<std::uint32_t> announce_ms;
   std::optional<std::uint32_t> misses;
+  std::optional<std::uint32_t> max_hosts;
+  std::optional<std::chrono::nanoseconds> forget_after;
 };
 inline constexpr std::uint32_t kMinHeartbeatMs = 10;
 inline constexpr std::uint32_t kMaxHeartbeatMs = 60000;
@@ -171,6 +175,11 @@ struct FleetSettings {
   std::chrono::milliseconds heartbeat{100};
   std::chrono::milliseconds announce_period{2000};
   std::uint32_t misses = 3;  // a host is lost after this many heartbeats missed (+ one period of tolerance)
+  // What a process keeps of the fleet, whatever its peers send: at most max_hosts hosts (a new
+  // one takes the place of the host lost longest ago, or is refused while all are alive), and
+  // a lost host only for forget_after.
+  std::uint32_t max_hosts = 1024;
+  std::chrono::nanoseconds forget_after = std::chrono::hours(1);
   std::string transport;
 };
 Result<FleetSettings> fleet_settings();
