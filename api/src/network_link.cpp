@@ -65,7 +65,7 @@ std::uint32_t network_waiters(const TopicCore& core) noexcept {
   // (waitset.cpp); the bridge's engine registers with the share of its export entry. Counting
   // the shares of the other entries leaves the bridge out.
   std::uint32_t n = 0;
-  const std::uint32_t hwm = core.ring.header().sub_hwm.load(std::memory_order_acquire);
+  const std::uint32_t hwm = std::min(core.ring.header().sub_hwm.load(std::memory_order_acquire), shm::kMaxSubscribers);
   for (std::uint32_t i = 0; i < std::min(hwm, shm::kMaxSubscribers); ++i) {
     const auto& e = core.ring.subscriber(i);
     if (i == entry && e.owner.load(std::memory_order_relaxed) == token) continue;

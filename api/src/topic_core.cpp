@@ -225,7 +225,7 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
     auto seg = shm::ShmSegment::open(ns, name, spec);
     if (!seg) return fail(segment_errc(seg.error().kind), seg.error().message);
     core->ring = seg->ring();
-    core->payload_size = seg->ring().header().payload_size;  // a serialized topic may have another slot size
+    core->payload_size = seg->ring().payload_size();  // a serialized topic may have another slot size
     core->pool = seg->pool();
     core->participant = seg->participant();
     core->segment.emplace(std::move(*seg));

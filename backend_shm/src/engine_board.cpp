@@ -85,6 +85,11 @@ EngineSlot* remap_board(EngineSlot* stale) noexcept {
   }
   const int fd = ::shm_open(pb.name.c_str(), O_RDWR | O_CLOEXEC, 0);
   if (fd < 0) return nullptr;  // no engine on this host: nothing to wake
+  const auto mode = shm_mode_from_environment();
+  if (!mode || foreign_file(fd, *mode, pb.name)) {  // planted by another user: not ours to ring
+    ::close(fd);
+    return nullptr;
+  }
   struct stat st{};
   void* p = nullptr;
   if (::fstat(fd, &st) == 0 && static_cast<std::size_t>(st.st_size) >= kBoardBytes)
@@ -145,6 +150,10 @@ std::expected<EngineBell, SegmentError> EngineBell::claim(const std::string& ns,
   for (int attempt = 0; attempt < 100; ++attempt) {
     const int fd = ::shm_open(name.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, mode);
     if (fd < 0) return io("cannot open the network engines' board");
+    if (auto why = foreign_file(fd, mode, name)) {  // before its lock: a planted file may be held locked
+      ::close(fd);
+      return std::unexpected(SegmentError{SegmentError::Kind::Permission, std::move(*why)});
+    }
     if (::flock(fd, LOCK_EX) != 0) {
       ::close(fd);
       return io("cannot lock the network engines' board");
@@ -155,6 +164,7 @@ std::expected<EngineBell, SegmentError> EngineBell::claim(const std::string& ns,
       ::close(fd);
       continue;
     }
+
     ProcessBoard& pb = process_board();
     std::unique_lock board_lock(pb.mutex);
     // The board this process maps already (an engine of this process, or a publisher's ring).

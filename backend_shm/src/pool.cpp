@@ -76,8 +76,13 @@ Pool Pool::attach(void* region) noexcept {
   Pool p;
   p.hdr_ = static_cast<PoolHeader*>(region);
   auto* base = static_cast<std::byte*>(region);
+  p.slot_bytes_ = p.hdr_->slot_bytes;
+  p.stride_ = p.hdr_->slot_stride;
+  p.data_offset_ = p.hdr_->data_offset;
+  p.slots_per_lane_ = p.hdr_->slots_per_lane;
+  p.lanes_ = p.hdr_->lanes;
   p.slots_ = reinterpret_cast<PoolSlot*>(base + p.hdr_->slots_offset);
-  p.data_ = reinterpret_cast<std::uint8_t*>(base + p.hdr_->data_offset);
+  p.data_ = reinterpret_cast<std::uint8_t*>(base + p.data_offset_);
   return p;
 }
 
@@ -97,7 +102,7 @@ void Pool::admit(std::uint32_t p) const noexcept {
 }
 
 std::optional<Pool::Claim> Pool::claim(std::uint32_t lane, const Claimer& me, std::uint64_t max_stamp) const noexcept {
-  const std::uint32_t n = hdr_->slots_per_lane;
+  const std::uint32_t n = slots_per_lane_;
   const std::uint32_t first = lane * n;
   // Candidates from the oldest: a lane has at most 64 slots, so a few passes over it are cheap.
   std::uint64_t tried = 0;

@@ -92,7 +92,7 @@ bool Ring::wake_waiters(std::uint32_t classes) const noexcept { return ring_door
 
 std::uint32_t Ring::reap_dead_waiters() const noexcept {
   std::uint32_t reaped = 0;
-  const std::uint32_t hwm = hdr_->sub_hwm.load(std::memory_order_acquire);
+  const std::uint32_t hwm = std::min(hdr_->sub_hwm.load(std::memory_order_acquire), kMaxSubscribers);
   for (std::uint32_t i = 0; i < hwm; ++i) {
     auto& share = subs_[i].waiting;
     if (share.count.load(std::memory_order_relaxed) == 0) continue;
@@ -115,7 +115,7 @@ bool Ring::has_unread_except(std::uint32_t entry, std::uint64_t token, std::uint
   if (e.state.load(std::memory_order_acquire) != SubscriberEntry::kActive ||
       e.owner.load(std::memory_order_relaxed) != token)
     return false;
-  const std::uint32_t lanes = hdr_->lane_hwm.load(std::memory_order_acquire);
+  const std::uint32_t lanes = std::min(hdr_->lane_hwm.load(std::memory_order_acquire), kMaxPublishers);
   for (std::uint32_t l = 0; l < lanes; ++l)
     if (l != skip && lanes_[l].head.load(std::memory_order_acquire) > e.cursor[l].load(std::memory_order_relaxed))
       return true;
@@ -124,14 +124,14 @@ bool Ring::has_unread_except(std::uint32_t entry, std::uint64_t token, std::uint
 
 std::uint32_t Ring::publisher_count() const noexcept {
   std::uint32_t n = 0;
-  const std::uint32_t hwm = hdr_->lane_hwm.load(std::memory_order_acquire);
+  const std::uint32_t hwm = std::min(hdr_->lane_hwm.load(std::memory_order_acquire), kMaxPublishers);
   for (std::uint32_t i = 0; i < hwm; ++i) n += lanes_[i].owner.load(std::memory_order_acquire) != 0 ? 1u : 0u;
   return n;
 }
 
 std::uint32_t Ring::subscriber_count() const noexcept {
   std::uint32_t n = 0;
-  const std::uint32_t hwm = hdr_->sub_hwm.load(std::memory_order_acquire);
+  const std::uint32_t hwm = std::min(hdr_->sub_hwm.load(std::memory_order_acquire), kMaxSubscribers);
   for (std::uint32_t i = 0; i < hwm; ++i)
     n += subs_[i].state.load(std::memory_order_acquire) == SubscriberEntry::kActive ? 1u : 0u;
   return n;
@@ -141,7 +141,7 @@ std::uint64_t Ring::space_limit(std::uint32_t lane, std::uint64_t head, std::uin
   // Without subscribers, act as if one sat at `head`: a cached limit must stay valid for a
   // subscriber that joins later (its cursor starts at the head of that moment, >= head).
   std::uint64_t limit = head + capacity_;
-  const std::uint32_t hwm = hdr_->sub_hwm.load(std::memory_order_acquire);
+  const std::uint32_t hwm = std::min(hdr_->sub_hwm.load(std::memory_order_acquire), kMaxSubscribers);
   for (std::uint32_t i = 0; i < hwm; ++i) {
     const auto& e = subs_[i];
     if (e.state.load(std::memory_order_acquire) != SubscriberEntry::kActive) continue;
@@ -153,7 +153,7 @@ std::uint64_t Ring::space_limit(std::uint32_t lane, std::uint64_t head, std::uin
 
 std::uint64_t Ring::unnoticed_losses(std::uint32_t entry) const noexcept {
   const auto& e = subs_[entry];
-  const std::uint32_t lanes = hdr_->lane_hwm.load(std::memory_order_acquire);
+  const std::uint32_t lanes = std::min(hdr_->lane_hwm.load(std::memory_order_acquire), kMaxPublishers);
   std::uint64_t n = 0;
   for (std::uint32_t l = 0; l < lanes; ++l) {
     const std::uint64_t head = lanes_[l].head.load(std::memory_order_acquire);
@@ -165,7 +165,7 @@ std::uint64_t Ring::unnoticed_losses(std::uint32_t entry) const noexcept {
 
 std::uint64_t Ring::undetected_losses() const noexcept {
   std::uint64_t n = 0;
-  const std::uint32_t hwm = hdr_->sub_hwm.load(std::memory_order_acquire);
+  const std::uint32_t hwm = std::min(hdr_->sub_hwm.load(std::memory_order_acquire), kMaxSubscribers);
   for (std::uint32_t i = 0; i < hwm; ++i)
     if (subs_[i].state.load(std::memory_order_acquire) == SubscriberEntry::kActive) n += unnoticed_losses(i);
   return n;
@@ -173,7 +173,7 @@ std::uint64_t Ring::undetected_losses() const noexcept {
 
 std::uint64_t Ring::total_sent() const noexcept {
   std::uint64_t n = 0;
-  const std::uint32_t lanes = hdr_->lane_hwm.load(std::memory_order_acquire);
+  const std::uint32_t lanes = std::min(hdr_->lane_hwm.load(std::memory_order_acquire), kMaxPublishers);
   for (std::uint32_t l = 0; l < lanes; ++l) n += lanes_[l].head.load(std::memory_order_acquire);
   return n;
 }

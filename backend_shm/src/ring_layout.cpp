@@ -46,7 +46,8 @@ Ring::Ring(std::byte* base) noexcept
       subs_(std::launder(reinterpret_cast<SubscriberEntry*>(base + hdr_->subs_offset))),
       slots_(base + hdr_->slots_offset),
       capacity_(hdr_->capacity),
-      stride_(hdr_->slot_stride) {}
+      stride_(hdr_->slot_stride),
+      payload_size_(hdr_->payload_size) {}
 
 Ring Ring::format(void* region, const RingConfig& cfg) noexcept {
   auto* base = static_cast<std::byte*>(region);

@@ -271,7 +271,7 @@ Result<void> Bridge::become_holder(bool takeover) {
   spec.type_name = core_.type_name;
   spec.type_hash = core_.type_hash;
   spec.qos = qos_;
-  spec.max_message_bytes = core_.pool ? core_.pool.slot_bytes() : core_.ring.header().payload_size;
+  spec.max_message_bytes = core_.pool ? core_.pool.slot_bytes() : core_.ring.payload_size();
   receiving_.store(host_subscribers() != 0, std::memory_order_relaxed);
   spec.receive = receiving_.load(std::memory_order_relaxed);
   auto endpoint = transport_->open(spec, *this);

@@ -52,6 +52,28 @@ TEST(Pool, ConfigIsCheckedAndTheHeaderValidated) {
   EXPECT_NE(err->find("layout"), std::string::npos) << *err;
 }
 
+// Another process that rewrites the shared header after this one attached (a hostile writer
+// of a shared segment) cannot move the bounds this process checks: the geometry was copied at
+// attach. Without the copy, slot 3's data would move 1 GiB past the region.
+TEST(Pool, TheGeometryIsCopiedAtAttachAndALaterHeaderChangeMovesNoBound) {
+  PoolFixture f({1000, 4});
+  const Pool attached = Pool::attach(f.region.data());
+  const auto bytes = attached.slot_bytes();
+  const auto count = attached.slot_count();
+  const auto offset = attached.offset_of(3);
+  const auto* data = attached.data(3);
+  f.pool.header().slot_bytes = std::uint64_t{1} << 40;
+  f.pool.header().slot_stride = std::uint64_t{1} << 30;
+  f.pool.header().slots_per_lane = 1u << 30;
+  f.pool.header().lanes = 1u << 20;
+  f.pool.header().data_offset = std::uint64_t{1} << 35;
+  EXPECT_EQ(attached.slot_bytes(), bytes);
+  EXPECT_EQ(attached.slot_count(), count);
+  EXPECT_EQ(attached.offset_of(3), offset);
+  EXPECT_EQ(attached.data(3), data);
+  EXPECT_FALSE(attached.pin(count, 0, 0)) << "a slot past the attached geometry";
+}
+
 TEST(Pool, AClaimIsOddUntilPublishedAndPinsOnlyTheGenerationPublished) {
   PoolFixture f({4096, 4});
   auto c = f.pool.claim(3, me());

@@ -1,6 +1,7 @@
 // The ring region itself: layout, formatting and validation of a region's header.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstring>
 #include <string>
 
@@ -39,6 +40,27 @@ TEST(RingLayout, AFormattedRegionValidatesAndKeepsItsConfiguration) {
   EXPECT_EQ(ring.header().type_hash, 0x1234u);
   EXPECT_EQ(ring.publisher_count(), 0u);
   EXPECT_EQ(ring.subscriber_count(), 0u);
+}
+
+// The high-water marks of lanes and subscriber entries live in shared memory: a hostile writer
+// that raises them after attach must not make a reader or the control plane index past the
+// tables (ASan checks this in the asan pass).
+TEST(RingLayout, HighWaterMarksRaisedByAnotherWriterStayWithinTheTables) {
+  auto region = formatted();
+  const Ring ring = Ring::attach(region.data());
+  RingReader<std::array<std::byte, 24>> reader(ring, 1);
+  ASSERT_TRUE(reader.subscribe());
+  ring.header().lane_hwm.store(1u << 30);
+  ring.header().sub_hwm.store(1u << 30);
+  std::array<std::byte, 24> out{};
+  EXPECT_FALSE(reader.read(out));
+  EXPECT_FALSE(reader.has_message());
+  EXPECT_EQ(reader.pending(), 0u);
+  EXPECT_FALSE(reader.read_latest(out));
+  EXPECT_EQ(ring.subscriber_count(), 1u);
+  EXPECT_EQ(ring.publisher_count(), 0u);
+  EXPECT_EQ(ring.undetected_losses(), 0u);
+  EXPECT_EQ(ring.total_sent(), 0u);
 }
 
 TEST(RingLayout, ACorruptHeaderIsRejectedWithAReason) {

@@ -103,17 +103,20 @@ class Pool {
   static Pool format(void* region, const PoolConfig& cfg) noexcept;
   /// Checks a formatted pool of `size` bytes; an error text on a bad header.
   static std::optional<std::string> validate(const void* region, std::size_t size);
+  /// Attaches to a pool that validate() accepted (or format() made).
   static Pool attach(void* region) noexcept;
 
   explicit operator bool() const noexcept { return hdr_ != nullptr; }
   PoolHeader& header() const noexcept { return *hdr_; }
-  std::uint64_t slot_bytes() const noexcept { return hdr_->slot_bytes; }
-  std::uint32_t slots_per_lane() const noexcept { return hdr_->slots_per_lane; }
-  std::uint32_t slot_count() const noexcept { return hdr_->slots_per_lane * hdr_->lanes; }
+  // The geometry, copied at attach (after validate): what another process writes into the
+  // shared header later cannot move a bound this process checks against.
+  std::uint64_t slot_bytes() const noexcept { return slot_bytes_; }
+  std::uint32_t slots_per_lane() const noexcept { return slots_per_lane_; }
+  std::uint32_t slot_count() const noexcept { return slots_per_lane_ * lanes_; }
   PoolSlot& slot(std::uint32_t i) const noexcept { return slots_[i]; }
-  std::uint8_t* data(std::uint32_t i) const noexcept { return data_ + static_cast<std::size_t>(i) * hdr_->slot_stride; }
+  std::uint8_t* data(std::uint32_t i) const noexcept { return data_ + static_cast<std::size_t>(i) * stride_; }
   /// Byte offset of slot i's data from the pool's base (what a descriptor records).
-  std::uint64_t offset_of(std::uint32_t i) const noexcept { return hdr_->data_offset + std::uint64_t{i} * hdr_->slot_stride; }
+  std::uint64_t offset_of(std::uint32_t i) const noexcept { return data_offset_ + std::uint64_t{i} * stride_; }
 
   // -- writing: only the owner of `lane` ----------------------------------------
   /// Claims the free slot of `lane` published longest ago, among those whose stamp is at most
@@ -147,6 +150,8 @@ class Pool {
   PoolHeader* hdr_ = nullptr;
   PoolSlot* slots_ = nullptr;
   std::uint8_t* data_ = nullptr;
+  std::uint64_t slot_bytes_ = 0, stride_ = 0, data_offset_ = 0;
+  std::uint32_t slots_per_lane_ = 0, lanes_ = 0;
 };
 
 }  // namespace horus::shm

@@ -98,8 +98,11 @@ class Ring {
   std::byte* lane_slots(std::uint32_t lane) const noexcept {
     return slots_ + static_cast<std::size_t>(lane) * capacity_ * stride_;
   }
+  // The geometry, copied at attach (after validate): what another process writes into the
+  // shared header later cannot move a bound this process checks against.
   std::uint32_t capacity() const noexcept { return capacity_; }
   std::uint32_t stride() const noexcept { return stride_; }
+  std::uint32_t payload_size() const noexcept { return payload_size_; }
   explicit operator bool() const noexcept { return hdr_ != nullptr; }
 
   // --- The control plane (src/ring_control.cpp) ---
@@ -152,6 +155,7 @@ class Ring {
   std::byte* slots_ = nullptr;
   std::uint32_t capacity_ = 0;
   std::uint32_t stride_ = 0;
+  std::uint32_t payload_size_ = 0;
 };
 
 }  // namespace horus::shm

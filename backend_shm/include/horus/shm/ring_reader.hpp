@@ -113,7 +113,7 @@ class RingReader {
 
   /// Takes the next unread message (round-robin over publishers, FIFO within each).
   [[gnu::always_inline]] bool read(T& out) noexcept {
-    const std::uint32_t lanes = lane_hwm_->load(std::memory_order_acquire);
+    const std::uint32_t lanes = lane_count();
     std::uint32_t lane = next_lane_;
     for (std::uint32_t k = 0; k < lanes; ++k, ++lane) {
       if (lane >= lanes) lane = 0;
@@ -130,7 +130,7 @@ class RingReader {
   /// its own lane. `own` out of range (a writer without a lane) passes over nothing.
   bool read_except(T& out, std::uint32_t own) noexcept {
     if (own < kMaxPublishers) pass_over(own);
-    const std::uint32_t lanes = lane_hwm_->load(std::memory_order_acquire);
+    const std::uint32_t lanes = lane_count();
     std::uint32_t lane = next_lane_;
     for (std::uint32_t k = 0; k < lanes; ++k, ++lane) {
       if (lane >= lanes) lane = 0;
@@ -144,7 +144,7 @@ class RingReader {
 
   /// True if read() would return a message.
   bool has_message() const noexcept {
-    const std::uint32_t lanes = lane_hwm_->load(std::memory_order_acquire);
+    const std::uint32_t lanes = lane_count();
     for (std::uint32_t l = 0; l < lanes; ++l)
       if (slot_has(slot_of(l, cursor_[l]), cursor_[l])) return true;
     return false;
@@ -152,7 +152,7 @@ class RingReader {
 
   /// Unread messages still in the ring.
   std::uint64_t pending() const noexcept {
-    const std::uint32_t lanes = lane_hwm_->load(std::memory_order_acquire);
+    const std::uint32_t lanes = lane_count();
     std::uint64_t n = 0;
     for (std::uint32_t l = 0; l < lanes; ++l) {
       const std::uint64_t head = ring_.lane(l).head.load(std::memory_order_acquire);
@@ -177,7 +177,7 @@ class RingReader {
     std::uint64_t heads[kMaxPublishers];
     for (int attempt = 0; attempt < 64; ++attempt) {
       // Snapshot every head first: messages sent after this point are never skipped.
-      const std::uint32_t lanes = lane_hwm_->load(std::memory_order_acquire);
+      const std::uint32_t lanes = lane_count();
       for (std::uint32_t l = 0; l < lanes; ++l) heads[l] = ring_.lane(l).head.load(std::memory_order_acquire);
       std::uint32_t lane = ring_.header().latest_lane(std::memory_order_acquire);
       if (lane >= lanes || heads[lane] == 0) {
@@ -297,6 +297,11 @@ class RingReader {
   std::uint64_t mask_ = 0;
   std::size_t lane_bytes_ = 0;
   std::size_t stride_ = 0;  // used for ByteMessage only (fixed-size T: a constant)
+  // Lanes that may hold data: the shared high-water mark, never above kMaxPublishers whatever
+  // another process wrote there.
+  std::uint32_t lane_count() const noexcept {
+    return std::min(lane_hwm_->load(std::memory_order_acquire), kMaxPublishers);
+  }
   const std::atomic<std::uint32_t>* lane_hwm_ = nullptr;
   std::atomic<std::uint64_t>* shared_cursor_ = nullptr;  // our entry's cursors; null when not subscribed
   std::uint32_t next_lane_ = 0;

@@ -105,7 +105,7 @@ class RingWriter {
   }
 
   /// Largest encoded message write_bytes() accepts.
-  std::uint32_t max_bytes() const noexcept { return max_serialized_size(ring_.header().payload_size); }
+  std::uint32_t max_bytes() const noexcept { return max_serialized_size(ring_.payload_size()); }
 
   /// True if write() would not overwrite a message some other subscriber has not read. The limit
   /// is cached (like rigtorp's SPSCQueue caches the read index): subscribers' cursors are

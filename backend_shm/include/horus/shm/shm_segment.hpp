@@ -147,6 +147,13 @@ std::expected<std::string, SegmentError> shm_namespace(std::string_view value);
 std::expected<mode_t, SegmentError> shm_mode_from_environment();
 /// The mode that `value` (of HORUS_SHM_MODE) names; empty: 0600.
 std::expected<mode_t, SegmentError> shm_mode(std::string_view value);
+/// Why the shared-memory file open as `fd` (named `name`, "/horus....") must not be used, or
+/// nothing when it may: it belongs to another user than this process's effective user (unless
+/// `mode`, HORUS_SHM_MODE, shares segments with a group, the file belongs to a group of this
+/// process and gives nothing beyond `mode`), or it gives group or others write beyond `mode`.
+/// Another local user could have made it to read or forge a topic's messages, or to shrink it
+/// under the processes that map it (SIGBUS).
+std::optional<std::string> foreign_file(int fd, mode_t mode, const std::string& name);
 /// "/horus.<namespace>.<topic>": the name given to shm_open (the file is /dev/shm/horus....).
 std::string segment_name(std::string_view ns, std::string_view topic);
 
