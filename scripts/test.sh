@@ -2,7 +2,8 @@
 # Sets up everything, builds, and runs every test: the default build (all tests), then the
 # concurrency tests (and the LCM transport's threads) again under ThreadSanitizer, and the
 # decoders of untrusted bytes (the local codec, the XCDR1 and LCM codecs, serialized topics, MCAP
-# files and LCM logs) under AddressSanitizer + UBSan. HORUS_TEST_TSAN=0 / HORUS_TEST_ASAN=0 skip
+# files and LCM logs, and every fuzz target's corpus and regression inputs) under
+# AddressSanitizer + UBSan. HORUS_TEST_TSAN=0 / HORUS_TEST_ASAN=0 skip
 # those passes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -26,7 +27,11 @@ fi
 
 if [ "${HORUS_TEST_ASAN:-1}" != "0" ]; then
   cmake --preset asan
+  # The fuzz targets' corpora and regression inputs, replayed once each (fuzz/README.md).
+  replay=()
+  for t in $(sed -n 's/^set(HORUS_FUZZ_TARGETS \(.*\))$/\1/p' fuzz/CMakeLists.txt) lcm; do replay+=("fuzz_${t}_replay"); done
   cmake --build --preset asan -j "$jobs" --target test_codec test_cdr test_lcm_codec test_topic_serialized test_pool \
-    test_mcap
-  ctest --preset asan -R '^(Codec|Cdr|LcmCodec|LcmEmitter|SerializedTopic|Pool|Backends/PoolTopic|Mcap|McapDamage|All/McapCompression|LcmLog)\.'
+    test_mcap test_ring "${replay[@]}"
+  ctest --preset asan -R '^(Codec|Cdr|LcmCodec|LcmEmitter|SerializedTopic|Pool|Backends/PoolTopic|Mcap|McapDamage|All/McapCompression|LcmLog|RingLayout)\.'
+  ctest --preset asan -L '^fuzz$'
 fi

@@ -601,15 +601,14 @@ std::expected<SegmentView, SegmentError> SegmentView::open(const std::string& na
     return std::unexpected(SegmentError{SegmentError::Kind::Io, "shared-memory segment /dev/shm" + name +
                                                                     " is not a finished horus segment of version " +
                                                                     std::to_string(kSegmentVersion)});
-  auto* ring_base = static_cast<std::byte*>(p) + h.ring_offset;
-  if (h.ring_offset >= size)
+  // The checks of an attach (offsets where this version puts them, so aligned; ring and pool
+  // inside the file and agreeing with the header): a file another process left may be anything.
+  if (!ring_consistent(h, p, size))
     return std::unexpected(SegmentError{SegmentError::Kind::Io, "shared-memory segment /dev/shm" + name +
-                                                                    " has a corrupt header (ring past its end)"});
-  if (auto err = Ring::validate(ring_base, size - h.ring_offset))
-    return std::unexpected(SegmentError{SegmentError::Kind::Io, "shared-memory segment /dev/shm" + name + ": " + *err});
-  v.ring_ = Ring::attach(ring_base);
-  if (h.pool_offset != 0 && h.pool_offset < size && !Pool::validate(static_cast<std::byte*>(p) + h.pool_offset, size - h.pool_offset))
-    v.pool_ = Pool::attach(static_cast<std::byte*>(p) + h.pool_offset);
+                                                                    " has a corrupt header (its ring or pool does not "
+                                                                    "match it)"});
+  v.ring_ = Ring::attach(static_cast<std::byte*>(p) + h.ring_offset);
+  if (h.pool_offset != 0) v.pool_ = Pool::attach(static_cast<std::byte*>(p) + h.pool_offset);
   return v;
 }
 

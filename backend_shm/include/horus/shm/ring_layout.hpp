@@ -39,7 +39,7 @@ inline constexpr std::uint64_t kRingMagic = 0x3147'4E52'5355'524FULL;  // "ORUSR
 inline constexpr std::uint32_t kLayoutVersion = 5;  // 2: the doorbell; 3: the latest lane in its state word; 4: two classes
                                                     // of waiters; 5: the bridge class forwarded to a network engine
 
-struct alignas(kCacheLine) RingHeader {
+struct alignas(2 * kCacheLine) RingHeader {  // its doorbell has a 128-byte pair of its own
   // Written once by format(), read-only afterwards.
   std::uint64_t magic;
   std::uint32_t layout_version;

@@ -1,0 +1,12 @@
+// libFuzzer target: the configuration file (HORUS_CONFIG) as YAML text: sections, keys, rules,
+// quantities (bandwidths, durations), patterns; then a choice for a few topic names.
+#include <string_view>
+
+#include "horus/config.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  auto c = horus::Config::parse(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.yaml");
+  if (!c) return 0;
+  for (const char* topic : {"robot.cmd_vel", "fleet.camera.front", "a"}) (void)c->match(topic);
+  return 0;
+}
