@@ -24,6 +24,8 @@ while [ $# -gt 0 ]; do
   shift
 done
 bin="$build/bench"
+. "$(dirname "$0")/build_on_demand.sh"
+bench_build "$build" horus_dds_pingpong raw_cyclone_pingpong raw_fastdds_pingpong raw_lcm_pingpong horus_wake_latency
 command -v perf >/dev/null || { echo "perf is not installed (apt-get install linux-perf)" >&2; exit 1; }
 for p in horus-dds-pingpong raw-cyclone-pingpong raw-fastdds-pingpong raw-lcm-pingpong horus-wake-latency; do
   [ -x "$bin/$p" ] || { echo "$bin/$p is not built (cmake --build --preset default)" >&2; exit 1; }

@@ -35,6 +35,8 @@ while [ $# -gt 0 ]; do
   shift
 done
 bin="$build/bench"
+. "$(dirname "$0")/../build_on_demand.sh"
+bench_build "$build" horus_dds_pingpong raw_cyclone_pingpong raw_fastdds_pingpong
 domain=$(( 1 + $$ % 200 ))
 if [ "$quick" = 1 ]; then n_small=2000; n_image=30; rounds=1; tput_s=1; else n_small=20000; n_image=200; tput_s=3; fi
 

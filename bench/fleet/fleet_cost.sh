@@ -20,6 +20,8 @@ while [ $# -gt 0 ]; do
     *) echo "fleet_cost.sh: unknown argument '$1'" >&2; exit 2 ;;
   esac
 done
+. bench/build_on_demand.sh
+bench_build "$build" horus_fleet_cost
 bin="$PWD/$build/bench/horus-fleet-cost"
 [ -x "$bin" ] || { echo "fleet_cost.sh: $bin is missing; build the benchmarks first" >&2; exit 1; }
 mkdir -p bench/results

@@ -33,6 +33,8 @@ while [ $# -gt 0 ]; do
   esac
 done
 [ "$(id -u)" = 0 ] || { echo "priority_link.sh: needs root (namespace hosts)" >&2; exit 1; }
+. bench/build_on_demand.sh
+bench_build "$build" horus_slow_link_image
 prog="$PWD/$build/bench/horus-slow-link-image"
 [ -x "$prog" ] || { echo "priority_link.sh: $prog is missing; build the benchmarks first" >&2; exit 1; }
 . scripts/lib/netns-hosts.sh

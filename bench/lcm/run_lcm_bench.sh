@@ -41,6 +41,8 @@ while [ $# -gt 0 ]; do
   shift
 done
 bin="$build/bench"
+. "$here/../build_on_demand.sh"
+bench_build "$build" horus_dds_pingpong raw_lcm_pingpong
 if [ "$quick" = 1 ]; then n_small=2000; warm_small=200; n_image=20; rounds=1; tput_s=1; else n_small=20000; warm_small=500; n_image=200; tput_s=3; fi
 warm_image=5
 want_rmem=16777216

@@ -14,7 +14,7 @@
 // own endpoint, not horus's), then N Announcements whose type signature does not hash to its
 // type (host "forged"): every other host must count and ignore all 2N.
 // --forge-heartbeats sends N heartbeats, each from another forged host id (host "forged-<i>"),
-// 10 000 a second, then prints "forged sent <n>".
+// 20 000 a second, then prints "forged sent <n>".
 // --memory prints every 500 ms "memory <ms since start> rss_kb <n> hosts <n> malformed <n>".
 // At the end (after <seconds>) it prints each host it knows:
 //   host <name> <state> rejoins <n> rtt_us <n|-> processes <n> topics <n> announced <0|1>
@@ -160,7 +160,7 @@ int forge_heartbeats(int n) {
     h.seq = 1;
     h.period_ms = 100;
     hb->send(h);
-    if (i % 100 == 99) std::this_thread::sleep_until(start + std::chrono::milliseconds((i + 1) / 10));
+    if (i % 100 == 99) std::this_thread::sleep_until(start + std::chrono::microseconds((i + 1) * 50));
   }
   line(fmt::format("forged sent {}", n));
   return 0;

@@ -141,7 +141,7 @@ TEST_F(ShmOwnership, AGroupWithHorusShmMode0660SharesTopicsAndRootRefusesItsFile
   env.insert(env.end(), {"HORUS_NAMESPACE=team", "HORUS_SHM_MODE=0660"});
   // a publishes with the group as its group (sg): the segment file is a's, mode 0660, group hxg.
   auto pub = run_as(users_->a(), {"sg", users_->group(), "-c",
-                                  std::string(HORUS_CLI) + " topic pub team.pose Pose2D '{\"x\": 7}' -r 50 -n 400"},
+                                  std::string(HORUS_CLI) + " topic pub team.pose Pose2D '{\"x\": 7}' -r 50 -n 150"},
                     env);
   // The topic exists once a's segment file does (at most 20 s).
   const auto until = std::chrono::steady_clock::now() + 20s;
