@@ -1025,6 +1025,23 @@ TEST(GenericMessage, ToValueIntoTheWrongTypeIsAnError) {
   EXPECT_FALSE(wrong_field->to_value<app::SensorReading>().has_value());
 }
 
+// A container header that claims more elements than the payload holds (found by fuzz_local: a
+// map of 2^32 entries in 5 bytes made msgpack allocate 64 GiB) is an error, not an allocation.
+TEST(GenericMessage, AContainerClaimingMoreThanThePayloadHoldsIsAnError) {
+  for (const std::vector<std::uint8_t>& bytes :
+       {std::vector<std::uint8_t>{0xdf, 0xff, 0xff, 0xff, 0xff}, std::vector<std::uint8_t>{0xdd, 0x10, 0, 0, 0, 1},
+        std::vector<std::uint8_t>{0xdb, 0x7f, 0xff, 0xff, 0xff, 'a'}}) {
+    const auto m = GenericMessage::make(bytes);
+    ASSERT_TRUE(m.has_value());
+    const auto v = m->to_value<std::map<std::string, std::string>>();
+    ASSERT_FALSE(v.has_value());
+    EXPECT_TRUE(contains(v.error(), "is not valid MessagePack")) << v.error();
+    if (bytes.size() == 5) {
+      EXPECT_TRUE(contains(v.error(), "claims more than the payload holds")) << v.error();
+    }
+  }
+}
+
 TEST(GenericMessage, ToValueOfEmptyInvalidOrTrailingBytesIsAnError) {
   const auto empty = GenericMessage{}.to_value<int>();
   ASSERT_FALSE(empty.has_value());

@@ -174,8 +174,16 @@ class GenericMessage {
     if (bytes.empty()) return fail("the payload is empty (no MessagePack value)");
     msgpack::object_handle handle;
     std::size_t offset = 0;
+    // A container holds at most one element per byte of the payload: a header that claims more
+    // (a map of 2^32 entries in 5 bytes) is refused before msgpack allocates for it.
+    const auto most = static_cast<std::size_t>(bytes.size());
+    const msgpack::unpack_limit limit(most, most, most, most, most, 64);
     try {
-      handle = msgpack::unpack(reinterpret_cast<const char*>(bytes.data()), bytes.size(), offset);
+      handle = msgpack::unpack(reinterpret_cast<const char*>(bytes.data()), bytes.size(), offset, nullptr, nullptr, limit);
+    } catch (const msgpack::size_overflow& e) {
+      return fail(fmt::format("the {}-byte payload is not valid MessagePack: a container or string claims more than "
+                              "the payload holds ({})",
+                              bytes.size(), e.what()));
     } catch (const std::exception& e) {
       return fail(fmt::format("the {}-byte payload is not valid MessagePack ({})", bytes.size(), e.what()));
     }
