@@ -16,6 +16,7 @@
 #include "bench_peer.hpp"
 #include "bench_stats.hpp"
 #include "horus/config.hpp"
+#include "horus/fleet.hpp"
 #include "horus/msg/generic.hpp"
 #include "horus/topic.hpp"
 
@@ -122,6 +123,93 @@ struct PingResult {
   std::uint64_t clock_below_zero = 0;  // samples below 0 each way (the offset's error exceeds them): counted as 0
   LatencyHistogram forward, back;      // ping -> pong, pong -> ping
 };
+
+// -- the ping's books (bench_ping.cpp; ClockSamples: bench_clock.cpp) ------------------------
+
+// The ping's book of messages in flight, indexed by sequence number modulo its size.
+class Ledger {
+ public:
+  static constexpr std::size_t kSize = std::size_t{1} << 20;
+  Ledger() : slots_(kSize) {}
+  void sent(std::uint64_t seq, std::int64_t t) {
+    auto& s = slots_[seq & (kSize - 1)];
+    if (s.state == kOut) --outstanding_;  // overwritten while still out: it is lost
+    s = Slot{seq, t, kOut};
+    ++outstanding_;
+  }
+  enum class Echo { OnTime, Late, Duplicate, Unknown };
+  // Marks seq received; `sent_at` is its send time when it came back within the timeout.
+  Echo received(std::uint64_t seq, std::int64_t& sent_at) {
+    auto& s = slots_[seq & (kSize - 1)];
+    if (s.seq != seq || s.state == kNone) return Echo::Unknown;
+    if (s.state == kDone) return Echo::Duplicate;
+    const bool late = s.state == kLate;
+    if (s.state == kOut) --outstanding_;
+    s.state = kDone;
+    sent_at = s.t;
+    return late ? Echo::Late : Echo::OnTime;
+  }
+  // Messages out longer than `timeout` stop counting against the window.
+  void expire(std::uint64_t next_seq, std::int64_t now, std::int64_t timeout) {
+    while (oldest_ < next_seq) {
+      auto& s = slots_[oldest_ & (kSize - 1)];
+      if (s.seq == oldest_ && s.state == kOut) {
+        if (now - s.t <= timeout) break;
+        s.state = kLate;
+        --outstanding_;
+      }
+      ++oldest_;
+    }
+  }
+  std::uint64_t outstanding() const { return outstanding_; }
+
+ private:
+  enum State : std::uint8_t { kNone, kOut, kLate, kDone };
+  struct Slot {
+    std::uint64_t seq = 0;
+    std::int64_t t = 0;
+    State state = kNone;
+  };
+  std::vector<Slot> slots_;
+  std::uint64_t oldest_ = 0, outstanding_ = 0;
+};
+
+// The ping's side of one-way by clock: the send and receive times of measured echoes (a ring by
+// sequence number), matched with the pong's echo times as they arrive on the control topic.
+class ClockSamples {
+ public:
+  static constexpr std::size_t kSize = std::size_t{1} << 16;
+  static constexpr std::size_t kMaxMatched = std::size_t{1} << 22;
+  ClockSamples() : ring_(kSize) {}
+  void echoed(std::uint64_t seq, std::int64_t sent, std::int64_t received) {
+    ring_[seq & (kSize - 1)] = Entry{seq, sent, received};
+  }
+  // The pong echoed `seq` at `pong_unix` (its fleet clock); ignored unless `seq` was measured.
+  void stamped(std::uint64_t seq, std::int64_t pong_unix) {
+    const auto& e = ring_[seq & (kSize - 1)];
+    if (e.seq != seq || matched_.size() >= kMaxMatched) return;
+    matched_.push_back(Match{e.sent, pong_unix, e.received});
+  }
+  std::size_t size() const { return matched_.size(); }
+  // Each way's latency with the pong's clock taken as ours + `offset`; `base`: our fleet clock
+  // minus bench_now_ns().
+  void resolve(std::int64_t base, std::int64_t offset, PingResult& r) const;
+
+ private:
+  struct Entry {
+    std::uint64_t seq = UINT64_MAX;
+    std::int64_t sent = 0, received = 0;
+  };
+  struct Match {
+    std::int64_t sent, pong, received;
+  };
+  std::vector<Entry> ring_;
+  std::vector<Match> matched_;
+};
+
+// The pong's clock against ours, for one-way by clock: r.clock_* (from the fleet's offset of
+// r.pong_hostid's host, none on one host or with --clocks-synced; `fleet` may be null).
+void choose_clock(const BenchArgs& a, const std::string& hostid, Fleet* fleet, PingResult& r);
 
 // One ping run: the handshake with a pong, the warm-up, the measurement and the drain.
 PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, const std::atomic<bool>& stop);

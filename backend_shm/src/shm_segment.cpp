@@ -6,7 +6,6 @@
 
 #include <dirent.h>
 #include <fcntl.h>
-#include <pwd.h>
 #include <signal.h>
 #include <sys/file.h>
 #include <sys/mman.h>
@@ -24,8 +23,6 @@
 #include <sstream>
 #include <thread>
 #include <utility>
-
-#include <fmt/format.h>
 
 #include "horus/environment.hpp"
 #include "segment_internal.hpp"
@@ -154,41 +151,6 @@ std::expected<std::string, SegmentError> shm_namespace(std::string_view ns) {
                                           "HORUS_NAMESPACE '" + std::string(ns) + "' contains '" + std::string(1, c) +
                                               "'; expected 1 to 64 letters, digits, '_' or '-'"});
   return std::string(ns);
-}
-
-namespace {
-std::string user_name(uid_t uid) {
-  struct passwd pw{}, *found = nullptr;
-  char buf[1024];
-  if (::getpwuid_r(uid, &pw, buf, sizeof buf, &found) == 0 && found != nullptr) return found->pw_name;
-  return "no name";
-}
-
-bool in_group(gid_t gid) {
-  if (gid == ::getegid()) return true;
-  gid_t groups[256];
-  const int n = ::getgroups(256, groups);
-  return std::find(groups, groups + std::max(n, 0), gid) != groups + std::max(n, 0);
-}
-}  // namespace
-
-std::optional<std::string> foreign_file(int fd, mode_t mode, const std::string& name) {
-  struct stat st{};
-  if (::fstat(fd, &st) != 0) return "cannot stat /dev/shm" + name + ": " + errno_text(errno);
-  const unsigned perms = st.st_mode & 0777u;
-  const uid_t me = ::geteuid();
-  const bool beyond = (perms & 0022u & ~static_cast<unsigned>(mode)) != 0;
-  const bool shared = (mode & 0060u) != 0 && in_group(st.st_gid) && (perms & ~static_cast<unsigned>(mode)) == 0;
-  if (st.st_uid == me && !beyond) return std::nullopt;
-  if (st.st_uid != me && shared) return std::nullopt;
-  return fmt::format("shared-memory file /dev/shm{} belongs to uid {} ({}) with mode {:04o}, {}; this process "
-                     "(uid {}, HORUS_SHM_MODE {:04o}) does not use it: another user could read or forge its messages "
-                     "or shrink it. Remove it (rm /dev/shm{} as its owner or root) and find out who made it; "
-                     "users who share topics set the same HORUS_NAMESPACE and HORUS_SHM_MODE=0660 and a common group",
-                     name, st.st_uid, user_name(st.st_uid), perms,
-                     st.st_uid != me ? std::string("not to this process's user")
-                                     : fmt::format("which lets others than HORUS_SHM_MODE write it"),
-                     me, static_cast<unsigned>(mode), name);
 }
 
 std::expected<mode_t, SegmentError> shm_mode_from_environment() { return shm_mode(Environment::read().shm_mode); }

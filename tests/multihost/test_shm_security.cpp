@@ -13,7 +13,6 @@
 #include <chrono>
 #include <memory>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "netns.hpp"
@@ -141,18 +140,18 @@ TEST_F(ShmOwnership, AGroupWithHorusShmMode0660SharesTopicsAndRootRefusesItsFile
   env.insert(env.end(), {"HORUS_NAMESPACE=team", "HORUS_SHM_MODE=0660"});
   // a publishes with the group as its group (sg): the segment file is a's, mode 0660, group hxg.
   auto pub = run_as(users_->a(), {"sg", users_->group(), "-c",
-                                  std::string(HORUS_CLI) + " topic pub team.pose Pose2D '{\"x\": 7}' -r 50 -n 150"},
+                                  std::string(HORUS_CLI) + " topic pub team.pose Pose2D '{\"x\": 7}' -r 50 -n 250"},
                     env);
-  // The topic exists once a's segment file does (at most 20 s).
-  const auto until = std::chrono::steady_clock::now() + 20s;
-  while (run_as("", {"test", "-e", "/dev/shm/horus.team.team.pose"}).wait(30s) != 0 && std::chrono::steady_clock::now() < until)
-    std::this_thread::sleep_for(50ms);
-  EXPECT_EQ(stat_of("/dev/shm/horus.team.team.pose").substr(0, users_->a().size() + 4), users_->a() + " 660")
-      << pub.output();
-  auto echo = run_as(users_->b(), {HORUS_CLI, "topic", "echo", "team.pose", "-n", "1", "--timeout", "20"}, env);
+  // b echoes once a's topic exists: each attempt before fails at once ("no topic").
+  auto echo = run_as(users_->b(),
+                     {"timeout", "20", "sh", "-c",
+                      "until " + std::string(HORUS_CLI) + " topic echo team.pose -n 1 --timeout 10; do :; done"},
+                     env);
   const int echo_rc = echo.wait(60s);
   EXPECT_EQ(echo_rc, 0) << echo.output() << "\npublisher:\n" << pub.output();
   EXPECT_NE(echo.output().find('7'), std::string::npos) << echo.output();
+  EXPECT_EQ(stat_of("/dev/shm/horus.team.team.pose").substr(0, users_->a().size() + 4), users_->a() + " 660")
+      << pub.output();
   // Root is not in the group: the group's file is another user's to it.
   auto root = run_as("", {HORUS_CLI, "topic", "pub", "team.pose", "Pose2D", "{\"x\": 1}", "-n", "1"}, env);
   EXPECT_NE(root.wait(60s), 0) << root.output();

@@ -16,10 +16,13 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <poll.h>
 #include <spawn.h>
+#include <sys/inotify.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -129,6 +132,26 @@ class HostProcess {
       std::fclose(f);
     }
     return text;
+  }
+  /// Waits until its output contains `text` (woken by each write to its output file), at most
+  /// `timeout`; true when it does.
+  bool wait_for_output(const std::string& text, std::chrono::milliseconds timeout) const {
+    const int fd = ::inotify_init1(IN_CLOEXEC);
+    if (fd < 0) return output().find(text) != std::string::npos;
+    (void)::inotify_add_watch(fd, out_.c_str(), IN_MODIFY | IN_CLOSE_WRITE);
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    bool found = false;
+    while (!(found = output().find(text) != std::string::npos)) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+      if (left.count() <= 0) break;
+      pollfd p{fd, POLLIN, 0};
+      if (::poll(&p, 1, static_cast<int>(std::min<long long>(left.count(), 1000))) > 0) {
+        char events[4096];
+        (void)!::read(fd, events, sizeof events);
+      }
+    }
+    ::close(fd);
+    return found;
   }
 
  private:
