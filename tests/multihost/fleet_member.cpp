@@ -2,16 +2,17 @@
 // HORUS_BACKEND (or the scope argument), the settings from HORUS_DOMAIN_ID / HORUS_LCM_URL.
 //
 //   horus_fleet_member <topic> <scope> <id> <count> <start_unix_ms> <publishers> <seconds> [best-effort]
-//                      [await-reader] [deadline=<ms>]
+//                      [await-reader] [deadline=<ms>] [period=<ms>]
 //
 // (reliable unless best-effort is given; await-reader: a publisher starts at <start_unix_ms> or
 // once a remote reader matched, whichever comes later: DDS delivers nothing written before the
 // match, and under load on a lossy link discovery may take longer than a test's head start;
 // deadline=<ms>: the subscribing handle watches that deadline and a receiver's last lines are
-// "deadline missed <n> while receiving" and, 5 periods later, "deadline missed <n> after")
+// "deadline missed <n> while receiving" and, 5 periods later, "deadline missed <n> after";
+// period=<ms>: the publisher's messages go that far apart, 2 ms unless given)
 // Opens <topic> (scope: fleet, host or process) with a subscribing handle and, unless id is 0,
 // a publishing one. At <start_unix_ms> it publishes <count> Pose2D messages (x = id, y = sequence number
-// 0..count-1) 2 ms apart with send_blocking, unless id is 0 (a listener). It receives until it
+// 0..count-1) 2 ms apart (period=) with send_blocking, unless id is 0 (a listener). It receives until it
 // has <count> messages from each of <publishers> publishers or <seconds> passed, then prints
 //   received <n> from <k> publishers; duplicates <d>; out of order <o>; missing <m>; dropped <x>
 // and exits 0 when every message of every publisher arrived exactly once and in order, 1 when
@@ -67,19 +68,20 @@ struct Tally {
 
 int main(int argc, char** argv) {
   bool best_effort = false, await_reader = false, usage = argc < 8;
-  long deadline_ms = 0;
+  long deadline_ms = 0, period_ms = 2;
   for (int i = 8; i < argc; ++i) {
     const std::string flag = argv[i];
     if (flag == "best-effort") best_effort = true;
     else if (flag == "await-reader") await_reader = true;
     else if (flag.starts_with("deadline=")) deadline_ms = std::atol(flag.c_str() + 9);
+    else if (flag.starts_with("period=")) period_ms = std::atol(flag.c_str() + 7);
     else usage = true;
   }
-  if (deadline_ms < 0) usage = true;
+  if (deadline_ms < 0 || period_ms < 1 || period_ms > 1000) usage = true;
   if (usage) {
     std::fprintf(stderr,
                  "usage: %s <topic> <fleet|host|process> <id> <count> <start_unix_ms> <publishers> <seconds> "
-                 "[best-effort] [await-reader] [deadline=<ms>]\n",
+                 "[best-effort] [await-reader] [deadline=<ms>] [period=<ms>]\n",
                  argv[0]);
     return 2;
   }
@@ -139,7 +141,7 @@ int main(int argc, char** argv) {
         --seq;
       }
       drain();
-      std::this_thread::sleep_for(2ms);
+      std::this_thread::sleep_for(std::chrono::milliseconds(period_ms));
     }
   }
   // The moment main returns (the handles close after it): a test measures how long the process

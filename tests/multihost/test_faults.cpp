@@ -267,6 +267,10 @@ TEST_P(Faults, HostsOnANetworkWithoutMulticastMeetThroughPeers) {
 // (DDS: the reader's sample-lost status; LCM: gaps in the senders' sequence numbers, which also
 // count the sender's other channels, hence the 10% of slack above). Cyclone DDS 0.10 raises no
 // sample-lost status for best-effort readers: its losses are not counted (README says so).
+// The best-effort run lasts 4 s (4 ms apart): on the 20% link a DDS reader may match its writer
+// seconds after the writer matched it (Fast DDS repairs a lost discovery message at its next
+// heartbeat, 3 s), and what comes before is neither received nor seen lost; the link's loss is
+// judged over the rest, at least a quarter of the run (250 messages: about 50 lost at 20%).
 TEST_P(Faults, ALossyLinkDeliversReliableTopicsWholeAndCountsWhatBestEffortLoses) {
   if (!horus::backend_available(GetParam()))
     GTEST_SKIP() << "this build has no " << horus::to_string(GetParam()) << " backend";
@@ -280,7 +284,7 @@ TEST_P(Faults, ALossyLinkDeliversReliableTopicsWholeAndCountsWhatBestEffortLoses
   };
   std::vector<Lossy> lans;
   const long long start = unix_ms() + 3000;
-  constexpr int kCount = 1000;  // 2 ms apart: 2 s
+  constexpr int kCount = 1000;  // reliable: 2 ms apart (2 s); best effort: 4 ms apart (4 s)
   for (int percent : {5, 20}) {
     Lossy l{percent, std::make_unique<horus_test::NetnsLan>(2, percent == 5 ? "l" : "m"), {}, {}, {}, {}};
     if (!l.lan->ok()) GTEST_SKIP() << "no namespace hosts: " << l.lan->why();
@@ -307,10 +311,11 @@ TEST_P(Faults, ALossyLinkDeliversReliableTopicsWholeAndCountsWhatBestEffortLoses
       l.rel_pub = held(l.lan->spawn(0, {FLEET_MEMBER, "fleet.rel_" + id, "fleet", "1", n, at, "-1", "12", await}, env));
       l.rel_sub = held(l.lan->spawn(1, {FLEET_MEMBER, "fleet.rel_" + id, "fleet", "0", n, at, "1", "12"}, env));
     }
-    std::vector<std::string> be_pub = {FLEET_MEMBER, "fleet.be_" + id, "fleet", "1", n, at, "-1", "8", "best-effort"};
+    std::vector<std::string> be_pub = {FLEET_MEMBER, "fleet.be_" + id, "fleet", "1", n, at, "-1", "12", "best-effort",
+                                       "period=4"};
     if (!lcm) be_pub.push_back(await);
     l.be_pub = held(l.lan->spawn(0, be_pub, env));
-    l.be_sub = held(l.lan->spawn(1, {FLEET_MEMBER, "fleet.be_" + id, "fleet", "0", n, at, "1", "7", "best-effort"}, env));
+    l.be_sub = held(l.lan->spawn(1, {FLEET_MEMBER, "fleet.be_" + id, "fleet", "0", n, at, "1", "11", "best-effort"}, env));
     lans.push_back(std::move(l));
   }
   for (Lossy& l : lans) {
@@ -339,7 +344,7 @@ TEST_P(Faults, ALossyLinkDeliversReliableTopicsWholeAndCountsWhatBestEffortLoses
     ASSERT_NE(first_at, std::string::npos) << out;
     const long long first = std::atoll(out.c_str() + first_at + 6), last = std::atoll(out.c_str() + last_at + 5);
     const long long lost = kCount - received, window = last - first + 1, tail = kCount - window;
-    EXPECT_GT(window, kCount / 2) << what << ": the reader missed most of the run\n" << out;
+    EXPECT_GE(window, kCount / 4) << what << ": the reader missed most of the run\n" << out;
     EXPECT_GT(lost, 0) << what << ": the link lost nothing?\n" << out;
     EXPECT_LT(lost - tail, window * (l.percent + 15) / 100) << what << ": more lost than the link lost\n" << out;
     if (GetParam() != horus::Backend::CycloneDds) {

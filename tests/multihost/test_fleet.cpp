@@ -344,11 +344,22 @@ TEST_P(Fleet, LinkQualityAndClockOffsetAreMeasuredAndTheViewRemembersLostHosts) 
   auto b = lan.spawn(1, {FLEET_MEMBER, topic, "fleet", "0", "1", std::to_string(unix_ms()), "-1", "60"}, shifted);
   // Discovery through a link that drops half the datagrams takes a while on a loaded machine: ask
   // until host 2's figures are known and its loss shows (over 10 heartbeats and more), at most 36 s.
-  const double min_loss = GetParam() == horus::Backend::CycloneDds ? 0.01 : 0.05;
+  // The first figure may come from 10 heartbeats only, and on a loaded machine a stalled receiver
+  // adds to the link's losses for a moment (once 0.85 in CI): a figure outside the range is
+  // printed and asked again; the last one within the 36 s is judged.
+  const double min_loss = GetParam() == horus::Backend::CycloneDds ? 0.01 : 0.05, max_loss = 0.75;
   {
     std::string out;
     nlohmann::json host2;
     const auto deadline = std::chrono::steady_clock::now() + 36s;
+    auto settled = [&] {
+      if (host2.is_null() || host2.at("loss").is_null() || host2.at("clock_offset_us").is_null()) return false;
+      const double loss = host2.at("loss").get<double>();
+      if (loss >= min_loss && loss <= max_loss) return true;
+      std::printf("host 2's loss reads %.2f (after %lld heartbeats): asking again\n", loss,
+                  static_cast<long long>(host2.value("heartbeats", 0LL)));
+      return false;
+    };
     do {
       auto [rc, text] = cli(lan, 0, env, {"fleet", "--json", "--once", "--wait", "1500"});
       ASSERT_EQ(rc, 0) << text;
@@ -357,9 +368,7 @@ TEST_P(Fleet, LinkQualityAndClockOffsetAreMeasuredAndTheViewRemembersLostHosts) 
       const auto j = json_of(out);
       for (const auto& h : j.at("hosts"))
         if (h.at("host") == h2) host2 = h;
-    } while ((host2.is_null() || host2.at("loss").is_null() || host2.at("clock_offset_us").is_null() ||
-              host2.at("loss").get<double>() < min_loss) &&
-             std::chrono::steady_clock::now() < deadline);
+    } while (!settled() && std::chrono::steady_clock::now() < deadline);
     ASSERT_FALSE(host2.is_null()) << out;
     ASSERT_FALSE(host2.at("clock_offset_us").is_null()) << out;
     const auto offset = host2.at("clock_offset_us").get<std::int64_t>();
@@ -369,7 +378,7 @@ TEST_P(Fleet, LinkQualityAndClockOffsetAreMeasuredAndTheViewRemembersLostHosts) 
     ASSERT_FALSE(host2.at("loss").is_null()) << out;
     // (Cyclone DDS loses fewer heartbeats than datagrams, 8-14% here: any loss must show.)
     EXPECT_GE(host2.at("loss").get<double>(), min_loss) << out;
-    EXPECT_LE(host2.at("loss").get<double>(), 0.75) << out;
+    EXPECT_LE(host2.at("loss").get<double>(), max_loss) << out;
     std::printf("%s: host 2's clock offset %lld us (+- %lld us), loss %.2f, rtt %lld us\n",
                 std::string(horus::to_string(GetParam())).c_str(), static_cast<long long>(offset),
                 static_cast<long long>(uncertainty), host2.at("loss").get<double>(),
