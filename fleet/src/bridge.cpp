@@ -483,8 +483,13 @@ void Bridge::drain() noexcept {
   try {
     if (!flush_stash()) return;
     (void)flush_latest();
+    // From before a message is read (the read moves the cursor a successor adopts) until the
+    // transport took the last one: a holder killed in between cost at most one message, which
+    // its successor counts (maybe sent, never twice).
+    state().inflight.store(1, std::memory_order_relaxed);
     while (!backlog_.load(std::memory_order_relaxed) && port_->export_pending(port_->lane(), sink) != 0) {
     }
+    if (!backlog_.load(std::memory_order_relaxed)) state().inflight.store(0, std::memory_order_relaxed);
   } catch (const std::exception& e) {
     log().error("topic '{}': exporting to {} failed: {}", core_.name, info_.name, e.what());
   }
@@ -542,7 +547,6 @@ bool Bridge::send(const void* msg) {
                                  if (x.echo) x.self->ledger_.add(body_hash(body));
                                },
                                &ctx};
-  state().inflight.store(1, std::memory_order_relaxed);
   auto ok = endpoint_->write(*n, writer);
   // Reliable: a writer that timed out waiting for its readers to catch up (its own bounded
   // wait, 100 ms) keeps the message (back-pressure, not a loss): it waits in the stash, this
@@ -560,7 +564,6 @@ bool Bridge::send(const void* msg) {
     return false;  // stop after this message: it is in the stash
   }
   if (!ok && ok.error().code() == Errc::Timeout && stop_.load(std::memory_order_relaxed)) gave_up_ = true;
-  state().inflight.store(0, std::memory_order_relaxed);
   if (!ok) [[unlikely]]
     return report(ok.error());
   state().exported.fetch_add(1, std::memory_order_relaxed);

@@ -13,7 +13,8 @@
 // Opens <topic> (scope: fleet, host or process) with a subscribing handle and, unless id is 0,
 // a publishing one. At <start_unix_ms> it publishes <count> Pose2D messages (x = id, y = sequence number
 // 0..count-1) 2 ms apart (period=) with send_blocking, unless id is 0 (a listener). It receives until it
-// has <count> messages from each of <publishers> publishers or <seconds> passed, then prints
+// has <count> messages from each of <publishers> publishers, or each one's last arrived and 1 s
+// passed without a message, or <seconds> passed, then prints
 //   received <n> from <k> publishers; duplicates <d>; out of order <o>; missing <m>; dropped <x>
 // and exits 0 when every message of every publisher arrived exactly once and in order, 1 when
 // not, 2 on a usage error, 3 when the topic does not open. A listener with <publishers> = 0
@@ -158,8 +159,21 @@ int main(int argc, char** argv) {
   }
   const std::uint64_t want = static_cast<std::uint64_t>(publishers) * static_cast<std::uint64_t>(count);
   const auto quiet_until = Clock::now() + (publishers == 0 ? 3s : 0s);  // a listener listens a while
-  while (Clock::now() < deadline && (tally.received < want || Clock::now() < quiet_until)) {
-    if (auto m = sub->recv_for(50ms)) add(*m);
+  // Every publisher's last message came and 1 s passed without another: what is missing was lost
+  // (a gap stays a gap; waiting until <seconds> would only make a test with losses slower).
+  auto all_ended = [&] {
+    if (publishers <= 0 || tally.next.size() < static_cast<std::size_t>(publishers)) return false;
+    for (const auto& [pid, next] : tally.next)
+      if (next < count) return false;
+    return true;
+  };
+  auto last_message = Clock::now();
+  while (Clock::now() < deadline && (tally.received < want || Clock::now() < quiet_until) &&
+         !(all_ended() && Clock::now() - last_message > 1s)) {
+    if (auto m = sub->recv_for(50ms)) {
+      add(*m);
+      last_message = Clock::now();
+    }
   }
   drain();
   std::uint64_t missing = 0;
