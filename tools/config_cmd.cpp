@@ -6,11 +6,13 @@
 
 #include <cstdio>
 #include <optional>
+#include <set>
 #include <string>
 #include <utility>
 
 #include "horus/config.hpp"
 #include "horus/horus.hpp"
+#include "horus/transport_registry.hpp"
 
 namespace horus::tools {
 
@@ -19,6 +21,30 @@ int cmd_config_check(const std::string& file) {
   if (!c) {
     fmt::print(stderr, "horus config check: {}\n", c.error().message());
     return 1;
+  }
+  // What only a transport knows (LCM's URL syntax, LCM's refusal of peers): the transports the file
+  // uses, and LCM's URL whenever the file gives one.
+  auto net = horus::net::config_of(*c);
+  if (!net) {
+    fmt::print(stderr, "horus config check: {}\n", net.error().message());
+    return 1;
+  }
+  std::set<std::string> used;
+  if (c->network().backend) used.insert(*c->network().backend);
+  for (const auto& r : c->rules())
+    if (r.backend) used.insert(*r.backend);
+  for (const std::string& name : horus::net::transport_names()) {
+    const auto* t = horus::net::find_transport(name);
+    if (t == nullptr || t->check == nullptr) continue;
+    horus::net::Config checked = *net;
+    if (!used.contains(name)) {
+      if (name != "lcm" || !c->network().lcm_url) continue;
+      checked.peers.clear();  // not used by LCM here: only the URL's syntax is checked
+    }
+    if (auto ok = t->check(checked); !ok) {
+      fmt::print(stderr, "horus config check: {}\n", ok.error().message());
+      return 1;
+    }
   }
   fmt::print("{}: valid; {} rule{}\n", file, c->rules().size(), c->rules().size() == 1 ? "" : "s");
   return 0;

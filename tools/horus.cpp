@@ -34,11 +34,15 @@
 #include <signal.h>
 
 #include <atomic>
+#include <chrono>
 #include <cstdio>
 #include <string>
 
+#include "horus/backend.hpp"
+#include "horus/config.hpp"
 #include "horus/discovery/registry.hpp"
 #include "horus/shm/shm_segment.hpp"
+#include "horus/version.hpp"
 #include "bench_cmd.hpp"
 #include "config_cmd.hpp"
 #include "fleet_cmd.hpp"
@@ -54,6 +58,7 @@ extern "C" void on_signal(int) { g_stop.store(true); }
 
 int main(int argc, char** argv) {
   CLI::App app{"horus: topics on this host and the fleet"};
+  app.set_version_flag("--version", "horus " + std::string(horus::version()), "print the version of this build and exit");
   app.require_subcommand(1);
   auto* topic = app.add_subcommand("topic", "inspect and publish topics");
   topic->require_subcommand(1);
@@ -61,7 +66,8 @@ int main(int argc, char** argv) {
   auto fleet_flags = [&](CLI::App* c) {
     c->add_option("--backend", lookup.transport, "network backend of the fleet (default: HORUS_BACKEND's, else the "
                                                  "configuration file's network.backend)");
-    c->add_option("--wait", lookup.wait_ms, "milliseconds to wait for other hosts' announcements")
+    c->add_option("--wait", lookup.wait_ms, "milliseconds to wait for other hosts' announcements (echo, hz, bw: "
+                                            "also for a topic of this host to appear)")
         ->check(CLI::Range(0, 60000));
   };
 
@@ -71,11 +77,18 @@ int main(int argc, char** argv) {
   list->add_flag("-v,--verbose", verbose, "show the processes of each topic");
   list->add_flag("--local", local_only, "this host's topics only");
   list->add_flag("--all", all, "also the fleet layer's own topics (horus.fleet.*)");
+  double rate_window_s = 1.0;
+  auto rate_flag = [&](CLI::App* c) {
+    c->add_option("--window", rate_window_s, "seconds over which rates are measured (default 1; 0: no rates)")
+        ->check(CLI::Range(0.0, 60.0));
+  };
+  rate_flag(list);
   fleet_flags(list);
 
   std::string name;
   auto* info = topic->add_subcommand("info", "describe one topic");
   info->add_option("name", name, "topic name")->required();
+  rate_flag(info);
   fleet_flags(info);
 
   long count = 0;
@@ -84,19 +97,20 @@ int main(int argc, char** argv) {
   echo->add_option("name", name, "topic name")->required();
   echo->add_flag("--json", json, "one JSON object per line");
   echo->add_option("-n,--count", count, "stop after N messages (exit 1 if fewer arrive before --timeout)");
-  echo->add_option("--timeout", timeout_s, "stop after S seconds");
+  echo->add_option("--timeout", timeout_s, "stop after S seconds, waiting for the topic to appear included")
+      ->check(CLI::PositiveNumber);
   fleet_flags(echo);
 
   double duration_s = 0, window_s = 1.0;
   auto* hz = topic->add_subcommand("hz", "measure a topic's rate");
   hz->add_option("name", name, "topic name")->required();
-  hz->add_option("--duration", duration_s, "stop after S seconds");
+  hz->add_option("--duration", duration_s, "stop after S seconds (default: until Ctrl-C)")->check(CLI::PositiveNumber);
   hz->add_option("--window", window_s, "seconds between reports")->check(CLI::Range(0.05, 3600.0));
   fleet_flags(hz);
 
   auto* bw = topic->add_subcommand("bw", "measure a topic's bandwidth and message sizes");
   bw->add_option("name", name, "topic name")->required();
-  bw->add_option("--duration", duration_s, "stop after S seconds");
+  bw->add_option("--duration", duration_s, "stop after S seconds (default: until Ctrl-C)")->check(CLI::PositiveNumber);
   bw->add_option("--window", window_s, "seconds between reports")->check(CLI::Range(0.05, 3600.0));
   fleet_flags(bw);
 
@@ -118,7 +132,8 @@ int main(int argc, char** argv) {
   fleet->add_flag("--once", once, "print one snapshot and exit");
   fleet->add_option("--backend", lookup.transport, "network backend (default: HORUS_BACKEND's, else the file's)");
   fleet->add_option("--wait", fleet_wait_ms, "milliseconds to listen before the first snapshot")->check(CLI::Range(0, 60000));
-  fleet->add_option("--duration", duration_s, "stop after S seconds");
+  fleet->add_option("--duration", duration_s, "stop after S seconds (default: until Ctrl-C)")
+      ->check(CLI::PositiveNumber);
 
   auto* clean = app.add_subcommand("clean", "remove shared-memory segments whose processes are all gone");
 
@@ -137,7 +152,8 @@ int main(int argc, char** argv) {
   record->add_option("-o,--output", rec.output, "the file to write (FILE.mcap; with --split-size, FILE_1.mcap, ...)");
   record->add_option("--topics", rec.topics, "topic patterns to record ('*' one segment, '**' any): 'robot.**'");
   record->add_flag("--all", rec.all, "record every topic (not the fleet layer's own horus.fleet.*)");
-  record->add_option("--duration", rec.duration_s, "stop after S seconds");
+  record->add_option("--duration", rec.duration_s, "stop after S seconds (default: until Ctrl-C)")
+      ->check(CLI::PositiveNumber);
   record->add_option("--split-size", rec.split_mb, "start a new file every N MB");
   record->add_option("--compression", rec.compression, "MCAP chunk compression: zstd (default), lz4 or none");
   record->add_option("--format", rec.format, "mcap (default) or lcm (an LCM event log, as lcm-logger writes)");
@@ -199,10 +215,27 @@ int main(int argc, char** argv) {
   bench_local->add_option("--json", bench_args.json, "write the table as JSON to FILE ('-': stdout)");
 
   CLI11_PARSE(app, argc, argv);
+  lookup.rate_window = std::chrono::milliseconds(static_cast<long long>(rate_window_s * 1000));
+  // echo, hz and bw wait for a topic of this host that does not exist yet when asked to: --wait,
+  // else echo's --timeout.
+  for (const auto* c : {echo, hz, bw})
+    if (*c && c->count("--wait") > 0) lookup.appear_wait = std::chrono::milliseconds(lookup.wait_ms);
+  if (*echo && echo->count("--wait") == 0 && timeout_s > 0)
+    lookup.appear_wait = std::chrono::milliseconds(static_cast<long long>(timeout_s * 1000));
   if (*record_info) return horus::tools::cmd_record_info(record_file, json);
   if (*recover) return horus::tools::cmd_record_recover(record_file, recover_out);
   if (*check) return horus::tools::cmd_config_check(config_file);
   if (*explain) return horus::tools::cmd_config_explain(name, config_file);
+  // The environment as programs read it: a bad HORUS_BACKEND or HORUS_CONFIG is an error here too
+  // (a CLI that ignored it would show another fleet than the programs it watches see).
+  if (auto b = horus::backend_from_environment(); !b) {
+    fmt::print(stderr, "horus: {}\n", b.error().message());
+    return 2;
+  }
+  if (auto c = horus::config_from_environment(); !c) {
+    fmt::print(stderr, "horus: {}\n", c.error().message());
+    return 2;
+  }
   ::signal(SIGINT, on_signal);
   ::signal(SIGTERM, on_signal);
   if (*fleet) return horus::tools::cmd_fleet(lookup.transport, json, once, fleet_wait_ms, duration_s, g_stop);

@@ -177,17 +177,17 @@ class RemoteSource final : public Source {
 template <class Body>
 int with_topic(const std::string& ns, const std::string& name, const char* cmd, const Lookup& lookup,
                const std::atomic<bool>& stop, Body&& body) {
-  auto e = horus::discovery::find_topic(ns, name);
-  if (e) {
+  // A topic of this host: read through its segment.
+  auto local = [&](const horus::discovery::TopicEntry& entry) -> int {
     std::string error;
     // A fleet topic is opened as one (a host topic of the same name would be a scope conflict);
     // this short-lived observer never bridges it (HORUS_BRIDGE=0).
     horus::Backend backend = horus::Backend::SharedMemory;
-    if (e->scope == "fleet") {
-      backend = horus::Backend::network(e->transport);
+    if (entry.scope == "fleet") {
+      backend = horus::Backend::network(entry.transport);
       ::setenv("HORUS_BRIDGE", "0", 1);
     }
-    auto reader = horus::tools::open_reader(e->type_name, name, backend, error);
+    auto reader = horus::tools::open_reader(entry.type_name, name, backend, error);
     if (!reader && !error.empty()) {
       fmt::print(stderr, "horus topic {}: {}\n", cmd, error);
       return 1;
@@ -197,14 +197,26 @@ int with_topic(const std::string& ns, const std::string& name, const char* cmd, 
                  "horus topic {}: topic '{}' carries {} (layout hash {:016x}, {} bytes), which is not a standard horus "
                  "message; this tool decodes the {} standard types on this host, and any type of a fleet topic "
                  "that another host announces\n",
-                 cmd, name, e->type_name, e->type_hash, e->message_size, horus::msg::AllMessages::size);
+                 cmd, name, entry.type_name, entry.type_hash, entry.message_size, horus::msg::AllMessages::size);
       return 1;
     }
     LocalSource src(std::move(reader));
     return body(static_cast<Source&>(src));
-  }
+  };
+  auto e = horus::discovery::find_topic(ns, name);
+  if (e) return local(*e);
+  // Asked to wait (--wait, or echo's --timeout): the topic may appear meanwhile, here or (with a
+  // network backend) on another host.
+  if (lookup.appear_wait.count() > 0)
+    fmt::print(stderr, "horus topic {}: no topic '{}' yet; waiting up to {:.1f} s for it to appear\n", cmd, name,
+               static_cast<double>(lookup.appear_wait.count()) / 1000.0);
   const std::string transport = fleet_transport(lookup.transport);
   if (transport.empty()) {
+    for (const auto by = clock_type::now() + lookup.appear_wait; !e && !stop.load() && clock_type::now() < by;) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      e = horus::discovery::find_topic(ns, name);
+    }
+    if (e) return local(*e);
     fmt::print(stderr, "horus topic {}: {} (no network backend is configured, so other hosts were not asked)\n", cmd,
                e.error());
     return 1;
@@ -216,11 +228,18 @@ int with_topic(const std::string& ns, const std::string& name, const char* cmd, 
     return 1;
   }
   std::optional<RemoteTopic> found;
-  const auto deadline = clock_type::now() + std::chrono::milliseconds(lookup.wait_ms);
+  const auto deadline =
+      clock_type::now() + std::max<clock_type::duration>(std::chrono::milliseconds(lookup.wait_ms), lookup.appear_wait);
   while (!found && !stop.load() && clock_type::now() < deadline) {
     auto all = remote_topics(*fleet);
-    if (auto it = all.find(name); it != all.end()) found = it->second;
-    else std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    if (auto it = all.find(name); it != all.end()) {
+      found = it->second;
+    } else if (lookup.appear_wait.count() > 0 && (e = horus::discovery::find_topic(ns, name))) {
+      fleet.reset();
+      return local(*e);
+    } else {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
   }
   if (!found) {
     std::string known;
@@ -331,9 +350,9 @@ int info_remote(const std::string& name, const std::string& local_error, const L
 
 int cmd_echo(const std::string& ns, const std::string& name, const Lookup& lookup, bool json, long count,
              double timeout_s, const std::atomic<bool>& stop) {
+  const auto deadline = deadline_after(timeout_s);  // from the start: waiting for the topic counts
   return with_topic(ns, name, "echo", lookup, stop, [&](Source& src) {
     long printed = 0;
-    const auto deadline = deadline_after(timeout_s);
     while (!stop.load() && (count <= 0 || printed < count) && clock_type::now() < deadline) {
       if (auto text = src.text(json)) {
         fmt::print("{}\n", *text);
@@ -467,7 +486,7 @@ int cmd_pub(const std::string& ns, const std::string& name, const std::string& t
 
 int cmd_list(const std::string& ns, bool json, bool verbose, const Lookup& lookup, bool local_only, bool all,
              const std::atomic<bool>& stop) {
-  auto topics = horus::discovery::list_topics(ns, std::chrono::milliseconds(200));
+  auto topics = horus::discovery::list_topics(ns, lookup.rate_window);
   if (!all)  // the fleet layer's own topics (horus.fleet.*): shown with --all
     std::erase_if(topics, [](const auto& e) { return e.topic.starts_with("horus.fleet."); });
   std::map<std::string, RemoteTopic> remote;
@@ -527,7 +546,7 @@ int cmd_list(const std::string& ns, bool json, bool verbose, const Lookup& looku
 }
 
 int cmd_info(const std::string& ns, const std::string& name, const Lookup& lookup, const std::atomic<bool>& stop) {
-  auto e = horus::discovery::find_topic(ns, name, std::chrono::milliseconds(500));
+  auto e = horus::discovery::find_topic(ns, name, lookup.rate_window);
   if (!e) return info_remote(name, e.error(), lookup, stop);
   fmt::print("topic:        {}\n", e->topic);
   fmt::print("type:         {} (layout hash {:016x})\n", e->type_name, e->type_hash);

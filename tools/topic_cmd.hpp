@@ -2,6 +2,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <string>
 
 namespace horus::tools {
@@ -10,6 +11,11 @@ namespace horus::tools {
 struct Lookup {
   std::string transport;  // --backend, for the fleet
   int wait_ms = 1500;
+  // How long a command that reads a topic (echo, hz, bw) waits for a topic of this host that does
+  // not exist yet: --wait when given, else echo's --timeout; 0: it must exist now.
+  std::chrono::milliseconds appear_wait{0};
+  // list and info: how long the topics' sent counts are watched for their rates (--window).
+  std::chrono::milliseconds rate_window{1000};
 };
 
 int cmd_list(const std::string& ns, bool json, bool verbose, const Lookup& lookup, bool local_only, bool all,

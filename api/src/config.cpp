@@ -160,6 +160,7 @@ class Parser {
       if (!s) return std::unexpected(s.error());
       if (s->empty()) return bad(v, "network.lcm_url", "empty; expected an LCM URL such as \"udpm://239.255.76.67:7667?ttl=1\"");
       out.lcm_url = *s;
+      out.lcm_url_line = v.Mark().line + 1;
     }
     if (const auto v = n["peers"]) {
       constexpr std::string_view kExpected = "a list of host names or IPv4 addresses, such as [10.0.0.2, robot-3]";
@@ -174,6 +175,7 @@ class Parser {
         peers.push_back(*s);
       }
       out.peers = std::move(peers);
+      out.peers_line = v.Mark().line + 1;
     }
     if (const auto v = n["max_bandwidth"]) {
       auto b = quantity(v, "network.max_bandwidth", "the host's link budget, a bandwidth such as \"2 MB/s\"",
@@ -459,11 +461,14 @@ Result<const Config*> file_from(const Environment& env) {
 net::FileDefaults file_defaults(const Config* config) {
   if (config == nullptr) return {};
   const auto& n = config->network();
-  return {n.domain_id, n.localhost_only, n.lcm_url, n.peers, n.max_bandwidth, "configuration file '" + config->file() + "'"};
+  return {n.domain_id,     n.localhost_only, n.lcm_url, n.peers, n.max_bandwidth, "configuration file '" + config->file() + "'",
+          n.lcm_url_line, n.peers_line};
 }
 }  // namespace
 
 Result<const Config*> config_from_environment() { return file_from(Environment::read()); }
+
+Result<net::Config> net::config_of(const horus::Config& file) { return net::config_from(Environment{}, file_defaults(&file)); }
 
 namespace net {
 Result<Config> config_from_environment() {

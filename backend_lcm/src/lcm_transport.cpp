@@ -199,6 +199,11 @@ void register_lcm() {
          auto url = url_from(config);
          if (!url) return std::unexpected(std::move(url.error()));
          return lcm_transport(*url);
+       },
+       nullptr, [](const net::Config& config) -> Result<void> {
+         auto url = url_from(config);
+         if (!url) return std::unexpected(std::move(url.error()));
+         return {};
        }});
 }
 

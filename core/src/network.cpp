@@ -100,7 +100,8 @@ Result<Config> config_from(const Environment& env, const FileDefaults& file) {
     config.peers_origin = "environment variable HORUS_PEERS";
   } else if (file.peers && !file.peers->empty()) {
     config.peers = *file.peers;
-    config.peers_origin = file.origin + ", network.peers";
+    config.peers_origin = file.origin + (file.peers_line > 0 ? fmt::format(", line {}", file.peers_line) : "") +
+                          ", network.peers";
   }
   // The URL is checked by the LCM transport, which knows its syntax; the origin names it.
   if (!env.horus_lcm_url.empty()) {
@@ -111,7 +112,8 @@ Result<Config> config_from(const Environment& env, const FileDefaults& file) {
     config.lcm_url_origin = "environment variable LCM_DEFAULT_URL";
   } else if (file.lcm_url) {
     config.lcm_url = *file.lcm_url;
-    config.lcm_url_origin = file.origin + ", network.lcm_url";
+    config.lcm_url_origin = file.origin + (file.lcm_url_line > 0 ? fmt::format(", line {}", file.lcm_url_line) : "") +
+                            ", network.lcm_url";
   }
   return config;
 }

@@ -37,7 +37,7 @@ Result<void> register_transport(const TransportInfo& info) {
   for (const auto& [name, have] : t.entries) {
     if (name != info.name) continue;
     if (have.format == info.format && have.wire_name == info.wire_name && have.open == info.open &&
-        have.open_control == info.open_control)
+        have.open_control == info.open_control && have.check == info.check)
       return {};
     return fail(Errc::Config, fmt::format("transport '{}' is already registered with other functions; expected "
                                           "one registration per name",

@@ -129,22 +129,52 @@ std::optional<TopicEntry> read_entry(const std::string& file, const std::string&
   return e;
 }
 
-std::uint64_t sent_now(const std::string& segment) {
-  auto view = shm::SegmentView::open("/" + segment);
-  return view ? view->ring().total_sent() : 0;
-}
-
-// Sets rate_hz of every entry from its sent count sampled `window` apart.
+// Sets rate_hz of every entry from its sent count, looked at every 5 ms for `window`: from the
+// first to the last time the count moved (a 2 Hz topic seen over 1 s moves twice or three times:
+// (count moved) / (time between the moves) says 2.0, where a count over a 200 ms window said 5 or 0).
+// A topic that moved once in the window gets that one message over the window.
 void sample_rates(std::vector<TopicEntry>& entries, std::chrono::milliseconds window) {
   if (window.count() <= 0 || entries.empty()) return;
-  std::vector<std::uint64_t> before;
-  for (const auto& e : entries) before.push_back(sent_now(e.segment));
-  const auto t0 = std::chrono::steady_clock::now();
-  std::this_thread::sleep_for(window);  // the measurement window itself, not a wait for a condition
-  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  using Clock = std::chrono::steady_clock;
+  struct Watch {
+    std::optional<shm::SegmentView> view;
+    std::uint64_t start = 0, first = 0, last = 0;  // counts: at the start, at the first and last move
+    Clock::time_point first_at{}, last_at{};
+    int moves = 0;
+  };
+  std::vector<Watch> w(entries.size());
+  for (std::size_t i = 0; i < entries.size(); ++i)
+    if (auto v = shm::SegmentView::open("/" + entries[i].segment)) {
+      w[i].start = w[i].last = v->ring().total_sent();
+      w[i].view.emplace(std::move(*v));
+    }
+  const auto t0 = Clock::now();
+  for (auto now = t0; now - t0 < window; now = Clock::now()) {
+    // The measurement itself (a look every 5 ms), not a wait for a condition.
+    std::this_thread::sleep_for(std::min<Clock::duration>(std::chrono::milliseconds(5), window - (now - t0)));
+    const auto at = Clock::now();
+    for (auto& x : w) {
+      if (!x.view) continue;
+      const std::uint64_t n = x.view->ring().total_sent();
+      if (n == x.last) continue;
+      if (x.moves++ == 0) {
+        x.first = n;
+        x.first_at = at;
+      }
+      x.last = n;
+      x.last_at = at;
+    }
+  }
+  const double secs = std::chrono::duration<double>(Clock::now() - t0).count();
   for (std::size_t i = 0; i < entries.size(); ++i) {
-    const std::uint64_t after = sent_now(entries[i].segment);
-    entries[i].rate_hz = after >= before[i] ? static_cast<double>(after - before[i]) / secs : 0.0;
+    const Watch& x = w[i];
+    if (!x.view || x.last < x.start) {
+      entries[i].rate_hz = 0.0;
+    } else if (x.moves >= 2 && x.last_at > x.first_at) {
+      entries[i].rate_hz = static_cast<double>(x.last - x.first) / std::chrono::duration<double>(x.last_at - x.first_at).count();
+    } else {
+      entries[i].rate_hz = static_cast<double>(x.last - x.start) / secs;
+    }
   }
 }
 

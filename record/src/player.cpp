@@ -206,6 +206,11 @@ Result<PlayStats> Player::play(const PlayOptions& options, const std::atomic<boo
   }
   PlayStats stats;
   const std::uint64_t from = impl_->start + static_cast<std::uint64_t>(options.start_s * 1e9);
+  if (from > impl_->end)
+    return fail(Errc::InvalidArgument,
+                fmt::format("play start {} s is past the end of the recording ({:.3f} s long); expected a start "
+                            "within it",
+                            options.start_s, static_cast<double>(impl_->end - impl_->start) / 1e9));
   const auto stopped = [&] { return stop != nullptr && stop->load(std::memory_order_relaxed); };
   for (;;) {
     const auto t0 = std::chrono::steady_clock::now();
@@ -255,6 +260,11 @@ Result<PlayStats> Player::play(const PlayOptions& options, const std::atomic<boo
     if (stopped()) break;
     ++stats.loops;
     if (!options.loop) break;
+    // A pass that played nothing (no message of the chosen topics after the start) would spin.
+    if (first)
+      return fail(Errc::InvalidArgument,
+                  fmt::format("nothing to play from {} s on with the topics chosen; looping would repeat nothing",
+                              options.start_s));
   }
   return stats;
 }

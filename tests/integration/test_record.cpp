@@ -368,6 +368,29 @@ TEST(Record, ARecorderKilledMidWriteLeavesAFileThatReadsToItsLastChunk) {
   ASSERT_TRUE(stats) << stats.error().message();
   EXPECT_EQ(stats->published, xs.size());
   EXPECT_EQ(played, xs);
+
+  // Playing from past the end, or looping over nothing, is an error at once (it spun a core).
+  {
+    auto again = horus::Player::open(fixed);
+    ASSERT_TRUE(again) << again.error().message();
+    ASSERT_TRUE((*again)->bind<horus::msg::Pose2D>(prefix + ".pose", prefix + ".back"));
+    horus::PlayOptions past;
+    past.start_s = 10;
+    past.loop = true;
+    auto r = (*again)->play(past);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message().find("past the end of the recording"), std::string::npos) << r.error().message();
+    horus::PlayOptions none;
+    none.loop = true;
+    none.rate = 0;
+    none.topics = {prefix + ".nothing"};
+    r = (*again)->play(none);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message().find("nothing to play"), std::string::npos) << r.error().message();
+  }
+  EXPECT_EQ(horus_test::run_command("timeout 20 " + std::string(HORUS_CLI) + " play " + fixed + " --start 10 --loop", out), 1)
+      << out;
+  EXPECT_NE(out.find("past the end of the recording"), std::string::npos) << out;
   for (const auto& f : {file, fixed, log}) std::remove(f.c_str());
 }
 
@@ -517,6 +540,8 @@ TEST(Record, BadFilesAndArgumentsGetClearErrors) {
   EXPECT_EQ(horus_test::run_command(cli + " record -o " + dir + "/x.mcap --topics 'a..b'", out), 2) << out;
   EXPECT_EQ(horus_test::run_command(cli + " play " + foreign + " --remap nonsense", out), 2) << out;
   EXPECT_NE(out.find("OLD=NEW"), std::string::npos) << out;
+  EXPECT_EQ(horus_test::run_command(cli + " record -o " + dir + "/x.mcap --all --duration 0", out), 105) << out;
+  EXPECT_NE(out.find("--duration"), std::string::npos) << out;
   EXPECT_EQ(horus_test::run_command(cli + " record -o /nonexistent/dir/x.mcap --all", out), 1) << out;
   EXPECT_NE(out.find("/nonexistent/dir/x.mcap"), std::string::npos) << out;
   std::filesystem::remove_all(dir);

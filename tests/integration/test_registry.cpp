@@ -91,6 +91,27 @@ TEST(Registry, MeasuresTheRateOverAWindow) {
   EXPECT_LT(e->rate_hz, 250.0);
 }
 
+// A slow topic's rate comes from the times its count moved, not from a count over the window
+// (a 2 Hz topic over 200 ms read 5.0 or 0.0 Hz, alternately). A 2.5 Hz topic over 1 s moves 2 or 3
+// times: a count over the window would say 2.0 or 3.0.
+TEST(Registry, ASlowTopicsRateIsMeasuredBetweenItsMessages) {
+  const auto name = horus_test::unique_name("slow");
+  horus::Topic<Stamp> pub(name), sub(name);
+  std::atomic<bool> stop{false};
+  std::thread t([&] {
+    for (std::uint64_t i = 0; !stop.load(); ++i) {
+      pub.send(Stamp::make(1, i));
+      for (int k = 0; k < 40 && !stop.load(); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  });
+  auto e = horus::discovery::find_topic(ns(), name, std::chrono::milliseconds(1000));
+  stop = true;
+  t.join();
+  ASSERT_TRUE(e) << e.error();
+  EXPECT_GT(e->rate_hz, 2.15);  // 2.5 Hz; the 10 ms steps of the publisher and the 5 ms looks blur it
+  EXPECT_LT(e->rate_hz, 2.85);
+}
+
 TEST(Registry, AnUnknownTopicIsAnErrorListingTheOnesThatExist) {
   const auto name = horus_test::unique_name("known");
   horus::Topic<Stamp> t(name);
@@ -274,6 +295,50 @@ TEST(HorusCli, HzReportsTheRateOfALiveTopic) {
   ASSERT_EQ(rc, 0) << out;
   EXPECT_NE(out.find("average rate:"), std::string::npos) << out;
   EXPECT_NE(out.find("std dev:"), std::string::npos) << out;
+}
+
+// `horus --version` says what horus::version() says; the CLI reads HORUS_BACKEND and HORUS_CONFIG
+// as programs do, and refuses bad values with the programs' errors.
+TEST(HorusCli, SaysItsVersionAndRefusesABadEnvironmentAsProgramsDo) {
+  std::string out;
+  ASSERT_EQ(run(std::string(HORUS_CLI) + " --version", out), 0) << out;
+  EXPECT_EQ(out, "horus " + std::string(horus::version()) + "\n");
+  EXPECT_TRUE(horus::version().starts_with(horus::version_number())) << horus::version();
+  EXPECT_EQ(std::count(horus::version_number().begin(), horus::version_number().end(), '.'), 2)
+      << horus::version_number();
+  EXPECT_EQ(run("HORUS_BACKEND=bogus " + std::string(HORUS_CLI) + " topic list", out), 2) << out;
+  EXPECT_NE(out.find("HORUS_BACKEND=bogus: unknown backend; expected auto, shm, inproc"), std::string::npos) << out;
+  EXPECT_EQ(run("HORUS_CONFIG=/nonexistent/horus.yaml " + std::string(HORUS_CLI) + " topic echo x.y -n 1", out), 2)
+      << out;
+  EXPECT_NE(out.find("HORUS_CONFIG=/nonexistent/horus.yaml"), std::string::npos) << out;
+  EXPECT_EQ(run("HORUS_BACKEND=shm " + std::string(HORUS_CLI) + " topic list --local --json", out), 0) << out;
+}
+
+// `topic echo --timeout` (or --wait) waits for a topic of this host that does not exist yet; without
+// either, a missing topic is an error at once.
+TEST(HorusCli, EchoWaitsForATopicThatAppearsWithinItsTimeout) {
+  const auto name = horus_test::unique_name("cli_later");
+  std::string out;
+  EXPECT_EQ(run(std::string(HORUS_CLI) + " topic echo " + name + " -n 1", out), 1) << out;
+  EXPECT_NE(out.find("no topic '" + name + "'"), std::string::npos) << out;
+  int rc = -1;
+  std::thread cli([&] { rc = run(std::string(HORUS_CLI) + " topic echo " + name + " --json -n 2 --timeout 20", out); });
+  // Not a wait for a condition: the topic is made later than the CLI starts (were the CLI slower
+  // to start, it would find the topic at once and the test prove less, never fail).
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  {
+    horus::Topic<horus::msg::Pose2D> pub(name);
+    Publishing p(std::chrono::milliseconds(5), [&](int i) { pub.send(horus::msg::Pose2D::make(i, 3.0, 0.0)); });
+    cli.join();
+  }
+  ASSERT_EQ(rc, 0) << out;
+  EXPECT_NE(out.find("waiting up to 20.0 s for it to appear"), std::string::npos) << out;
+  std::istringstream lines(out);
+  std::string line;
+  int n = 0;
+  while (std::getline(lines, line))
+    if (line.starts_with("{") && nlohmann::json::parse(line).at("y").get<double>() == 3.0) ++n;
+  EXPECT_EQ(n, 2) << out;
 }
 
 }  // namespace

@@ -62,7 +62,7 @@ pid_t spawn(F&& f) {
 }
 
 // Waits for a child, at most `timeout`: then kills it and returns -2 (tests never hang).
-int wait_for(pid_t pid, std::chrono::seconds timeout = std::chrono::seconds(60)) {
+inline int wait_for(pid_t pid, std::chrono::seconds timeout = std::chrono::seconds(60)) {
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   int status = 0;
   for (;;) {

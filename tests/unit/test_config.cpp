@@ -402,6 +402,27 @@ TEST_F(ConfigTest, TheCliChecksAFileAndExplainsWhatATopicGetsAndFromWhere) {
   EXPECT_NE(out.find("invalid topic name"), std::string::npos) << out;
 }
 
+// What only a transport knows is checked too: LCM's URL (whenever the file gives one) and its
+// refusal of peers (when a rule or network.backend uses LCM), with the file and the line.
+TEST_F(ConfigTest, TheCliChecksTheLcmUrlAndPeersWithTheFileAndLine) {
+  if (!horus::backend_available(horus::Backend::Lcm)) GTEST_SKIP() << "this build has no lcm backend";
+  std::string out;
+  const std::string cli = HORUS_CLI;
+  TempFile bogus("network:\n  backend: cyclonedds\n  lcm_url: bogus\n");
+  EXPECT_EQ(horus_test::run_command(cli + " config check " + bogus.path, out), 1) << out;
+  EXPECT_NE(out.find(bogus.path + "', line 3, network.lcm_url"), std::string::npos) << out;
+  EXPECT_NE(out.find("udpm://"), std::string::npos) << out;  // what is expected
+  TempFile unicast("network:\n  lcm_url: udpm://10.1.2.3:7667?ttl=1\n");
+  EXPECT_EQ(horus_test::run_command(cli + " config check " + unicast.path, out), 1) << out;
+  EXPECT_NE(out.find("10.1.2.3 is not a multicast address"), std::string::npos) << out;
+  TempFile peers("network:\n  peers: [10.0.0.2]\ntopics:\n  - match: \"fleet.**\"\n    scope: fleet\n    backend: lcm\n");
+  EXPECT_EQ(horus_test::run_command(cli + " config check " + peers.path, out), 1) << out;
+  EXPECT_NE(out.find(peers.path + "', line 2, network.peers lists peers"), std::string::npos) << out;
+  // Peers with DDS, and a good URL, are fine.
+  TempFile fine("network:\n  backend: cyclonedds\n  peers: [10.0.0.2]\n  lcm_url: udpm://239.255.76.67:7667?ttl=1\n");
+  EXPECT_EQ(horus_test::run_command(cli + " config check " + fine.path, out), 0) << out;
+}
+
 }  // namespace
 
 #ifdef HORUS_HAVE_LCM
@@ -416,7 +437,7 @@ TEST_F(ConfigTest, ABadLcmUrlInTheFileFailsTheLcmTopicNamingTheFileAndKey) {
   auto t = horus::Topic<horus::msg::CmdVel>::open("fleet.cmd");
   ASSERT_FALSE(t.has_value());
   const auto& m = t.error().message();
-  EXPECT_NE(m.find("configuration file '" + file.path + "', network.lcm_url"), std::string::npos) << m;
+  EXPECT_NE(m.find("configuration file '" + file.path + "', line 2, network.lcm_url"), std::string::npos) << m;
   EXPECT_NE(m.find("99999"), std::string::npos) << m;
 }
 
@@ -429,7 +450,7 @@ TEST_F(ConfigTest, PeersWithLcmAreAConfigurationErrorSayingLcmNeedsMulticast) {
   ASSERT_FALSE(t.has_value());
   const auto& m = t.error().message();
   EXPECT_EQ(t.error().code(), horus::Errc::Config) << m;
-  EXPECT_NE(m.find("configuration file '" + file.path + "', network.peers"), std::string::npos) << m;
+  EXPECT_NE(m.find("configuration file '" + file.path + "', line 2, network.peers"), std::string::npos) << m;
   EXPECT_NE(m.find("needs multicast"), std::string::npos) << m;
 }
 

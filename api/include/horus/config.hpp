@@ -90,6 +90,8 @@ struct NetworkSection {
   std::optional<std::string> lcm_url;
   std::optional<std::vector<std::string>> peers;  // unicast discovery to these hosts, multicast off
   std::optional<std::uint64_t> max_bandwidth;     // the host's link budget for fleet topics, bytes/s
+  int lcm_url_line = 0;                           // the lines they were given on (errors name them)
+  int peers_line = 0;
 };
 
 /// A parsed configuration file.
@@ -131,6 +133,8 @@ namespace net {
 /// configuration file's `network:` section (net::config_from). An error names the variable or
 /// the file.
 Result<Config> config_from_environment();
+/// The network settings `file` alone gives (no environment): what `horus config check` checks.
+Result<Config> config_of(const horus::Config& file);
 }  // namespace net
 /// Same as net::config_from_environment() (the name horus has always had).
 inline Result<net::Config> network_config_from_environment() { return net::config_from_environment(); }

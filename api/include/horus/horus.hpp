@@ -7,4 +7,5 @@
 #include "horus/metrics.hpp"
 #include "horus/executor.hpp"
 #include "horus/topic.hpp"
+#include "horus/version.hpp"
 #include "horus/waitset.hpp"

@@ -74,6 +74,8 @@ struct FileDefaults {
   std::optional<std::vector<std::string>> peers;  // checked by check_peer
   std::optional<std::uint64_t> link_bandwidth;    // network.max_bandwidth
   std::string origin;
+  int lcm_url_line = 0;  // where lcm_url and peers are in the file (0: not known), for errors
+  int peers_line = 0;
 };
 
 /// With peers (Config::peers), discovery probes these participant indexes on each peer: the

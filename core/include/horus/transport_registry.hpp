@@ -41,6 +41,9 @@ struct TransportInfo {
   /// serves them too (Cyclone DDS's participants of a domain share one network stack; LCM one
   /// multicast socket).
   Result<std::shared_ptr<Transport>> (*open_control)(const Config& config) = nullptr;
+  /// Optional: checks the transport's settings in `config` without opening anything (`horus
+  /// config check`: LCM's URL and its refusal of peers); the error names where each came from.
+  Result<void> (*check)(const Config& config) = nullptr;
 };
 
 /// Adds a transport. Registering the same name again with the same functions does nothing;

@@ -67,8 +67,9 @@ struct TopicEntry {
   std::uint32_t remote_subscribers = 0;  // remote readers the bridge matched
 };
 
-/// Every topic of shared-memory namespace `ns`. With a window > 0, sent counts are sampled
-/// twice that far apart to give rate_hz.
+/// Every topic of shared-memory namespace `ns`. With a window > 0, sent counts are watched that
+/// long (a look every 5 ms) to give rate_hz: the messages between the first and the last time a
+/// count moved, over that time (a topic slower than the window: 0, or one message over the window).
 std::vector<TopicEntry> list_topics(std::string_view ns, std::chrono::milliseconds window = std::chrono::milliseconds(0));
 
 /// The same, for a caller that looks again and again (the fleet agent's announcements): keeps
