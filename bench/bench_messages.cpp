@@ -16,6 +16,7 @@
 #include "horus/wire/local.hpp"
 #include "horus/horus.hpp"
 #include "horus/msg/all.hpp"
+#include "horus/msg/generic_value.hpp"
 
 namespace {
 

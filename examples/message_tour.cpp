@@ -8,6 +8,7 @@
 
 #include <horus/horus.hpp>
 #include <horus/json.hpp>
+#include <horus/msg/generic_value.hpp>
 
 int main() {
   using namespace horus::msg;

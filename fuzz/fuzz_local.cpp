@@ -1,6 +1,6 @@
 // libFuzzer target: the local codec (horus::codec::decode, the bytes of serialized shared-memory
 // topics and recordings) on the message types of fuzz_common.hpp; the first byte picks the type.
-// A GenericMessage's MessagePack payload is unpacked too.
+// A GenericMessage's MessagePack payload is unpacked too, and printed by log_summary().
 #include <map>
 #include <string>
 #include <type_traits>
@@ -8,6 +8,7 @@
 
 #include "fuzz_codecs.hpp"
 #include "fuzz_common.hpp"
+#include "horus/msg/generic_value.hpp"
 #include "horus/wire/local.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -19,6 +20,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       // Its MessagePack payload, as `horus bench`'s control topic and `horus topic echo` unpack it.
       (void)m->template to_value<std::map<std::string, std::string>>();
       (void)m->template to_value<std::vector<double>>();
+      (void)m->log_summary();  // its own MessagePack reader (msgpack_text.hpp)
     }
     horus::fuzz::round_trip(
         *m, [](const T& v) { return horus::codec::encode(v); },

@@ -22,6 +22,7 @@
 #include "fuzz_common.hpp"
 #include "horus/record/lcm_log.hpp"
 #include "horus/record/mcap.hpp"
+#include "horus/msg/generic_value.hpp"
 #include "horus/reflect.hpp"
 #include "horus/shm/ring.hpp"
 #include "horus/shm/shm_segment.hpp"

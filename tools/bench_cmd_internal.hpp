@@ -17,7 +17,7 @@
 #include "bench_stats.hpp"
 #include "horus/config.hpp"
 #include "horus/fleet.hpp"
-#include "horus/msg/generic.hpp"
+#include "horus/msg/generic_value.hpp"
 #include "horus/topic.hpp"
 
 namespace horus::tools::bench_detail {

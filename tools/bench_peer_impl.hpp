@@ -12,6 +12,7 @@
 
 #include "bench_peer.hpp"
 #include "horus/msg/all.hpp"
+#include "horus/msg/generic_value.hpp"
 #include "horus/topic.hpp"
 #include "horus/wire/xcdr1.hpp"
 

@@ -11,6 +11,9 @@
 #include <cstring>
 #include <limits>
 #include <map>
+#include <optional>
+#include <span>
+#include <sstream>
 #include <ostream>
 #include <stdexcept>
 #include <string>
@@ -24,6 +27,7 @@
 #include "horus/msg/audio.hpp"
 #include "horus/msg/diagnostics.hpp"
 #include "horus/msg/force.hpp"
+#include "horus/msg/generic_value.hpp"
 #include "horus/msg/generic.hpp"
 
 namespace horus::msg {
@@ -1040,6 +1044,75 @@ TEST(GenericMessage, AContainerClaimingMoreThanThePayloadHoldsIsAnError) {
       EXPECT_TRUE(contains(v.error(), "claims more than the payload holds")) << v.error();
     }
   }
+}
+
+// log_summary() prints a payload with a reader of its own (msgpack-cxx stays out of the headers
+// most files include): the text is msgpack-cxx's for every kind of value, and what msgpack-cxx
+// would refuse (or allocate for) is refused without allocating.
+struct SummaryMix {
+  std::map<std::string, std::vector<double>> series{{"a/b", {1.5, -0.25, 1e20}}, {"q\"\\\n\x01\x7f", {}}};
+  std::vector<std::int64_t> ints{0, 127, 128, -1, -32, -33, -129, 65536, -2147483649LL, 9007199254740993LL};
+  std::uint64_t big = 18446744073709551615ULL;
+  float f = 0.1f;
+  bool yes = true, no = false;
+  std::optional<int> none;
+  std::string text = std::string(300, 'x');
+  MSGPACK_DEFINE(series, ints, big, f, yes, no, none, text)
+};
+
+TEST(GenericMessage, TheSummarysOwnReaderPrintsWhatMsgpackPrintsAndRefusesWhatItRefuses) {
+  msgpack::sbuffer buf;
+  msgpack::pack(buf, SummaryMix{});
+  // Binaries and extensions, each size class.
+  msgpack::packer<msgpack::sbuffer> pk(buf);
+  for (std::size_t n : {std::size_t{3}, std::size_t{300}}) {
+    pk.pack_bin(static_cast<std::uint32_t>(n));
+    pk.pack_bin_body(std::string(n, 'b').data(), static_cast<std::uint32_t>(n));
+  }
+  for (std::size_t n : {std::size_t{1}, std::size_t{4}, std::size_t{5}, std::size_t{300}}) {
+    pk.pack_ext(n, -3);
+    pk.pack_ext_body(std::string(n, 'e').data(), static_cast<std::uint32_t>(n));
+  }
+  std::vector<std::uint8_t> all(reinterpret_cast<const std::uint8_t*>(buf.data()),
+                                reinterpret_cast<const std::uint8_t*>(buf.data()) + buf.size());
+  // Each value alone, and then all of them (trailing values: not one value).
+  std::size_t offset = 0;
+  while (offset < all.size()) {
+    const std::size_t start = offset;
+    const auto h = msgpack::unpack(reinterpret_cast<const char*>(all.data()), all.size(), offset);
+    std::ostringstream theirs;
+    theirs << h.get();
+    std::string ours;
+    EXPECT_TRUE(horus::msg::detail::MsgpackText::write(std::span(all).subspan(start, offset - start), ours));
+    EXPECT_EQ(ours, theirs.str());
+  }
+  std::string text;
+  EXPECT_FALSE(horus::msg::detail::MsgpackText::write(all, text)) << "more than one value";
+  // Cut short anywhere: refused.
+  const std::size_t first = [&] {
+    std::size_t o = 0;
+    (void)msgpack::unpack(reinterpret_cast<const char*>(all.data()), all.size(), o);
+    return o;
+  }();
+  for (std::size_t n = 0; n < first; ++n) {
+    text.clear();
+    EXPECT_FALSE(horus::msg::detail::MsgpackText::write(std::span(all).first(n), text)) << n << " bytes";
+  }
+  // Claims without the bytes (a map of 2^32 - 1 entries in 5 bytes), the unused byte, depth 65.
+  std::vector<std::vector<std::uint8_t>> bad{{0xdf, 0xff, 0xff, 0xff, 0xff}, {0xdb, 0x7f, 0xff, 0xff, 0xff, 'a'}, {0xc1}};
+  bad.emplace_back(65, std::uint8_t{0x91});
+  bad.back().push_back(0x01);
+  for (const auto& b : bad) {
+    text.clear();
+    EXPECT_FALSE(horus::msg::detail::MsgpackText::write(b, text)) << b.size() << " bytes";
+  }
+  std::vector<std::uint8_t> deep(63, std::uint8_t{0x91});
+  deep.push_back(0x01);
+  text.clear();
+  EXPECT_TRUE(horus::msg::detail::MsgpackText::write(deep, text));
+  EXPECT_EQ(text, std::string(63, '[') + "1" + std::string(63, ']'));
+  EXPECT_EQ(GenericMessage::make(std::vector<std::uint8_t>{0xdf, 0xff, 0xff, 0xff, 0xff})->log_summary(),
+            "GenericMessage(5 B, not MessagePack)");
 }
 
 TEST(GenericMessage, ToValueOfEmptyInvalidOrTrailingBytesIsAnError) {

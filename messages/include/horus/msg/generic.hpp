@@ -6,6 +6,8 @@
 //   if (!msg) log(msg.error());
 //   auto back = msg->to_value<std::map<std::string, double>>();   // std::expected<T, std::string>
 //
+// from_value and to_value need #include <horus/msg/generic_value.hpp> (msgpack-cxx,
+// which costs about two seconds of compile time; <horus/horus.hpp> leaves it out).
 // Any type msgpack-cxx can pack works: integers, floats, strings, vectors,
 // maps, tuples, and user structs with MSGPACK_DEFINE(...). The layout is HORUS's
 // (horus_types generic.rs): a 256-byte inline buffer used for payloads up to
@@ -15,13 +17,8 @@
 // standard message. Nothing is ever cut: a payload over 4096 bytes or metadata
 // over 255 bytes is an error naming both sizes.
 //
-// msgpack-cxx is used header-only, without Boost (MSGPACK_NO_BOOST).
+// msgpack-cxx is used header-only, without Boost (MSGPACK_NO_BOOST), in generic_value.hpp.
 #pragma once
-
-#ifndef MSGPACK_NO_BOOST
-#define MSGPACK_NO_BOOST
-#endif
-#include <msgpack.hpp>
 
 #include <algorithm>
 #include <array>
@@ -40,6 +37,7 @@
 
 #include "horus/fixed_string.hpp"
 #include "horus/format.hpp"
+#include "horus/msg/detail/msgpack_text.hpp"
 #include "horus/reflect.hpp"
 
 namespace horus::msg {
@@ -82,22 +80,9 @@ constexpr std::string_view generic_utf8_prefix(std::string_view s, std::size_t m
   return s.substr(0, len);
 }
 
-inline std::string_view generic_msgpack_type_name(msgpack::type::object_type t) noexcept {
-  switch (t) {
-    case msgpack::type::NIL: return "nil";
-    case msgpack::type::BOOLEAN: return "boolean";
-    case msgpack::type::POSITIVE_INTEGER: return "positive integer";
-    case msgpack::type::NEGATIVE_INTEGER: return "negative integer";
-    case msgpack::type::FLOAT32: return "float32";
-    case msgpack::type::FLOAT64: return "float64";
-    case msgpack::type::STR: return "string";
-    case msgpack::type::BIN: return "binary";
-    case msgpack::type::ARRAY: return "array";
-    case msgpack::type::MAP: return "map";
-    case msgpack::type::EXT: return "ext";
-  }
-  return "unknown";
-}
+/// Defined by <horus/msg/generic_value.hpp>, which from_value and to_value need.
+template <class T>
+struct GenericValue;
 }  // namespace detail
 
 // ---------------------------------------------------------------------------
@@ -143,20 +128,9 @@ class GenericMessage {
   /// Packs value with MessagePack into a new message (HORUS's from_value). An
   /// error when the encoding is over 4096 bytes (the size is named) or packing
   /// fails. T is any type msgpack-cxx can pack (MSGPACK_DEFINE for your structs).
-  template <class T>
+  template <class T, class Value = detail::GenericValue<T>>
   static std::expected<GenericMessage, std::string> from_value(const T& value) {
-    msgpack::sbuffer buf;
-    try {
-      msgpack::pack(buf, value);
-    } catch (const std::exception& e) {
-      return std::unexpected(fmt::format("GenericMessage::from_value<{}>: MessagePack encoding failed: {}",
-                                         reflect::type_name<T>(), e.what()));
-    }
-    if (buf.size() > kMaxPayload)
-      return std::unexpected(fmt::format("GenericMessage::from_value<{}>: the MessagePack encoding is {} bytes; the "
-                                         "maximum payload is {}",
-                                         reflect::type_name<T>(), buf.size(), kMaxPayload));
-    return make(std::span<const std::uint8_t>(reinterpret_cast<const std::uint8_t*>(buf.data()), buf.size()));
+    return Value::pack(value);  // an incomplete type here: #include <horus/msg/generic_value.hpp>
   }
 
   /// Unpacks the payload into a T (HORUS's to_value). An error, naming T and
@@ -165,37 +139,9 @@ class GenericMessage {
   /// into an int, an integer out of T's range, a map into a vector, ...).
   /// T must own its data (std::string, not std::string_view or msgpack::object):
   /// the unpacked buffer is gone when to_value returns.
-  template <class T>
+  template <class T, class Value = detail::GenericValue<T>>
   std::expected<T, std::string> to_value() const {
-    const std::vector<std::uint8_t> bytes = data();
-    const auto fail = [](std::string_view what) {
-      return std::unexpected(fmt::format("GenericMessage::to_value<{}>: {}", reflect::type_name<T>(), what));
-    };
-    if (bytes.empty()) return fail("the payload is empty (no MessagePack value)");
-    msgpack::object_handle handle;
-    std::size_t offset = 0;
-    // A container holds at most one element per byte of the payload: a header that claims more
-    // (a map of 2^32 entries in 5 bytes) is refused before msgpack allocates for it.
-    const auto most = static_cast<std::size_t>(bytes.size());
-    const msgpack::unpack_limit limit(most, most, most, most, most, 64);
-    try {
-      handle = msgpack::unpack(reinterpret_cast<const char*>(bytes.data()), bytes.size(), offset, nullptr, nullptr, limit);
-    } catch (const msgpack::size_overflow& e) {
-      return fail(fmt::format("the {}-byte payload is not valid MessagePack: a container or string claims more than "
-                              "the payload holds ({})",
-                              bytes.size(), e.what()));
-    } catch (const std::exception& e) {
-      return fail(fmt::format("the {}-byte payload is not valid MessagePack ({})", bytes.size(), e.what()));
-    }
-    if (offset != bytes.size())
-      return fail(fmt::format("{} bytes follow the MessagePack value ({} of {} bytes used)", bytes.size() - offset,
-                              offset, bytes.size()));
-    try {
-      return handle.get().as<T>();
-    } catch (const std::exception& e) {
-      return fail(fmt::format("cannot convert a MessagePack {} to {} ({})",
-                              detail::generic_msgpack_type_name(handle.get().type), reflect::type_name<T>(), e.what()));
-    }
+    return Value::unpack(data());  // an incomplete type here: #include <horus/msg/generic_value.hpp>
   }
 
   /// The payload bytes (inline part, then overflow part).
@@ -244,20 +190,7 @@ class GenericMessage {
     std::string value;
     bool valid = false;
     if (!empty()) {
-      const std::vector<std::uint8_t> bytes = data();
-      try {
-        std::size_t offset = 0;
-        const msgpack::object_handle h =
-            msgpack::unpack(reinterpret_cast<const char*>(bytes.data()), bytes.size(), offset);
-        valid = offset == bytes.size();
-        if (valid) {
-          std::ostringstream text;
-          text << h.get();
-          value = text.str();
-        }
-      } catch (const std::exception&) {
-        valid = false;
-      }
+      valid = detail::MsgpackText::write(data(), value);
     }
     out += empty() ? ", empty" : valid ? " msgpack" : ", not MessagePack";
     if (const auto meta = metadata()) {

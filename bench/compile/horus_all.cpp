@@ -1,0 +1,9 @@
+// The same node through the umbrella header, as bench/compile_time.sh compiles it.
+#include <horus/horus.hpp>
+
+int main() {
+  horus::Topic<horus::msg::Pose2D> pose("robot.pose");
+  pose.send(horus::msg::Pose2D{1.0, 2.0, 0.5, 0});
+  if (auto m = pose.recv()) return m->x > 0 ? 0 : 1;
+  return 1;
+}
