@@ -522,9 +522,11 @@ int cmd_list(const std::string& ns, bool json, bool verbose, const Lookup& looku
     fmt::print("{:<36} {:<34} {:<17} {:>9} {:>4} {:>4} {:>10} {:>7} {:>9}\n", "topic", "type", "scope", "size", "pubs",
                "subs", "sent", "drops", "rate Hz");
     for (const auto& e : topics) {
-      fmt::print("{:<36} {:<34} {:<17} {:>9} {:>4} {:>4} {:>10} {:>7} {:>9.1f}{}\n", e.topic, e.type_name,
-                 scope_text(e), e.serialized ? fmt::format("<={}", e.message_size) : std::to_string(e.message_size),
-                 e.publishers, e.subscribers, e.messages_sent, e.dropped, e.rate_hz, e.stale ? "  (stale)" : "");
+      fmt::print("{:<36} {:<34} {:<17} {:>9} {:>4} {:>4} {:>10} {:>7} {:>9}{}\n", e.topic, e.type_name, scope_text(e),
+                 e.serialized ? fmt::format("<={}", e.message_size) : std::to_string(e.message_size), e.publishers,
+                 e.subscribers, e.messages_sent, e.dropped,
+                 e.rate_hz < 0 ? std::string("-") : fmt::format("{:.1f}", e.rate_hz),  // --window 0: not measured
+                 e.stale ? "  (stale)" : "");
       if (verbose) {
         fmt::print("    processes: {}\n", processes_text(e));
         if (e.scope == "fleet") fmt::print("    bridge:    {}\n", bridge_text(e));
@@ -566,7 +568,8 @@ int cmd_info(const std::string& ns, const std::string& name, const Lookup& looku
   fmt::print("segment:      /dev/shm/{} ({} bytes)\n", e->segment, e->segment_bytes);
   fmt::print("publishers:   {}\nsubscribers:  {}\n", e->publishers, e->subscribers);
   fmt::print("processes:    {}\n", processes_text(*e));
-  fmt::print("sent:         {}\ndropped:      {}\nrate:         {:.1f} Hz\n", e->messages_sent, e->dropped, e->rate_hz);
+  fmt::print("sent:         {}\ndropped:      {}\n", e->messages_sent, e->dropped);
+  if (e->rate_hz >= 0) fmt::print("rate:         {:.1f} Hz\n", e->rate_hz);
   if (e->stale) fmt::print("stale:        every process is gone (horus clean removes it)\n");
   return 0;
 }

@@ -182,6 +182,15 @@ TEST(HorusCli, ListAndInfoShowTheTopicAndUnknownNamesAreErrors) {
   EXPECT_TRUE(found) << out;
   ASSERT_EQ(run(std::string(HORUS_CLI) + " topic info " + name, out), 0) << out;
   EXPECT_NE(out.find("horus_test::Stamp"), std::string::npos) << out;
+  EXPECT_NE(out.find("rate:         0.0 Hz"), std::string::npos) << out;
+  // --window 0: no rate measured, and none shown.
+  ASSERT_EQ(run(std::string(HORUS_CLI) + " topic info " + name + " --window 0", out), 0) << out;
+  EXPECT_EQ(out.find("rate:"), std::string::npos) << out;
+  ASSERT_EQ(run(std::string(HORUS_CLI) + " topic list --window 0", out), 0) << out;
+  const auto row = out.find(name + " ");
+  ASSERT_NE(row, std::string::npos) << out;
+  const std::string line = out.substr(row, out.find('\n', row) - row);
+  EXPECT_TRUE(line.ends_with(" -")) << line;
   EXPECT_EQ(run(std::string(HORUS_CLI) + " topic info no.such.topic", out), 1);
   EXPECT_NE(out.find("no topic 'no.such.topic'"), std::string::npos) << out;
   // A type the tool cannot decode is named.
