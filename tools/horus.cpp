@@ -216,8 +216,8 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(app, argc, argv);
   lookup.rate_window = std::chrono::milliseconds(static_cast<long long>(rate_window_s * 1000));
-  // echo, hz and bw wait for a topic of this host that does not exist yet when asked to: --wait,
-  // else echo's --timeout.
+  // echo, hz and bw wait for a topic that does not exist yet (here or on another host) when asked
+  // to: --wait, else echo's --timeout.
   for (const auto* c : {echo, hz, bw})
     if (*c && c->count("--wait") > 0) lookup.appear_wait = std::chrono::milliseconds(lookup.wait_ms);
   if (*echo && echo->count("--wait") == 0 && timeout_s > 0)

@@ -11,8 +11,9 @@ namespace horus::tools {
 struct Lookup {
   std::string transport;  // --backend, for the fleet
   int wait_ms = 1500;
-  // How long a command that reads a topic (echo, hz, bw) waits for a topic of this host that does
-  // not exist yet: --wait when given, else echo's --timeout; 0: it must exist now.
+  // How long a command that reads a topic (echo, hz, bw) waits for a topic that does not exist
+  // yet, here or on another host: --wait when given, else echo's --timeout; 0: it must exist now
+  // (or be announced within wait_ms).
   std::chrono::milliseconds appear_wait{0};
   // list and info: how long the topics' sent counts are watched for their rates (--window).
   std::chrono::milliseconds rate_window{1000};
