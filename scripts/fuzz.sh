@@ -45,6 +45,8 @@ printf "%-13s %12s %9s %8s %8s %8s  (%s s or %s runs each, %s)\n" target executi
 run_one() {
   local t="$1" work="build/fuzz/corpus/$1" crashes="build/fuzz/crashes/$1" log="build/fuzz/$1.log"
   mkdir -p "$work" "$crashes"
+  local started="$work/.started"  # crashes of this run: files newer than this mark
+  touch "$started"
   local extra=()
   [ -f "fuzz/$t.dict" ] && extra+=("-dict=fuzz/$t.dict")
   local max_len=65536
@@ -55,8 +57,8 @@ run_one() {
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -1)
   rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -1)
   edges=$(grep -o 'cov: [0-9]*' "$log" | tail -1 | cut -d' ' -f2)
-  n=$(find "$work" -type f | wc -l)
-  crashed=$(find "$crashes" -type f | wc -l)
+  n=$(find "$work" -type f ! -name .started | wc -l)
+  crashed=$(find "$crashes" -type f -newer "$started" | wc -l)  # not the ones of earlier runs, kept there
   printf "%-13s %12s %9s %8s %8s %8s\n" "$t" "${execs:-?}" "${rate:-?}" "${edges:-?}" "$n" "$crashed" | tee -a "$summary"
 }
 running=0
