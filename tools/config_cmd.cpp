@@ -22,8 +22,8 @@ int cmd_config_check(const std::string& file) {
     fmt::print(stderr, "horus config check: {}\n", c.error().message());
     return 1;
   }
-  // What only a transport knows (LCM's URL syntax, LCM's refusal of peers): the transports the file
-  // uses, and LCM's URL whenever the file gives one.
+  // What only a transport knows (LCM's URL syntax, LCM's refusal of peers): every transport checks
+  // its own settings; peers only where the file uses the transport.
   auto net = horus::net::config_of(*c);
   if (!net) {
     fmt::print(stderr, "horus config check: {}\n", net.error().message());
@@ -37,10 +37,7 @@ int cmd_config_check(const std::string& file) {
     const auto* t = horus::net::find_transport(name);
     if (t == nullptr || t->check == nullptr) continue;
     horus::net::Config checked = *net;
-    if (!used.contains(name)) {
-      if (name != "lcm" || !c->network().lcm_url) continue;
-      checked.peers.clear();  // not used by LCM here: only the URL's syntax is checked
-    }
+    if (!used.contains(name)) checked.peers.clear();  // a transport the file does not use: its own settings only
     if (auto ok = t->check(checked); !ok) {
       fmt::print(stderr, "horus config check: {}\n", ok.error().message());
       return 1;

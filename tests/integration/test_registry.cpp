@@ -3,12 +3,14 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <fcntl.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cstdlib>
+#include <expected>
 #include <optional>
 #include <atomic>
 #include <cstdio>
@@ -19,6 +21,7 @@
 #include "horus/discovery/registry.hpp"
 #include "horus/horus.hpp"
 #include "horus/shm/shm_segment.hpp"
+#include "netns.hpp"
 #include "process_support.hpp"
 #include "test_support.hpp"
 
@@ -97,18 +100,13 @@ TEST(Registry, MeasuresTheRateOverAWindow) {
 TEST(Registry, ASlowTopicsRateIsMeasuredBetweenItsMessages) {
   const auto name = horus_test::unique_name("slow");
   horus::Topic<Stamp> pub(name), sub(name);
-  std::atomic<bool> stop{false};
-  std::thread t([&] {
-    for (std::uint64_t i = 0; !stop.load(); ++i) {
-      pub.send(Stamp::make(1, i));
-      for (int k = 0; k < 40 && !stop.load(); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-  });
-  auto e = horus::discovery::find_topic(ns(), name, std::chrono::milliseconds(1000));
-  stop = true;
-  t.join();
+  std::expected<horus::discovery::TopicEntry, std::string> e;
+  {
+    Publishing p(std::chrono::milliseconds(400), [&](int i) { pub.send(Stamp::make(1, static_cast<std::uint64_t>(i))); });
+    e = horus::discovery::find_topic(ns(), name, std::chrono::milliseconds(1000));
+  }
   ASSERT_TRUE(e) << e.error();
-  EXPECT_GT(e->rate_hz, 2.15);  // 2.5 Hz; the 10 ms steps of the publisher and the 5 ms looks blur it
+  EXPECT_GT(e->rate_hz, 2.15);  // 2.5 Hz; the publisher's scheduling and the 5 ms looks blur it
   EXPECT_LT(e->rate_hz, 2.85);
 }
 
@@ -330,18 +328,28 @@ TEST(HorusCli, EchoWaitsForATopicThatAppearsWithinItsTimeout) {
   std::string out;
   EXPECT_EQ(run(std::string(HORUS_CLI) + " topic echo " + name + " -n 1", out), 1) << out;
   EXPECT_NE(out.find("no topic '" + name + "'"), std::string::npos) << out;
+  // The CLI starts before the topic exists, and says that it waits; then the topic appears.
+  const std::string log = "/tmp/horus-" + name + ".log";
+  ::close(::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644));  // there before the watch on it
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int fd = ::open(log.c_str(), O_WRONLY | O_APPEND);
+    ::dup2(fd, 1);
+    ::dup2(fd, 2);
+    ::execl(HORUS_CLI, HORUS_CLI, "topic", "echo", name.c_str(), "--json", "-n", "2", "--timeout", "20", nullptr);
+    ::_exit(127);
+  }
+  horus_test::HostProcess cli(pid, log, -1);
+  ASSERT_TRUE(cli.wait_for_output("waiting up to 20.0 s for it to appear", std::chrono::milliseconds(10000)))
+      << cli.output();
   int rc = -1;
-  std::thread cli([&] { rc = run(std::string(HORUS_CLI) + " topic echo " + name + " --json -n 2 --timeout 20", out); });
-  // Not a wait for a condition: the topic is made later than the CLI starts (were the CLI slower
-  // to start, it would find the topic at once and the test prove less, never fail).
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
   {
     horus::Topic<horus::msg::Pose2D> pub(name);
     Publishing p(std::chrono::milliseconds(5), [&](int i) { pub.send(horus::msg::Pose2D::make(i, 3.0, 0.0)); });
-    cli.join();
+    rc = cli.wait(std::chrono::seconds(30));
   }
+  out = cli.output();
   ASSERT_EQ(rc, 0) << out;
-  EXPECT_NE(out.find("waiting up to 20.0 s for it to appear"), std::string::npos) << out;
   std::istringstream lines(out);
   std::string line;
   int n = 0;
