@@ -1,6 +1,7 @@
 // The smallest horus program: one publisher, one subscriber, one message.
 #include <fmt/format.h>
 
+#include "horus/format.hpp"
 #include "horus/horus.hpp"
 
 int main() {

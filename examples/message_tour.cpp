@@ -6,6 +6,7 @@
 #include <map>
 #include <string>
 
+#include <horus/format.hpp>
 #include <horus/horus.hpp>
 #include <horus/json.hpp>
 #include <horus/msg/generic_value.hpp>

@@ -15,6 +15,7 @@
 
 #include <fmt/format.h>
 
+#include "horus/format.hpp"
 #include "horus/json.hpp"
 #include "horus/messages.hpp"
 #include "horus/msg/eigen.hpp"

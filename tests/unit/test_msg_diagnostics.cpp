@@ -25,6 +25,7 @@
 
 #include <fmt/format.h>
 
+#include "horus/format.hpp"
 #include "horus/json.hpp"
 #include "horus/msg/audio.hpp"
 #include "horus/msg/diagnostics.hpp"

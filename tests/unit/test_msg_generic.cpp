@@ -17,6 +17,7 @@
 #include <fmt/format.h>
 
 #include "horus/json.hpp"
+#include "horus/msg/detail/msgpack_text.hpp"
 #include "horus/msg/generic.hpp"
 #include "horus/msg/generic_value.hpp"
 

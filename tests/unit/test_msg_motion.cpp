@@ -25,6 +25,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "horus/format.hpp"
 #include "horus/json.hpp"
 #include "horus/msg/control.hpp"
 #include "horus/msg/geometry.hpp"

@@ -19,6 +19,7 @@
 
 #include <fmt/format.h>
 
+#include "horus/format.hpp"
 #include "horus/json.hpp"
 #include "horus/messages.hpp"
 
@@ -1064,7 +1065,7 @@ TYPED_TEST(EveryNavigationMessage, FormatsWithItsShortTypeNameAndFields) {
   const std::string_view qualified = horus::type_name<TypeParam>();
   const std::string short_name(qualified.substr(qualified.rfind("::") + 2));
   EXPECT_EQ(text.rfind(short_name + " { ", 0), 0u) << text.substr(0, 200);
-  const std::string first_field(std::get<0>(horus::reflect::fields<TypeParam>()).name);
+  const std::string first_field(horus::reflect::get<0>(horus::reflect::fields<TypeParam>()).name);
   EXPECT_NE(text.find(" " + first_field + ": "), std::string::npos) << text.substr(0, 200);
   EXPECT_EQ(text, horus::to_string(s));
 }

@@ -18,6 +18,7 @@
 
 #include <fmt/format.h>
 
+#include "horus/format.hpp"
 #include "horus/json.hpp"
 #include "horus/messages.hpp"
 

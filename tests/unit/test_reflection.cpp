@@ -18,6 +18,7 @@
 
 #include <fmt/format.h>
 
+#include "horus/format.hpp"
 #include "horus/json.hpp"
 #include "horus/messages.hpp"
 
@@ -178,27 +179,27 @@ TEST(Reflection, FieldCountIsKnownAtCompileTime) {
 
 TEST(Reflection, OffsetsMatchOffsetof) {
   constexpr auto pose = reflect::fields<Pose2D>();
-  static_assert(std::get<0>(pose).offset == offsetof(Pose2D, x));
-  static_assert(std::get<1>(pose).offset == offsetof(Pose2D, y));
-  static_assert(std::get<2>(pose).offset == offsetof(Pose2D, theta));
-  static_assert(std::get<3>(pose).offset == offsetof(Pose2D, timestamp_ns));
+  static_assert(reflect::get<0>(pose).offset == offsetof(Pose2D, x));
+  static_assert(reflect::get<1>(pose).offset == offsetof(Pose2D, y));
+  static_assert(reflect::get<2>(pose).offset == offsetof(Pose2D, theta));
+  static_assert(reflect::get<3>(pose).offset == offsetof(Pose2D, timestamp_ns));
 
   constexpr auto cmd = reflect::fields<CmdVel>();
-  static_assert(std::get<0>(cmd).offset == offsetof(CmdVel, stamp_nanos));
-  static_assert(std::get<1>(cmd).offset == offsetof(CmdVel, linear));
-  static_assert(std::get<2>(cmd).offset == offsetof(CmdVel, angular));
+  static_assert(reflect::get<0>(cmd).offset == offsetof(CmdVel, stamp_nanos));
+  static_assert(reflect::get<1>(cmd).offset == offsetof(CmdVel, linear));
+  static_assert(reflect::get<2>(cmd).offset == offsetof(CmdVel, angular));
 
   constexpr auto scan = reflect::fields<LaserScan>();
-  static_assert(std::get<0>(scan).offset == offsetof(LaserScan, ranges));
-  static_assert(std::get<1>(scan).offset == offsetof(LaserScan, angle_min));
-  static_assert(std::get<8>(scan).offset == offsetof(LaserScan, timestamp_ns));
+  static_assert(reflect::get<0>(scan).offset == offsetof(LaserScan, ranges));
+  static_assert(reflect::get<1>(scan).offset == offsetof(LaserScan, angle_min));
+  static_assert(reflect::get<8>(scan).offset == offsetof(LaserScan, timestamp_ns));
 
   constexpr auto hb = reflect::fields<Heartbeat>();
-  static_assert(std::get<3>(hb).offset == offsetof(Heartbeat, alive));
-  static_assert(std::get<4>(hb).offset == offsetof(Heartbeat, uptime));
+  static_assert(reflect::get<3>(hb).offset == offsetof(Heartbeat, alive));
+  static_assert(reflect::get<4>(hb).offset == offsetof(Heartbeat, uptime));
 
   constexpr auto jc = reflect::fields<JointCommand>();
-  static_assert(std::get<5>(jc).offset == offsetof(JointCommand, modes));
+  static_assert(reflect::get<5>(jc).offset == offsetof(JointCommand, modes));
   SUCCEED();
 }
 

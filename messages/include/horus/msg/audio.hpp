@@ -18,10 +18,7 @@
 #include <string>
 #include <string_view>
 
-#include <fmt/format.h>
-
 #include "horus/fixed_string.hpp"
-#include "horus/format.hpp"
 #include "horus/reflect.hpp"
 
 namespace horus::msg {
@@ -56,22 +53,7 @@ struct AudioFrame {
   /// silently drop the rest), a sample rate or channel count of 0, or a sample
   /// count that is not a whole number of frames (a multiple of channels).
   static std::expected<AudioFrame, std::string> create(std::uint32_t sample_rate_hz, std::uint8_t channel_count,
-                                                       std::span<const float> data) {
-    if (sample_rate_hz == 0) return std::unexpected(std::string("AudioFrame sample rate must be > 0 Hz"));
-    if (channel_count == 0) return std::unexpected(std::string("AudioFrame needs at least 1 channel"));
-    if (data.size() > kMaxSamples)
-      return std::unexpected(fmt::format("AudioFrame holds at most {} samples; got {}", kMaxSamples, data.size()));
-    if (data.size() % channel_count != 0)
-      return std::unexpected(fmt::format("AudioFrame got {} samples, not a multiple of its {} channels",
-                                         data.size(), static_cast<int>(channel_count)));
-    AudioFrame f{};
-    f.sample_rate = sample_rate_hz;
-    f.channels = channel_count;
-    f.set_encoding(AudioEncoding::F32);
-    std::copy(data.begin(), data.end(), f.samples.begin());
-    f.num_samples = static_cast<std::uint32_t>(data.size());
-    return f;
-  }
+                                                       std::span<const float> data);
   /// Throwing form of create() (HORUS's multi_channel): std::invalid_argument with create()'s message.
   static AudioFrame make(std::uint32_t sample_rate_hz, std::uint8_t channel_count, std::span<const float> data) {
     auto f = create(sample_rate_hz, channel_count, data);
@@ -139,15 +121,7 @@ struct AudioFrame {
 
   /// "AudioFrame(2 ch, 48000 Hz, 960 samples, 10.0 ms, F32, mic_array)"; the
   /// source part is left out when empty.
-  std::string log_summary() const {
-    const std::string_view name = to_string(encoding_enum());
-    const std::string enc = name.empty() ? fmt::format("encoding {}", static_cast<int>(encoding)) : std::string(name);
-    std::string out = fmt::format("AudioFrame({} ch, {} Hz, {} samples, {:.1f} ms, {}", static_cast<int>(channels),
-                                  sample_rate, num_samples, duration_ms(), enc);
-    if (!frame_id_str().empty()) out += fmt::format(", {}", frame_id_str());
-    out += ')';
-    return out;
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const AudioFrame&, const AudioFrame&) = default;
 };

@@ -13,10 +13,7 @@
 #include <string>
 #include <string_view>
 
-#include <fmt/format.h>
-
 #include "horus/fixed_string.hpp"
-#include "horus/format.hpp"
 #include "horus/msg/geometry.hpp"
 #include "horus/reflect.hpp"
 
@@ -74,26 +71,7 @@ struct JointCommand {
   /// "JointCommand(3 joints: shoulder pos 1 rad|m, elbow vel 0.5 rad/s|m/s, wrist effort 2 Nm|N)".
   /// Lists as many joints as fit in about 170 characters, then "+N more": the
   /// line always stays under 200 characters.
-  std::string log_summary() const {
-    std::string out = fmt::format("JointCommand({} joints", count());
-    std::size_t shown = 0;
-    for (; shown < count(); ++shown) {
-      const std::size_t i = shown;
-      std::string entry;
-      switch (modes[i]) {
-        case MODE_POSITION: entry = fmt::format("{} pos {:.4g} rad|m", name_at(i), positions[i]); break;
-        case MODE_VELOCITY: entry = fmt::format("{} vel {:.4g} rad/s|m/s", name_at(i), velocities[i]); break;
-        case MODE_EFFORT: entry = fmt::format("{} effort {:.4g} Nm|N", name_at(i), efforts[i]); break;
-        default: entry = fmt::format("{} mode {}", name_at(i), static_cast<int>(modes[i])); break;
-      }
-      if (out.size() + entry.size() + 2 > 170) break;
-      out += shown == 0 ? ": " : ", ";
-      out += entry;
-    }
-    if (shown < count()) out += fmt::format(", +{} more", count() - shown);
-    out += ')';
-    return out;
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const JointCommand&, const JointCommand&) = default;
 

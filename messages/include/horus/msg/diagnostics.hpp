@@ -23,10 +23,7 @@
 #include <string_view>
 #include <system_error>
 
-#include <fmt/format.h>
-
 #include "horus/fixed_string.hpp"
-#include "horus/format.hpp"
 #include "horus/reflect.hpp"
 
 namespace horus::msg {
@@ -458,10 +455,7 @@ struct DiagnosticValue {
   /// A float value with 3 decimals, "1.500" (HORUS's DiagnosticValue::float,
   /// Rust's {:.3}; NaN is "NaN", infinities "inf" and "-inf"), or nullopt when
   /// the key does not fit or the text is over 63 characters (|v| >= 1e59).
-  static std::optional<DiagnosticValue> from_float(std::string_view k, double v) {
-    if (std::isnan(v)) return with_type(k, "NaN", TYPE_FLOAT);
-    return with_type(k, fmt::format("{:.3f}", v), TYPE_FLOAT);
-  }
+  static std::optional<DiagnosticValue> from_float(std::string_view k, double v);
   /// "true" or "false" (HORUS's DiagnosticValue::bool), or nullopt when the key does not fit.
   static constexpr std::optional<DiagnosticValue> from_bool(std::string_view k, bool v) noexcept {
     return with_type(k, v ? "true" : "false", TYPE_BOOL);
@@ -578,23 +572,7 @@ struct DiagnosticReport {
   /// Lists as many values as fit in about 170 characters, then "+N more": the
   /// line always stays under 200 characters (values over 24 bytes are cut to
   /// at most 24 bytes, at a UTF-8 character boundary, and marked with "...").
-  std::string log_summary() const {
-    std::string out = fmt::format("DiagnosticReport({}, {}, {} values", component_str(),
-                                  detail::diag_enum_text(level_enum()), count());
-    std::size_t shown = 0;
-    for (; shown < count(); ++shown) {
-      const std::string_view v = values[shown].value_str();
-      const std::string_view head = detail::diag_utf8_prefix(v, 24);
-      std::string entry = fmt::format("{}={}", values[shown].key_str(), head);
-      if (head.size() < v.size()) entry += "...";
-      if (out.size() + entry.size() + 2 > 170) break;
-      out += shown == 0 ? ": " : ", ";
-      out += entry;
-    }
-    if (shown < count()) out += fmt::format(", +{} more", count() - shown);
-    out += ')';
-    return out;
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const DiagnosticReport&, const DiagnosticReport&) = default;
 

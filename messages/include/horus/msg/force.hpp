@@ -24,7 +24,6 @@
 #include <string_view>
 
 #include "horus/fixed_string.hpp"
-#include "horus/format.hpp"
 #include "horus/msg/geometry.hpp"
 #include "horus/reflect.hpp"
 

@@ -28,16 +28,12 @@
 #include <expected>
 #include <optional>
 #include <span>
-#include <sstream>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
-#include <fmt/format.h>
-
 #include "horus/fixed_string.hpp"
-#include "horus/format.hpp"
-#include "horus/msg/detail/msgpack_text.hpp"
 #include "horus/reflect.hpp"
 
 namespace horus::msg {
@@ -99,21 +95,7 @@ class GenericMessage {
   /// A message holding these raw bytes (HORUS's GenericMessage::new), or an
   /// error when there are more than 4096. Payloads up to 256 bytes live in the
   /// inline buffer; larger ones fill it and put the rest in the overflow buffer.
-  static std::expected<GenericMessage, std::string> make(std::span<const std::uint8_t> bytes) {
-    if (bytes.size() > kMaxPayload)
-      return std::unexpected(
-          fmt::format("GenericMessage payload is {} bytes; the maximum is {}", bytes.size(), kMaxPayload));
-    GenericMessage m{};
-    const std::size_t head = std::min(bytes.size(), kInlineCapacity);
-    std::copy_n(bytes.begin(), head, m.inline_data_.begin());
-    m.inline_len_ = static_cast<std::uint16_t>(head);
-    if (bytes.size() > kInlineCapacity) {
-      const std::size_t rest = bytes.size() - kInlineCapacity;
-      std::copy_n(bytes.begin() + static_cast<std::ptrdiff_t>(kInlineCapacity), rest, m.overflow_data_.begin());
-      m.overflow_len_ = static_cast<std::uint32_t>(rest);
-    }
-    return m;
-  }
+  static std::expected<GenericMessage, std::string> make(std::span<const std::uint8_t> bytes);
 
   /// make(bytes) with metadata text. An error when the payload is over 4096
   /// bytes, or the metadata is over 255 bytes, holds a NUL or is not UTF-8.
@@ -185,27 +167,7 @@ class GenericMessage {
   /// "not MessagePack" when the bytes do not decode, "empty" for no payload;
   /// metadata that is set but not text (see metadata()) shows as
   /// "meta not UTF-8 text (N B)" and its bytes are left out.
-  std::string log_summary() const {
-    std::string out = fmt::format("GenericMessage({} B", size());
-    std::string value;
-    bool valid = false;
-    if (!empty()) {
-      valid = detail::MsgpackText::write(data(), value);
-    }
-    out += empty() ? ", empty" : valid ? " msgpack" : ", not MessagePack";
-    if (const auto meta = metadata()) {
-      const std::string_view shown = detail::generic_utf8_prefix(*meta, 60);
-      out += fmt::format(", meta \"{}{}\"", shown, shown.size() < meta->size() ? "..." : "");
-    } else if (const std::size_t n = metadata_bytes().size(); n > 0) {
-      out += fmt::format(", meta not UTF-8 text ({} B)", n);
-    }
-    if (valid) {
-      const std::string_view shown = detail::generic_utf8_prefix(value, 80);
-      out += fmt::format(", value {}{}", shown, shown.size() < value.size() ? "..." : "");
-    }
-    out += ')';
-    return out;
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const GenericMessage&, const GenericMessage&) = default;
 
@@ -219,15 +181,7 @@ class GenericMessage {
     return std::string_view(metadata_.data(), std::min<std::size_t>(metadata_len_, kMaxMetadata));
   }
 
-  static std::optional<std::string> metadata_problem(std::string_view meta) {
-    if (meta.size() > kMaxMetadata)
-      return fmt::format("GenericMessage metadata is {} bytes; the maximum is {}", meta.size(), kMaxMetadata);
-    if (const auto nul = meta.find('\0'); nul != std::string_view::npos)
-      return fmt::format("GenericMessage metadata holds a NUL byte at offset {}", nul);
-    if (const auto bad = detail::generic_utf8_error(meta); bad != std::string_view::npos)
-      return fmt::format("GenericMessage metadata is not valid UTF-8 (at byte {})", bad);
-    return std::nullopt;
-  }
+  static std::optional<std::string> metadata_problem(std::string_view meta);
   void store_metadata(std::string_view meta) noexcept {
     set_fixed_str(metadata_, meta);
     metadata_len_ = static_cast<std::uint16_t>(meta.size());

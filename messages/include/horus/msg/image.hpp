@@ -18,13 +18,12 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <type_traits>
+#include <utility>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "horus/byte_buffer.hpp"
 #include "horus/fixed_string.hpp"
-#include "horus/format.hpp"
 #include "horus/msg/tensor.hpp"
 #include "horus/reflect.hpp"
 
@@ -104,10 +103,7 @@ constexpr std::optional<TensorDtype> tensor_dtype(ImageEncoding enc) noexcept {
 }
 
 namespace detail {
-inline std::string encoding_text(ImageEncoding e) {
-  const std::string_view name = reflect::enum_name(e);
-  return name.empty() ? fmt::format("encoding{}", static_cast<int>(e)) : std::string(name);
-}
+std::string encoding_text(ImageEncoding e);
 }  // namespace detail
 
 // ---------------------------------------------------------------------------
@@ -132,10 +128,7 @@ struct ImageDescriptor {
   std::string_view frame_id_str() const noexcept { return fixed_str_view(frame_id); }
 
   /// "ImageDescriptor(640x480 Rgb8, 900 KiB, heap)" or "..., pool 1 slot 42)".
-  std::string log_summary() const {
-    return fmt::format("ImageDescriptor({}x{} {}, {}, {})", width, height, detail::encoding_text(encoding),
-                       detail::format_bytes(data_size), detail::pool_text(pool_id, slot_id));
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const ImageDescriptor&, const ImageDescriptor&) = default;
 };
@@ -163,14 +156,7 @@ class Image {
   /// A zero-filled height x width image, step = width * bytes_per_pixel.
   /// Throws std::invalid_argument naming the problem when a dimension is 0, the
   /// encoding is unknown, or the size overflows or exceeds kMaxLargeDataBytes (2 GiB).
-  Image(std::uint32_t height, std::uint32_t width, ImageEncoding encoding) {
-    std::uint64_t bytes = 0;
-    const detail::SizeError err = check(height, width, encoding, bytes);
-    if (err != detail::SizeError::None)
-      throw std::invalid_argument(fmt::format("horus::msg::Image({}x{} {}): {}", width, height,
-                                              detail::encoding_text(encoding), detail::size_error_text(err, bytes)));
-    init(height, width, encoding, bytes);
-  }
+  Image(std::uint32_t height, std::uint32_t width, ImageEncoding encoding);
 
   /// Non-throwing form of the constructor: nullopt for invalid arguments or
   /// when the memory cannot be allocated.
@@ -366,10 +352,7 @@ class Image {
   }
 
   /// "Image(640x480 Rgb8, 900 KiB)".
-  std::string log_summary() const {
-    return fmt::format("Image({}x{} {}, {})", width_, height_, detail::encoding_text(encoding_),
-                       detail::format_bytes(data_.size()));
-  }
+  std::string log_summary() const;
 
   friend bool operator==(const Image&, const Image&) = default;
 

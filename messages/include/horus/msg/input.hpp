@@ -16,7 +16,6 @@
 #include <vector>
 
 #include "horus/fixed_string.hpp"
-#include "horus/format.hpp"
 #include "horus/reflect.hpp"
 
 namespace horus::msg {

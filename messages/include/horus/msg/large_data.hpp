@@ -25,10 +25,7 @@
 #include <utility>
 #include <vector>
 
-#include <fmt/format.h>
-
 #include "horus/fixed_string.hpp"
-#include "horus/format.hpp"
 #include "horus/reflect.hpp"
 
 namespace horus::msg {
@@ -49,38 +46,13 @@ constexpr bool checked_mul(std::uint64_t a, std::uint64_t b, std::uint64_t& out)
 /// Why a large-data size is refused (None = fine).
 enum class SizeError : std::uint8_t { None, ZeroDimension, UnknownType, Overflow, TooLarge, BadShape };
 
-inline std::string size_error_text(SizeError e, std::uint64_t bytes) {
-  switch (e) {
-    case SizeError::None: return "ok";
-    case SizeError::ZeroDimension: return "every dimension must be greater than zero";
-    case SizeError::UnknownType: return "unknown element type or encoding";
-    case SizeError::Overflow: return "the byte size overflows 64 bits";
-    case SizeError::TooLarge:
-      return fmt::format("needs {} bytes, more than the {}-byte (2 GiB) limit", bytes, kMaxLargeDataBytes);
-    case SizeError::BadShape: return "a tensor has 1 to 8 dimensions";
-  }
-  return "invalid size";
-}
+std::string size_error_text(SizeError e, std::uint64_t bytes);
 
 /// "512 B", "900 KiB", "11.7 KiB", "1.1 MiB" (one decimal, ".0" dropped).
-inline std::string format_bytes(std::uint64_t n) {
-  if (n < 1024) return fmt::format("{} B", n);
-  static constexpr std::array<std::string_view, 3> kUnits{"KiB", "MiB", "GiB"};
-  double v = static_cast<double>(n) / 1024.0;
-  std::size_t unit = 0;
-  while (v >= 1024.0 && unit + 1 < kUnits.size()) {
-    v /= 1024.0;
-    ++unit;
-  }
-  std::string text = fmt::format("{:.1f}", v);
-  if (text.size() > 2 && text.ends_with(".0")) text.resize(text.size() - 2);
-  return text + " " + std::string(kUnits[unit]);
-}
+std::string format_bytes(std::uint64_t n);
 
 /// Where a descriptor's bytes are: "heap" (pool_id 0) or "pool 1 slot 42".
-inline std::string pool_text(std::uint32_t pool_id, std::uint32_t slot_id) {
-  return pool_id == 0 ? std::string("heap") : fmt::format("pool {} slot {}", pool_id, slot_id);
-}
+std::string pool_text(std::uint32_t pool_id, std::uint32_t slot_id);
 
 /// "2, 3, 224" (the numbers of a shape, comma separated).
 inline std::string join_dims(std::span<const std::uint64_t> dims) {

@@ -30,10 +30,7 @@
 #include <utility>
 #include <vector>
 
-#include <fmt/format.h>
-
 #include "horus/fixed_string.hpp"
-#include "horus/format.hpp"
 #include "horus/msg/geometry.hpp"
 #include "horus/msg/navigation_maps.hpp"  // OccupancyGrid, CostMap
 #include "horus/reflect.hpp"
@@ -318,7 +315,7 @@ struct Path {
   constexpr std::string_view algorithm_str() const noexcept { return fixed_str_view(algorithm); }
 
   /// "Path(42 waypoints, 12.3 m)".
-  std::string log_summary() const { return fmt::format("Path({} waypoints, {:.1f} m)", count(), total_length); }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const Path&, const Path&) = default;
 };
@@ -381,7 +378,7 @@ struct NavPath {
   constexpr std::string_view algorithm_str() const noexcept { return fixed_str_view(algorithm); }
 
   /// "NavPath(42 waypoints, 12.3 m)".
-  std::string log_summary() const { return fmt::format("NavPath({} waypoints, {:.1f} m)", count(), total_length); }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const NavPath&, const NavPath&) = default;
 };
@@ -433,10 +430,7 @@ struct PathPlan {
   }
 
   /// "PathPlan(42 waypoints, goal (5.00, 3.00, 0.00))", goal in m, m, rad.
-  std::string log_summary() const {
-    return fmt::format("PathPlan({} waypoints, goal ({:.2f}, {:.2f}, {:.2f}))", count(), goal_pose[0], goal_pose[1],
-                       goal_pose[2]);
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const PathPlan&, const PathPlan&) = default;
 };
@@ -487,15 +481,7 @@ struct VelocityObstacles {
   std::span<const VelocityObstacle> valid_obstacles() const noexcept { return {obstacles.data(), size()}; }
 
   /// "VelocityObstacles(3 obstacles, ids 4, 7, 9)": the ids of the first 8, then "+N more".
-  std::string log_summary() const {
-    std::string out = fmt::format("VelocityObstacles({} obstacles", size());
-    constexpr std::size_t kShown = 8;
-    for (std::size_t i = 0; i < std::min(size(), kShown); ++i)
-      out += fmt::format("{}{}", i == 0 ? ", ids " : ", ", obstacles[i].obstacle_id);
-    if (size() > kShown) out += fmt::format(", +{} more", size() - kShown);
-    out += ')';
-    return out;
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const VelocityObstacles&, const VelocityObstacles&) = default;
 };

@@ -17,10 +17,7 @@
 #include <utility>
 #include <vector>
 
-#include <fmt/format.h>
-
 #include "horus/fixed_string.hpp"
-#include "horus/format.hpp"
 #include "horus/msg/geometry.hpp"
 #include "horus/reflect.hpp"
 
@@ -130,10 +127,7 @@ struct OccupancyGrid {
   constexpr std::string_view metadata_str() const noexcept { return fixed_str_view(metadata); }
 
   /// "OccupancyGrid(200x200 @ 0.05 m, 40000 cells)".
-  std::string log_summary() const {
-    return fmt::format("OccupancyGrid({}x{} @ {:g} m, {} cells)", width, height, static_cast<double>(resolution),
-                       data.size());
-  }
+  std::string log_summary() const;
 
   friend bool operator==(const OccupancyGrid&, const OccupancyGrid&) = default;
 
@@ -215,17 +209,7 @@ struct CostMap {
   }
 
   /// "CostMap(200x200 @ 0.05 m, inflation 0.55 m, 12 lethal, 340 inflated, 500 unknown)".
-  std::string log_summary() const {
-    std::size_t lethal = 0, inflated = 0, unknown = 0;
-    for (std::uint8_t c : costs) {
-      if (c == COST_UNKNOWN) ++unknown;
-      else if (c >= lethal_cost) ++lethal;
-      else if (c > COST_FREE) ++inflated;
-    }
-    return fmt::format("CostMap({}x{} @ {:g} m, inflation {:g} m, {} lethal, {} inflated, {} unknown)",
-                       occupancy_grid.width, occupancy_grid.height, static_cast<double>(occupancy_grid.resolution),
-                       static_cast<double>(inflation_radius), lethal, inflated, unknown);
-  }
+  std::string log_summary() const;
 
   friend bool operator==(const CostMap&, const CostMap&) = default;
 

@@ -24,13 +24,12 @@
 #include <string>
 #include <string_view>
 #include <tuple>
+#include <type_traits>
+#include <utility>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "horus/byte_buffer.hpp"
 #include "horus/fixed_string.hpp"
-#include "horus/format.hpp"
 #include "horus/msg/point_cloud.hpp"  // PointXYZ*, PointCloud
 #include "horus/msg/tensor.hpp"
 #include "horus/reflect.hpp"
@@ -59,10 +58,7 @@ struct DepthImageDescriptor {
   std::string_view frame_id_str() const noexcept { return fixed_str_view(frame_id); }
 
   /// "DepthImageDescriptor(640x480 meters, 1.2 MiB, heap)".
-  std::string log_summary() const {
-    return fmt::format("DepthImageDescriptor({}x{} {}, {}, {})", width, height, detail::depth_unit(dtype),
-                       detail::format_bytes(data_size), detail::pool_text(pool_id, slot_id));
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const DepthImageDescriptor&, const DepthImageDescriptor&) = default;
 };
@@ -277,10 +273,7 @@ class DepthImage {
   }
 
   /// "DepthImage(640x480 meters, 1.2 MiB)" or "DepthImage(640x480 millimeters, 600 KiB)".
-  std::string log_summary() const {
-    return fmt::format("DepthImage({}x{} {}, {})", width_, height_, detail::depth_unit(dtype_),
-                       detail::format_bytes(data_.size()));
-  }
+  std::string log_summary() const;
 
   friend bool operator==(const DepthImage&, const DepthImage&) = default;
 
@@ -305,16 +298,7 @@ class DepthImage {
     return n > kMaxLargeDataBytes ? detail::SizeError::TooLarge : detail::SizeError::None;
   }
 
-  static DepthImage make(std::uint32_t height, std::uint32_t width, TensorDtype dtype) {
-    std::uint64_t bytes = 0;
-    const detail::SizeError err = check(height, width, dtype, bytes);
-    if (err != detail::SizeError::None)
-      throw std::invalid_argument(fmt::format("horus::msg::DepthImage({}x{} {}): {}", width, height,
-                                              detail::depth_unit(dtype), detail::size_error_text(err, bytes)));
-    DepthImage img;
-    img.init(height, width, dtype, bytes);
-    return img;
-  }
+  static DepthImage make(std::uint32_t height, std::uint32_t width, TensorDtype dtype);
 
   static std::optional<DepthImage> create(std::uint32_t height, std::uint32_t width, TensorDtype dtype) noexcept {
     std::uint64_t bytes = 0;

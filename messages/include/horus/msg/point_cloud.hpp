@@ -18,13 +18,12 @@
 #include <string>
 #include <string_view>
 #include <tuple>
+#include <type_traits>
+#include <utility>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "horus/byte_buffer.hpp"
 #include "horus/fixed_string.hpp"
-#include "horus/format.hpp"
 #include "horus/msg/tensor.hpp"
 #include "horus/reflect.hpp"
 
@@ -107,14 +106,7 @@ static_assert(sizeof(PointXYZ) == 12 && sizeof(PointXYZRGB) == 16 && sizeof(Poin
 
 namespace detail {
 /// "xyz", "xyzi", "xyzrgb" or "5 fields".
-inline std::string cloud_kind(std::uint32_t fields) {
-  switch (fields) {
-    case 3: return "xyz";
-    case 4: return "xyzi";
-    case 6: return "xyzrgb";
-    default: return fmt::format("{} fields", fields);
-  }
-}
+std::string cloud_kind(std::uint32_t fields);
 /// "meters", "millimeters", or the dtype in lower case.
 inline std::string depth_unit(TensorDtype d) {
   if (d == TensorDtype::F32) return "meters";
@@ -144,11 +136,7 @@ struct PointCloudDescriptor {
   std::string_view frame_id_str() const noexcept { return fixed_str_view(frame_id); }
 
   /// "PointCloudDescriptor(1000 points xyz f32, 11.7 KiB, heap)".
-  std::string log_summary() const {
-    return fmt::format("PointCloudDescriptor({} points {} {}, {}, {})", point_count,
-                       detail::cloud_kind(fields_per_point), detail::ascii_lower(detail::dtype_text(dtype)),
-                       detail::format_bytes(data_size), detail::pool_text(pool_id, slot_id));
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const PointCloudDescriptor&, const PointCloudDescriptor&) = default;
 };
@@ -180,19 +168,7 @@ class PointCloud {
   /// dtype (HORUS's PointCloud::new). Throws std::invalid_argument naming the
   /// problem when fields_per_point is 0, dtype is unknown, or the size
   /// overflows or exceeds kMaxLargeDataBytes (2 GiB). num_points may be 0.
-  static PointCloud make(std::uint64_t num_points, std::uint32_t fields_per_point, TensorDtype dtype) {
-    std::uint64_t bytes = 0;
-    const detail::SizeError err = check(num_points, fields_per_point, dtype, bytes);
-    if (err != detail::SizeError::None)
-      throw std::invalid_argument(fmt::format(
-          "horus::msg::PointCloud({} points x {} fields {}): {}", num_points, fields_per_point,
-          detail::dtype_text(dtype),
-          err == detail::SizeError::ZeroDimension ? std::string("fields_per_point must be greater than zero")
-                                                  : detail::size_error_text(err, bytes)));
-    PointCloud pc;
-    pc.init(num_points, fields_per_point, dtype, bytes);
-    return pc;
-  }
+  static PointCloud make(std::uint64_t num_points, std::uint32_t fields_per_point, TensorDtype dtype);
 
   /// Non-throwing form of make(): nullopt for invalid arguments or when the
   /// memory cannot be allocated.
@@ -383,10 +359,7 @@ class PointCloud {
   }
 
   /// "PointCloud(1000 points xyz f32, 11.7 KiB)".
-  std::string log_summary() const {
-    return fmt::format("PointCloud({} points {} {}, {})", point_count_, detail::cloud_kind(fields_per_point_),
-                       detail::ascii_lower(detail::dtype_text(dtype_)), detail::format_bytes(data_.size()));
-  }
+  std::string log_summary() const;
 
   friend bool operator==(const PointCloud&, const PointCloud&) = default;
 

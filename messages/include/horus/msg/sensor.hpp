@@ -17,10 +17,7 @@
 #include <string>
 #include <string_view>
 
-#include <fmt/format.h>
-
 #include "horus/fixed_string.hpp"
-#include "horus/format.hpp"
 #include "horus/msg/geometry.hpp"
 #include "horus/reflect.hpp"
 
@@ -137,12 +134,7 @@ struct LaserScan {
   }
 
   /// "LaserScan(360 ranges, 120 valid, min 0.45 m, fov 6.28 rad)".
-  std::string log_summary() const {
-    const auto closest = min_range();
-    return fmt::format("LaserScan({} ranges, {} valid, min {}, fov {:.2f} rad)", ranges.size(), valid_count(),
-                       closest ? fmt::format("{:.2f} m", *closest) : std::string("none"),
-                       static_cast<double>(angle_max) - static_cast<double>(angle_min));
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const LaserScan&, const LaserScan&) = default;
 };
@@ -202,11 +194,7 @@ struct Odometry {
   }
 
   /// "Odometry(odom -> base_link, x 1.00 m, y 2.00 m, theta 0.50 rad, v 0.50 m/s, w 0.20 rad/s)".
-  std::string log_summary() const {
-    return fmt::format("Odometry({} -> {}, x {:.2f} m, y {:.2f} m, theta {:.2f} rad, v {:.2f} m/s, w {:.2f} rad/s)",
-                       frame_id_str(), child_frame_id_str(), pose.x, pose.y, pose.theta, twist.linear[0],
-                       twist.angular[2]);
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const Odometry&, const Odometry&) = default;
 };
@@ -263,20 +251,7 @@ struct JointState {
   /// "JointState(6 joints, positions in rad or m: shoulder=0.5, elbow=-1.2, wrist=0, +3 more)".
   /// Lists as many joints as fit in about 170 characters, then "+N more": the
   /// line always stays under 200 characters.
-  std::string log_summary() const {
-    std::string out = fmt::format("JointState({} joints", count());
-    if (count() > 0) out += ", positions in rad or m";
-    std::size_t shown = 0;
-    for (; shown < count(); ++shown) {
-      const std::string entry = fmt::format("{}={:.4g}", name_at(shown), positions[shown]);
-      if (out.size() + entry.size() + 2 > 170) break;
-      out += shown == 0 ? ": " : ", ";
-      out += entry;
-    }
-    if (shown < count()) out += fmt::format(", +{} more", count() - shown);
-    out += ')';
-    return out;
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const JointState&, const JointState&) = default;
 };
@@ -371,19 +346,7 @@ struct BatteryState {
   }
 
   /// "BatteryState(12.60 V, 75.0 %, -2.50 A, discharging, 28.5 degC, 3 cells)".
-  std::string log_summary() const {
-    std::string status;
-    switch (power_supply_status) {
-      case STATUS_UNKNOWN: status = "unknown"; break;
-      case STATUS_CHARGING: status = "charging"; break;
-      case STATUS_DISCHARGING: status = "discharging"; break;
-      case STATUS_FULL: status = "full"; break;
-      default: status = fmt::format("status {}", static_cast<int>(power_supply_status)); break;
-    }
-    return fmt::format("BatteryState({:.2f} V, {:.1f} %, {:.2f} A, {}, {:.1f} degC, {} cells)",
-                       static_cast<double>(voltage), static_cast<double>(percentage), static_cast<double>(current),
-                       status, static_cast<double>(temperature), static_cast<int>(cell_count));
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const BatteryState&, const BatteryState&) = default;
 };
@@ -462,18 +425,7 @@ struct NavSatFix {
   }
 
   /// "NavSatFix(lat 47.397742 deg, lon 8.545594 deg, alt 488.0 m, 9 sats, fix, hdop 0.9)".
-  std::string log_summary() const {
-    std::string fix;
-    switch (status) {
-      case STATUS_NO_FIX: fix = "no fix"; break;
-      case STATUS_FIX: fix = "fix"; break;
-      case STATUS_SBAS_FIX: fix = "SBAS fix"; break;
-      case STATUS_GBAS_FIX: fix = "GBAS fix"; break;
-      default: fix = fmt::format("status {}", static_cast<int>(status)); break;
-    }
-    return fmt::format("NavSatFix(lat {:.6f} deg, lon {:.6f} deg, alt {:.1f} m, {} sats, {}, hdop {:.1f})", latitude,
-                       longitude, altitude, satellites_visible, fix, static_cast<double>(hdop));
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const NavSatFix&, const NavSatFix&) = default;
 };

@@ -33,14 +33,12 @@
 #include <string>
 #include <string_view>
 #include <system_error>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
-#include <fmt/format.h>
-
 #include "horus/byte_buffer.hpp"
 #include "horus/fixed_string.hpp"
-#include "horus/format.hpp"
 #include "horus/msg/large_data.hpp"
 #include "horus/reflect.hpp"
 
@@ -88,10 +86,7 @@ constexpr std::size_t element_size(TensorDtype dtype) noexcept {
 
 namespace detail {
 /// "F32", or "dtype99" for a value that names no TensorDtype.
-inline std::string dtype_text(TensorDtype d) {
-  const std::string_view name = reflect::enum_name(d);
-  return name.empty() ? fmt::format("dtype{}", static_cast<int>(d)) : std::string(name);
-}
+std::string dtype_text(TensorDtype d);
 }  // namespace detail
 
 /// DLPack type code of booleans. The v0.6 header (Debian's libdlpack-dev) has
@@ -188,11 +183,7 @@ struct Device {
   }
 
   /// "cpu" or "cuda:N" (an unknown device_type prints as "device<type>:N").
-  std::string log_summary() const {
-    if (is_cpu()) return "cpu";
-    if (is_cuda()) return fmt::format("cuda:{}", device_id);
-    return fmt::format("device{}:{}", static_cast<int>(device_type), device_id);
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const Device&, const Device&) = default;
 };
@@ -217,11 +208,7 @@ struct TensorDescriptor {
   std::uint64_t offset{};      ///< byte offset of the data from the pool base
 
   /// "TensorDescriptor([2, 3] F32 cpu, 24 B, heap)" or "..., pool 1 slot 42)".
-  std::string log_summary() const {
-    const std::span<const std::uint64_t> dims(shape.data(), std::min<std::size_t>(ndim, kMaxDims));
-    return fmt::format("TensorDescriptor([{}] {} {}, {}, {})", detail::join_dims(dims), detail::dtype_text(dtype),
-                       device.log_summary(), detail::format_bytes(data_size), detail::pool_text(pool_id, slot_id));
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const TensorDescriptor&, const TensorDescriptor&) = default;
 };
@@ -257,14 +244,7 @@ class Tensor {
   /// dtype is unknown, or the size overflows or exceeds kMaxLargeDataBytes.
   /// device is recorded as metadata: the bytes are host memory either way
   /// (until a device pool exists), so to_dlpack() refuses a non-CPU tensor.
-  Tensor(std::span<const std::uint64_t> shape, TensorDtype dtype, Device device = Device::cpu()) {
-    std::uint64_t bytes = 0;
-    const detail::SizeError err = check(shape, dtype, bytes);
-    if (err != detail::SizeError::None)
-      throw std::invalid_argument(fmt::format("horus::msg::Tensor([{}] {}): {}", detail::join_dims(shape),
-                                              detail::dtype_text(dtype), detail::size_error_text(err, bytes)));
-    init(shape, dtype, device, bytes);
-  }
+  Tensor(std::span<const std::uint64_t> shape, TensorDtype dtype, Device device = Device::cpu());
   Tensor(std::initializer_list<std::uint64_t> shape, TensorDtype dtype, Device device = Device::cpu())
       : Tensor(std::span<const std::uint64_t>(shape.begin(), shape.size()), dtype, device) {}
 
@@ -519,10 +499,7 @@ class Tensor {
   }
 
   /// "Tensor([2, 3, 224, 224] F32 cpu, 1.1 MiB)".
-  std::string log_summary() const {
-    return fmt::format("Tensor([{}] {} {}, {})", detail::join_dims(shape()), detail::dtype_text(dtype_),
-                       device_.log_summary(), detail::format_bytes(nbytes()));
-  }
+  std::string log_summary() const;
 
   friend bool operator==(const Tensor&, const Tensor&) = default;
 

@@ -16,7 +16,6 @@
 #include <string_view>
 
 #include "horus/fixed_string.hpp"
-#include "horus/format.hpp"
 #include "horus/reflect.hpp"
 
 namespace horus::msg {

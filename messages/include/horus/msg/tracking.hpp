@@ -19,10 +19,7 @@
 #include <string>
 #include <string_view>
 
-#include <fmt/format.h>
-
 #include "horus/fixed_string.hpp"
-#include "horus/format.hpp"
 #include "horus/msg/detection.hpp"
 #include "horus/reflect.hpp"
 
@@ -129,19 +126,7 @@ struct SegmentationMask {
   constexpr std::size_t data_size_u16() const noexcept { return data_size() * 2; }
 
   /// "SegmentationMask(semantic 640x480 px, 21 classes, frame camera, seq 7)".
-  std::string log_summary() const {
-    const auto t = mask_type_enum();
-    std::string out = fmt::format("SegmentationMask({} {}x{} px",
-                                  t ? (*t == SegmentationType::Semantic   ? "semantic"
-                                       : *t == SegmentationType::Instance ? "instance"
-                                                                          : "panoptic")
-                                    : "unknown type",
-                                  width, height);
-    if (!is_instance()) out += fmt::format(", {} classes", num_classes);
-    if (!frame_id_str().empty()) out += fmt::format(", frame {}", frame_id_str());
-    out += fmt::format(", seq {})", seq);
-    return out;
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const SegmentationMask&, const SegmentationMask&) = default;
 };
@@ -339,10 +324,7 @@ struct LandmarkArray {
   }
 
   /// "LandmarkArray(17 landmarks, 2D, 15 visible >= 0.5, conf 0.93, instance 2)".
-  std::string log_summary() const {
-    return fmt::format("LandmarkArray({} landmarks, {}D, {} visible >= 0.5, conf {:.2f}, instance {})", count(),
-                       dimension, visible_count(0.5f), confidence, instance_id);
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const LandmarkArray&, const LandmarkArray&) = default;
 
@@ -457,17 +439,7 @@ struct TrackedObject {
   float heading() const noexcept { return std::atan2(velocity_y, velocity_x); }
 
   /// "TrackedObject(id 7, person, confirmed, conf 0.95, age 12 frames, 3 missed, speed 5.0)".
-  std::string log_summary() const {
-    const auto s = state_enum();
-    const std::string_view state_name = !s                             ? std::string_view("unknown state")
-                                        : *s == TrackState::Tentative  ? std::string_view("tentative")
-                                        : *s == TrackState::Confirmed  ? std::string_view("confirmed")
-                                                                       : std::string_view("deleted");
-    const std::string cls =
-        class_name_str().empty() ? fmt::format("class {}", class_id) : std::string(class_name_str());
-    return fmt::format("TrackedObject(id {}, {}, {}, conf {:.2f}, age {} frames, {} missed, speed {:.1f})",
-                       track_id, cls, state_name, confidence, age, time_since_update, speed());
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const TrackedObject&, const TrackedObject&) = default;
 };
@@ -503,10 +475,7 @@ struct TrackingHeader {
   }
 
   /// "TrackingHeader(frame 42, 5 tracks, 3 active, 17 created)".
-  std::string log_summary() const {
-    return fmt::format("TrackingHeader(frame {}, {} tracks, {} active, {} created)", frame_id, num_tracks,
-                       active_tracks, total_tracks);
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const TrackingHeader&, const TrackingHeader&) = default;
 };

@@ -28,10 +28,7 @@
 #include <utility>
 #include <vector>
 
-#include <fmt/format.h>
-
 #include "horus/fixed_string.hpp"
-#include "horus/format.hpp"
 #include "horus/reflect.hpp"
 
 namespace horus::msg {
@@ -97,16 +94,7 @@ struct CameraInfo {
 
   /// "CameraInfo(640x480 px, f 525.0/525.0 px, c 320.0/240.0 px, plumb_bob, frame camera)";
   /// the model and frame parts are left out when empty.
-  std::string log_summary() const {
-    const auto [fx, fy] = focal_lengths();
-    const auto [cx, cy] = principal_point();
-    std::string out = fmt::format("CameraInfo({}x{} px, f {:.1f}/{:.1f} px, c {:.1f}/{:.1f} px", width, height, fx,
-                                  fy, cx, cy);
-    if (!distortion_model_str().empty()) out += fmt::format(", {}", distortion_model_str());
-    if (!frame_id_str().empty()) out += fmt::format(", frame {}", frame_id_str());
-    out += ')';
-    return out;
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const CameraInfo&, const CameraInfo&) = default;
 };
@@ -143,10 +131,7 @@ struct StereoInfo {
   }
 
   /// "StereoInfo(640x480 px, baseline 0.120 m, fx 525.0 px, depth scale 0.001)".
-  std::string log_summary() const {
-    return fmt::format("StereoInfo({}x{} px, baseline {:.3f} m, fx {:.1f} px, depth scale {})", left_camera.width,
-                       left_camera.height, baseline, left_camera.camera_matrix[0], depth_scale);
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const StereoInfo&, const StereoInfo&) = default;
 };
@@ -190,10 +175,7 @@ struct RegionOfInterest {
   }
 
   /// "RegionOfInterest(x 10 px, y 20 px, 100x80 px, rectified)" (", raw" when do_rectify is false).
-  std::string log_summary() const {
-    return fmt::format("RegionOfInterest(x {} px, y {} px, {}x{} px, {})", x_offset, y_offset, width, height,
-                       do_rectify ? "rectified" : "raw");
-  }
+  std::string log_summary() const;
 
   friend constexpr bool operator==(const RegionOfInterest&, const RegionOfInterest&) = default;
 };
@@ -247,21 +229,7 @@ struct CompressedImage {
   /// "CompressedImage(jpeg 640x480, 35.2 KiB)". The size is in B below 1 KiB,
   /// then KiB, then MiB; "?x?" stands for an unknown decoded size and
   /// "unknown" for an empty format name.
-  std::string log_summary() const {
-    const std::string_view fmt_name = format_str().empty() ? std::string_view("unknown") : format_str();
-    const std::string dims =
-        width == 0 || height == 0 ? std::string("?x?") : fmt::format("{}x{}", width, height);
-    const double bytes = static_cast<double>(data.size());
-    std::string size;
-    if (data.size() < 1024) {
-      size = fmt::format("{} B", data.size());
-    } else if (data.size() < 1024 * 1024) {
-      size = fmt::format("{:.1f} KiB", bytes / 1024.0);
-    } else {
-      size = fmt::format("{:.1f} MiB", bytes / (1024.0 * 1024.0));
-    }
-    return fmt::format("CompressedImage({} {}, {})", fmt_name, dims, size);
-  }
+  std::string log_summary() const;
 
   friend bool operator==(const CompressedImage&, const CompressedImage&) = default;
 };
