@@ -240,7 +240,7 @@ struct Fnv1a {
 
 struct StringSink {
   std::string s;
-  constexpr void put(std::string_view p) { s.append(p); }
+  void put(std::string_view p);  // messages/src/reflect.cpp: a call per part, not an inlined append
 };
 
 template <class Sink>

@@ -214,17 +214,10 @@ W to_big(W v) noexcept {
   return ::horus::wire::byteswap_number(v);
 }
 
-inline std::string hex64(std::uint64_t v) {
-  static constexpr char kDigits[] = "0123456789abcdef";
-  std::string out = "0x";
-  for (int shift = 60; shift >= 0; shift -= 4) out += kDigits[(v >> shift) & 0xf];
-  return out;
-}
-
-inline std::string fingerprint_error(std::string_view type, std::uint64_t got, std::uint64_t want) {
-  return std::string(type) + ": fingerprint " + hex64(got) + ", expected " + hex64(want) +
-         " (a message of another LCM type on this channel, another version of the type, or not an LCM message)";
-}
+/// "0x" and 16 hex digits.
+std::string hex64(std::uint64_t v);  // core/src/wire/lcm.cpp
+/// "<type>: fingerprint <got>, expected <want> (...)": a message of another LCM type.
+std::string fingerprint_error(std::string_view type, std::uint64_t got, std::uint64_t want);
 
 // An enum's underlying integer, or the type itself.
 template <class V>

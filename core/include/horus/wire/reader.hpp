@@ -15,6 +15,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <initializer_list>
 #include <span>
 #include <string>
 #include <string_view>
@@ -31,11 +32,7 @@ struct Path {
   std::string_view name;                // a field name, or the type name at the root
   std::size_t index = ~std::size_t{0};  // an element index instead of a name
 
-  std::string text() const {
-    std::string head = parent ? parent->text() : std::string();
-    if (index != ~std::size_t{0}) return head + "[" + std::to_string(index) + "]";
-    return parent ? head + "." + std::string(name) : std::string(name);
-  }
+  std::string text() const;  // core/src/wire/reader.cpp
 };
 
 /// v with its bytes in the other order (a number of 1, 2, 4 or 8 bytes).
@@ -51,12 +48,25 @@ constexpr N byteswap_number(N v) noexcept {
 }
 
 namespace detail {
-inline void append(std::string& out, std::string_view s) { out.append(s); }
-template <class I>
-  requires std::integral<I> && (!std::same_as<I, char>) && (!std::same_as<I, bool>)
-void append(std::string& out, I v) {
-  out += std::to_string(v);
-}
+/// One part of an error text: text or an integer. Errors are built by append_parts, out of line,
+/// so that each decoder's error paths cost a call, not an inlined string build per call site.
+struct Part {
+  enum class Kind : std::uint8_t { Text, Unsigned, Negative };
+  std::string_view text;
+  std::uint64_t magnitude = 0;
+  Kind kind = Kind::Text;
+
+  Part(const char* s) noexcept : text(s) {}
+  Part(std::string_view s) noexcept : text(s) {}
+  Part(const std::string& s) noexcept : text(s) {}
+  template <class I>
+    requires std::integral<I> && (!std::same_as<I, char>) && (!std::same_as<I, bool>)
+  Part(I v) noexcept
+      : magnitude(v < 0 ? 0 - static_cast<std::uint64_t>(v) : static_cast<std::uint64_t>(v)),
+        kind(v < 0 ? Kind::Negative : Kind::Unsigned) {}
+};
+/// Appends the parts to out (integers in decimal).
+void append_parts(std::string& out, std::initializer_list<Part> parts);  // core/src/wire/reader.cpp
 }  // namespace detail
 
 class Reader {
@@ -119,7 +129,7 @@ class Reader {
   template <class... A>
   [[gnu::cold]] bool fail(const Path& path, const A&... parts) {
     error = path.text();
-    (detail::append(error, parts), ...);
+    detail::append_parts(error, {detail::Part(parts)...});
     return false;
   }
 

@@ -258,7 +258,7 @@ bool get(Reader& r, V& v, const Path& path) {
 template <class... A>
 [[gnu::cold]] std::string message_error(std::string_view type, const A&... parts) {
   std::string out(type);
-  (detail::append(out, parts), ...);
+  detail::append_parts(out, {detail::Part(parts)...});
   return out;
 }
 
