@@ -34,6 +34,24 @@ Result<void> connect_network(TopicCore& core, const WireOps& ops, const net::Qos
   return {};
 }
 
+Result<void> connect_topic(TopicCore& core, const WireOps* ops, net::Qos type_qos, const TopicOptions& options,
+                           std::string_view type_name) {
+  if (ops == nullptr)
+    return fail(Errc::TypeMismatch, fmt::format("topic '{}': the horus library has no network codec for {} (its "
+                                                "headers and library are of different versions)",
+                                                core.name, type_name));
+  net::Qos qos = type_qos;
+  qos.reliability = options.reliability.value_or(type_qos.reliability);
+  qos.durability = options.durability.value_or(type_qos.durability);
+  qos.depth = core.ring.capacity();
+  qos.deadline_ns = options.deadline.value_or(std::chrono::nanoseconds::zero()).count();
+  qos.lifespan_ns = options.lifespan.value_or(std::chrono::nanoseconds::zero()).count();
+  qos.priority = static_cast<std::int8_t>(options.priority == Priority::High  ? 1
+                                          : options.priority == Priority::Low ? -1
+                                                                              : 0);
+  return connect_network(core, *ops, qos, options);
+}
+
 std::uint64_t network_dropped(const TopicCore& core) noexcept {
   return core.segment && core.net ? core.net->dropped() : 0;
 }

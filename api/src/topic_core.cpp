@@ -373,6 +373,12 @@ Error no_lane_error(const TopicCore& core, std::string_view what) {
                                                shm::kMaxPublishers, what));
 }
 
+Error subscriber_limit_error(std::string_view topic) {
+  return Error(Errc::LimitReached, fmt::format("topic '{}' already has {} subscribing handles; close some before "
+                                               "opening more",
+                                               topic, shm::kMaxSubscribers));
+}
+
 Error ring_full_error(const TopicCore& core, std::chrono::nanoseconds timeout) {
   return Error(Errc::Timeout, "topic '" + core.name + "': ring stayed full for " +
                                   std::to_string(std::chrono::duration<double, std::milli>(timeout).count()) +

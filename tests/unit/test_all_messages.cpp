@@ -1,5 +1,5 @@
 // Every standard message, through every generic path: the in-process Topic, JSON, fmt, the
-// local codec; and the catalogue counted against the spec so no message is forgotten.
+// local codec, the library's network table; and the catalogue counted against the spec so no message is forgotten.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -120,6 +120,35 @@ TYPED_TEST(EveryMessage, RoundTripsThroughLcmAndRefusesEveryTruncation) {
   const std::size_t step = std::max<std::size_t>(1, bytes.size() / 512);
   for (std::size_t n = 0; n < bytes.size(); n += step)
     EXPECT_FALSE(horus::lcm::decode<TypeParam>(std::span(bytes.data(), n))) << "decoded from " << n << " bytes";
+}
+
+// A Topic<T> of a standard message takes its network table (XCDR1 and LCM codecs, bridge port)
+// from the library (api/src/standard_wire_ops_*.cpp), compiled once: it must encode exactly what
+// the codecs encode.
+TYPED_TEST(EveryMessage, TakesItsNetworkCodecsFromTheLibrary) {
+  static_assert(horus::reflect::StandardMessage<TypeParam>);
+  const horus::detail::WireOps* ops = horus::detail::wire_ops_of<TypeParam>();
+  ASSERT_NE(ops, nullptr) << "the library has no table for " << horus::type_name<TypeParam>();
+  EXPECT_EQ(ops, horus::detail::standard_wire_ops(horus::type_hash<TypeParam>));
+  const TypeParam m = sample<TypeParam>();
+  for (const auto format : {horus::net::WireFormat::Xcdr1, horus::net::WireFormat::Lcm}) {
+    SCOPED_TRACE(std::string(horus::net::to_string(format)));
+    ASSERT_TRUE(ops->expressible(format));
+    const auto size = ops->encoded_size(format, &m);
+    ASSERT_TRUE(size) << size.error().message();
+    std::vector<std::byte> bytes(*size);
+    ops->encode(format, &m, bytes);
+    const auto expected = format == horus::net::WireFormat::Lcm ? horus::lcm::encode(m) : horus::cdr::encode(m);
+    EXPECT_TRUE(std::equal(bytes.begin(), bytes.end(), expected.begin(), expected.end()));
+  }
+}
+
+TEST(NetworkCodecs, AUsersTypeMakesItsOwnTableAndTheLibraryKnowsOnlyStandardHashes) {
+  static_assert(!horus::reflect::StandardMessage<horus_test::Stamp>);
+  EXPECT_EQ(horus::detail::wire_ops_of<horus_test::Stamp>(), &horus::detail::kWireOpsOf<horus_test::Stamp>);
+  EXPECT_EQ(horus::detail::standard_wire_ops(horus::type_hash<horus_test::Stamp>), nullptr);
+  EXPECT_EQ(horus::detail::standard_wire_ops(0), nullptr);
+  EXPECT_NE(horus::detail::standard_wire_ops(horus::type_hash<horus::msg::Pose2D>), nullptr);
 }
 
 TYPED_TEST(EveryMessage, FormatsWithItsNameAndLogsASummary) {

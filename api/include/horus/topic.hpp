@@ -348,9 +348,9 @@ class Topic {
   // Writes a prepared msg if there is space (a fleet topic's bridge is one of the subscribers).
   bool try_commit(const T& msg) { return codec_.try_write(port_, msg); }
 
-  // What a fleet topic's bridge knows of T (horus/detail/network_link.hpp).
-  static constexpr detail::WireOps kWireOps{&detail::wire_expressible<T>, &detail::wire_encoded_size<T>,
-                                            &detail::wire_encode<T>, &detail::make_bridge_port<T>};
+  // What a fleet topic's bridge knows of T (horus/detail/network_link.hpp): compiled once in the
+  // library for the standard messages, made here for the others.
+  static const detail::WireOps* wire_ops() noexcept { return detail::wire_ops_of<T>(); }
 
   Port port_;    // the topic, and this handle's lane and subscriber entry
   Codec codec_;  // the slot codec's state (scratch buffers, pool counters)

@@ -146,6 +146,11 @@ constexpr bool enum_from_name(std::string_view name, E& out) noexcept {
   return false;
 }
 
+/// True for horus's own standard messages (HORUS_STANDARD_MESSAGES in their headers): a
+/// Topic<T> of one takes T's network codecs compiled in the library instead of instantiating them.
+template <class T>
+concept StandardMessage = requires { horus_standard_message(tag<std::remove_cv_t<T>>{}); };
+
 /// True for types declared with HORUS_REFLECT / HORUS_MESSAGE.
 template <class T>
 concept Reflected = requires { horus_fields(tag<std::remove_cv_t<T>>{}); };
@@ -439,6 +444,11 @@ inline constexpr std::uint64_t type_hash = reflect::type_hash<T>;
     return NAME;                                                                                    \
   }                                                                                                 \
   HORUS_REFLECT_FIELDS_(T, __VA_ARGS__)
+
+#define HORUS_STANDARD_MESSAGE_(unused, T) \
+  [[maybe_unused]] constexpr bool horus_standard_message(::horus::reflect::tag<T>) noexcept { return true; }
+/// For horus's own messages only (messages/include/horus/msg/): marks them standard.
+#define HORUS_STANDARD_MESSAGES(...) HORUS_PP_FOR_EACH(HORUS_STANDARD_MESSAGE_, ~, __VA_ARGS__)
 
 #define HORUS_REFLECT_ENUMERATOR_(E, v) ::horus::reflect::EnumValue<E>{#v, E::v}
 

@@ -10,6 +10,7 @@
 
 #include "horus/detail/network_link.hpp"
 #include "horus/detail/slots.hpp"
+#include "horus/detail/wire_ops.hpp"
 
 namespace horus::detail {
 
@@ -72,6 +73,27 @@ class TypedBridgePort final : public BridgePort {
 template <class T>
 std::unique_ptr<BridgePort> make_bridge_port(TopicCore& core) {
   return std::make_unique<TypedBridgePort<T>>(core);
+}
+
+/// T's table, made from its reflection (any message type).
+template <class T>
+inline constexpr WireOps kWireOpsOf{&wire_expressible<T>, &wire_encoded_size<T>, &wire_encode<T>,
+                                    &make_bridge_port<T>};
+
+/// The table of the standard message whose type hash is `hash`, compiled once in the library
+/// (api/src/standard_wire_ops_*.cpp); nullptr for any other hash.
+const WireOps* standard_wire_ops(std::uint64_t hash) noexcept;
+
+/// T's table: the library's for a standard message (a node's file then instantiates none of the
+/// XCDR1 and LCM codecs), else made here. nullptr only when the library lacks a standard type
+/// these headers have (headers and library of different versions).
+template <class T>
+const WireOps* wire_ops_of() noexcept {
+  if constexpr (reflect::StandardMessage<T>) {
+    return standard_wire_ops(type_hash<T>);
+  } else {
+    return &kWireOpsOf<T>;
+  }
 }
 
 }  // namespace horus::detail

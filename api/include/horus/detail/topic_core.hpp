@@ -93,6 +93,8 @@ Error pool_exhausted_error(const TopicCore& core);
 /// The errors of a send that found every publisher lane taken, and of a ring that stayed full.
 Error no_lane_error(const TopicCore& core, std::string_view what);
 Error ring_full_error(const TopicCore& core, std::chrono::nanoseconds timeout);
+/// The error of a handle that found every subscriber entry of its topic taken.
+Error subscriber_limit_error(std::string_view topic);
 
 /// This process's pid, cached (updated in a child after fork()): leases compare it with their
 /// topic's to do nothing in a forked child, which must not release its parent's pins.

@@ -2,10 +2,12 @@
 // paths): included at the end of horus/topic.hpp. Internal to horus.
 #pragma once
 
+#include <sched.h>
+#include <time.h>
+
 #include <algorithm>
 #include <chrono>
 #include <string>
-#include <thread>
 
 #include "horus/config.hpp"
 #include "horus/topic.hpp"
@@ -24,20 +26,12 @@ Result<Topic<T>> Topic<T>::make(std::string_view name, const TopicOptions& reque
   if (!core) return std::unexpected(std::move(core.error()));
   Topic topic(std::move(*core));
   topic.watch_ = detail::Watch(options.deadline, options.lifespan);
-  if (!topic.port_.reader().subscribe())
-    return fail(Errc::LimitReached, "topic '" + std::string(name) + "' already has " +
-                                        std::to_string(shm::kMaxSubscribers) +
-                                        " subscribing handles; close some before opening more");
+  if (!topic.port_.reader().subscribe()) return std::unexpected(detail::subscriber_limit_error(name));
   auto& c = topic.core();
   if (is_network(c.backend)) {
-    const net::Qos qos{options.reliability.value_or(net::default_qos<T>::reliability),
-                       options.durability.value_or(net::default_qos<T>::durability), c.ring.capacity(),
-                       options.deadline.value_or(std::chrono::nanoseconds::zero()).count(),
-                       options.lifespan.value_or(std::chrono::nanoseconds::zero()).count(),
-                       static_cast<std::int8_t>(options.priority == Priority::High  ? 1
-                                                : options.priority == Priority::Low ? -1
-                                                                                    : 0)};
-    if (auto ok = detail::connect_network(c, kWireOps, qos, options); !ok) return std::unexpected(std::move(ok.error()));
+    const net::Qos defaults{net::default_qos<T>::reliability, net::default_qos<T>::durability};
+    if (auto ok = detail::connect_topic(c, wire_ops(), defaults, options, horus::type_name<T>()); !ok)
+      return std::unexpected(std::move(ok.error()));
     topic.net_dropped_base_ = detail::network_dropped(c);
   }
   return topic;
@@ -66,11 +60,14 @@ Result<void> Topic<T>::send_blocking(const T& msg, std::chrono::nanoseconds time
     if (try_commit(msg)) return committed();
   }
   for (int i = 0; i < 8; ++i) {
-    std::this_thread::yield();
+    ::sched_yield();  // <sched.h> and nanosleep: <thread> costs every node's file 0.1 s to compile
     if (try_commit(msg)) return committed();
   }
   for (auto now = clock::now(); now < deadline; now = clock::now()) {
-    std::this_thread::sleep_for(std::min<clock::duration>(std::chrono::microseconds(100), deadline - now));
+    const auto nap = std::chrono::duration_cast<std::chrono::nanoseconds>(
+        std::min<clock::duration>(std::chrono::microseconds(100), deadline - now));
+    const ::timespec ts{0, static_cast<long>(nap.count())};
+    ::nanosleep(&ts, nullptr);
     if (try_commit(msg)) return committed();
     // A subscriber that died with unread messages must not hold us back: reap (every 50 ms).
     if (detail::reap_dead_participants(core()) && try_commit(msg)) return committed();

@@ -129,4 +129,7 @@ HORUS_REFLECT(AudioFrame, samples, num_samples, sample_rate, channels, encoding,
 
 static_assert(horus::reflect::is_fixed_size<AudioFrame>, "AudioFrame must be trivially copyable and standard layout");
 
+// The standard messages of this header (Topic<T> takes their network codecs from the library).
+HORUS_STANDARD_MESSAGES(AudioFrame)
+
 }  // namespace horus::msg

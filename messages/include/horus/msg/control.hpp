@@ -303,4 +303,8 @@ static_assert(horus::reflect::is_fixed_size<PidConfig>, "PidConfig must be trivi
 static_assert(horus::reflect::is_fixed_size<TrajectoryPoint>,
               "TrajectoryPoint must be trivially copyable and standard layout");
 
+// The standard messages of this header (Topic<T> takes their network codecs from the library).
+HORUS_STANDARD_MESSAGES(MotorCommand, DifferentialDriveCommand, ServoCommand, JointCommand, PidConfig,
+                        TrajectoryPoint)
+
 }  // namespace horus::msg

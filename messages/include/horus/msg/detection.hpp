@@ -225,4 +225,7 @@ static_assert(horus::reflect::is_fixed_size<BoundingBox3D>,
 static_assert(horus::reflect::is_fixed_size<Detection>, "Detection must be trivially copyable and standard layout");
 static_assert(horus::reflect::is_fixed_size<Detection3D>, "Detection3D must be trivially copyable and standard layout");
 
+// The standard messages of this header (Topic<T> takes their network codecs from the library).
+HORUS_STANDARD_MESSAGES(BoundingBox2D, BoundingBox3D, Detection, Detection3D)
+
 }  // namespace horus::msg

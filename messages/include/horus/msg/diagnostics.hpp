@@ -598,4 +598,8 @@ static_assert(horus::reflect::is_fixed_size<DiagnosticValue>,
 static_assert(horus::reflect::is_fixed_size<DiagnosticReport>,
               "DiagnosticReport must be trivially copyable and standard layout");
 
+// The standard messages of this header (Topic<T> takes their network codecs from the library).
+HORUS_STANDARD_MESSAGES(Heartbeat, NodeHeartbeat, Status, DiagnosticStatus, EmergencyStop, SafetyStatus,
+                        ResourceUsage, DiagnosticValue, DiagnosticReport)
+
 }  // namespace horus::msg

@@ -364,4 +364,7 @@ static_assert(horus::reflect::is_fixed_size<ContactInfo>, "ContactInfo must be t
 static_assert(horus::reflect::is_fixed_size<HapticFeedback>,
               "HapticFeedback must be trivially copyable and standard layout");
 
+// The standard messages of this header (Topic<T> takes their network codecs from the library).
+HORUS_STANDARD_MESSAGES(WrenchStamped, ImpedanceParameters, ForceCommand, ContactInfo, HapticFeedback)
+
 }  // namespace horus::msg

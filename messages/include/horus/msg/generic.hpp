@@ -205,4 +205,7 @@ static_assert(horus::reflect::is_fixed_size<GenericMessage>,
               "GenericMessage must be trivially copyable and standard layout");
 static_assert(sizeof(GenericMessage) == 4364, "GenericMessage must have HORUS's layout (4364 bytes)");
 
+// The standard messages of this header (Topic<T> takes their network codecs from the library).
+HORUS_STANDARD_MESSAGES(GenericMessage)
+
 }  // namespace horus::msg

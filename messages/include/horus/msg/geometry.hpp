@@ -477,4 +477,8 @@ static_assert(horus::reflect::is_fixed_size<Accel>, "Accel must be trivially cop
 static_assert(horus::reflect::is_fixed_size<AccelStamped>,
               "AccelStamped must be trivially copyable and standard layout");
 
+// The standard messages of this header (Topic<T> takes their network codecs from the library).
+HORUS_STANDARD_MESSAGES(CmdVel, Twist, Pose2D, Pose3D, Point3, Vector3, Quaternion, TransformStamped, Accel,
+                        AccelStamped, PoseWithCovariance, TwistWithCovariance)
+
 }  // namespace horus::msg

@@ -404,4 +404,7 @@ class Image {
 HORUS_REFLECT_AS(Image, (width, width_), (height, height_), (encoding, encoding_), (step, step_),
                  (frame_id, frame_id_), (timestamp_ns, timestamp_ns_), (data, data_))
 
+// The standard messages of this header (Topic<T> takes their network codecs from the library).
+HORUS_STANDARD_MESSAGES(Image, ImageDescriptor)
+
 }  // namespace horus::msg

@@ -184,4 +184,7 @@ static_assert(horus::reflect::is_fixed_size<JoystickInput>,
 static_assert(horus::reflect::is_fixed_size<KeyboardInput>,
               "KeyboardInput must be trivially copyable and standard layout");
 
+// The standard messages of this header (Topic<T> takes their network codecs from the library).
+HORUS_STANDARD_MESSAGES(JoystickInput, KeyboardInput)
+
 }  // namespace horus::msg

@@ -498,4 +498,7 @@ static_assert(horus::reflect::is_fixed_size<VelocityObstacle>,
 static_assert(horus::reflect::is_fixed_size<VelocityObstacles>,
               "VelocityObstacles must be trivially copyable and standard layout");
 
+// The standard messages of this header (Topic<T> takes their network codecs from the library).
+HORUS_STANDARD_MESSAGES(Goal, GoalResult, Waypoint, Path, NavPath, PathPlan, VelocityObstacle, VelocityObstacles)
+
 }  // namespace horus::msg

@@ -263,4 +263,7 @@ struct CostMap {
 };
 HORUS_REFLECT(CostMap, occupancy_grid, costs, inflation_radius, cost_scaling_factor, lethal_cost)
 
+// The standard messages of this header (Topic<T> takes their network codecs from the library).
+HORUS_STANDARD_MESSAGES(OccupancyGrid, CostMap)
+
 }  // namespace horus::msg

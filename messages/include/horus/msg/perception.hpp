@@ -334,4 +334,7 @@ class DepthImage {
 HORUS_REFLECT_AS(DepthImage, (width, width_), (height, height_), (dtype, dtype_), (depth_scale, depth_scale_),
                  (frame_id, frame_id_), (timestamp_ns, timestamp_ns_), (data, data_))
 
+// The standard messages of this header (Topic<T> takes their network codecs from the library).
+HORUS_STANDARD_MESSAGES(DepthImage, DepthImageDescriptor)
+
 }  // namespace horus::msg

@@ -403,4 +403,7 @@ class PointCloud {
 HORUS_REFLECT_AS(PointCloud, (point_count, point_count_), (fields_per_point, fields_per_point_), (dtype, dtype_),
                  (frame_id, frame_id_), (timestamp_ns, timestamp_ns_), (data, data_))
 
+// The standard messages of this header (Topic<T> takes their network codecs from the library).
+HORUS_STANDARD_MESSAGES(PointCloud, PointXYZ, PointXYZRGB, PointXYZI, PointCloudDescriptor)
+
 }  // namespace horus::msg

@@ -437,4 +437,7 @@ static_assert(horus::reflect::is_fixed_size<BatteryState>,
               "BatteryState must be trivially copyable and standard layout");
 static_assert(horus::reflect::is_fixed_size<NavSatFix>, "NavSatFix must be trivially copyable and standard layout");
 
+// The standard messages of this header (Topic<T> takes their network codecs from the library).
+HORUS_STANDARD_MESSAGES(LaserScan, Imu, Odometry, Range, BatteryState, NavSatFix, JointState)
+
 }  // namespace horus::msg

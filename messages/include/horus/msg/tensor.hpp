@@ -593,4 +593,7 @@ class Tensor {
 HORUS_REFLECT_AS(Tensor, (shape, shape_), (strides, strides_), (ndim, ndim_), (dtype, dtype_), (device, device_),
                  (data, data_))
 
+// The standard messages of this header (Topic<T> takes their network codecs from the library).
+HORUS_STANDARD_MESSAGES(Tensor, Device, TensorDescriptor)
+
 }  // namespace horus::msg

@@ -134,4 +134,7 @@ static_assert(horus::reflect::is_fixed_size<Clock>, "Clock must be trivially cop
 static_assert(horus::reflect::is_fixed_size<TimeReference>,
               "TimeReference must be trivially copyable and standard layout");
 
+// The standard messages of this header (Topic<T> takes their network codecs from the library).
+HORUS_STANDARD_MESSAGES(Clock, TimeReference)
+
 }  // namespace horus::msg

@@ -493,4 +493,7 @@ static_assert(horus::reflect::is_fixed_size<TrackingHeader>,
               "TrackingHeader must be trivially copyable and standard layout");
 static_assert(sizeof(Landmark) == 16 && sizeof(Landmark3D) == 20, "landmark records keep HORUS's sizes");
 
+// The standard messages of this header (Topic<T> takes their network codecs from the library).
+HORUS_STANDARD_MESSAGES(SegmentationMask, Landmark, Landmark3D, LandmarkArray, TrackedObject, TrackingHeader)
+
 }  // namespace horus::msg

@@ -242,4 +242,7 @@ static_assert(horus::reflect::is_fixed_size<RegionOfInterest>,
 static_assert(!horus::reflect::is_fixed_size<CompressedImage>,
               "CompressedImage is variable-size (its bytes live in a std::vector)");
 
+// The standard messages of this header (Topic<T> takes their network codecs from the library).
+HORUS_STANDARD_MESSAGES(CompressedImage, CameraInfo, StereoInfo, RegionOfInterest)
+
 }  // namespace horus::msg
