@@ -55,6 +55,10 @@ struct Reader::Impl {
   enum class Next { Ok, End, Incomplete };
   Next next_record(std::uint64_t at, std::uint64_t end, Record& r, std::string& why) const {
     if (at == end) return Next::End;
+    if (at > end) {  // a region that starts past its end (offsets from a corrupt file)
+      why = fmt::format("a record at offset {} starts past the end of its region at {}", at, end);
+      return Next::Incomplete;
+    }
     if (end - at < 9) {
       why = fmt::format("a record at offset {} needs 9 bytes of opcode and length, {} left", at, end - at);
       return Next::Incomplete;
@@ -160,6 +164,10 @@ struct Reader::Impl {
       return {};
     }
     const std::uint64_t footer = size - 8 - kFooterRecord;
+    if (data_start > footer)
+      return std::unexpected(corrupt(fmt::format("offset 8: the Header record ends at offset {}, inside the Footer "
+                                                 "record at offset {}",
+                                                 data_start, footer)));
     In f(bytes(footer, kFooterRecord), footer, "Footer");
     const std::uint8_t op = f.u8("opcode");
     const std::uint64_t len = f.u64("length");

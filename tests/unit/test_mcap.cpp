@@ -278,6 +278,25 @@ TEST_F(McapDamage, ARecordLengthPastTheEndIsNamed) {
       << e->message();
 }
 
+// Found by fuzz_mcap (fuzz/regressions/mcap/header-overlaps-footer): a 65-byte file whose Header
+// record runs into the Footer. The reader then started the data section past its end and read
+// far outside the file (a CRC over 2^64 bytes). Now the Header's end is checked.
+TEST_F(McapDamage, AHeaderThatRunsIntoTheFooterIsNamed) {
+  const unsigned char file[] = {
+      0x89, 0x4d, 0x43, 0x41, 0x50, 0x30, 0x0d, 0x0a, 0x01, 0x0d, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00,
+      0x00, 0x00, 0x00, 0x00, 0x05, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x02, 0x14, 0x00, 0x00, 0x00, 0x00,
+      0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x03, 0x09, 0x00, 0x00, 0x00, 0x00,
+      0x00, 0x00, 0xff, 0x16, 0xc7, 0xd9, 0x89, 0x4d, 0x43, 0x41, 0x50, 0x30, 0x0d, 0x0a};
+  std::vector<std::byte> b(sizeof(file));
+  std::memcpy(b.data(), file, sizeof(file));
+  const auto e = error_of(b);
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->code(), Errc::Corrupt);
+  EXPECT_NE(e->message().find("the Header record ends at offset 30, inside the Footer record at offset 28"),
+            std::string::npos)
+      << e->message();
+}
+
 TEST_F(McapDamage, AnUnknownCompressionIsNamed) {
   const std::size_t chunk = first_record(0x06);
   auto b = good_;
