@@ -196,7 +196,7 @@ class Agent {
     settings_ = *settings;
     if (!settings_.announce) return;  // fleet.announce: false
     // Open the topics; retry while they do not open (a transport busy closing, say).
-    for (int attempt = 0;; ++attempt) {
+    for (;;) {
       if (open_topics()) break;
       std::unique_lock lock(mutex_);
       if (cv_.wait_for(lock, std::chrono::seconds(1), [&] { return stopping_; })) return;

@@ -213,7 +213,10 @@ class RingReader {
   }
 
   [[gnu::always_inline]] bool read_lane(std::uint32_t lane, T& out) noexcept {
-    for (;;) {
+    // Lost and corrupt slots are passed over, but at most two rings' worth per call: a live
+    // writer never leaves more, and a segment whose head and slots contradict each other (a
+    // corrupt or hostile segment, found by fuzz_shm) must not keep a reader here for 2^64 steps.
+    for (std::uint64_t steps = 0; steps <= 2 * (mask_ + 1); ++steps) {
       const std::uint64_t c = cursor_[lane];
       switch (read_slot(slot_of(lane, c), c, out)) {
         case ReadStatus::Ok:
@@ -234,6 +237,7 @@ class RingReader {
           break;
       }
     }
+    return false;  // the next read goes on from here
   }
 
   void take_entry(std::uint32_t entry) noexcept {
