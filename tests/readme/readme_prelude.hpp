@@ -1,6 +1,6 @@
 // What every README block is compiled with (the precompiled header of readme_blocks): the header
-// README.md tells users to include, and the placeholders its blocks call without defining them
-// (a robot's own functions: fuse, drive, capture_into, ...), which do nothing.
+// README.md tells users to include, and the stand-ins for a robot's own functions that its blocks
+// call without defining them (fuse, drive, capture_into, ...): they do nothing.
 #pragma once
 
 #include <horus/horus.hpp>
@@ -18,7 +18,7 @@ struct Registration {
 
 }  // namespace readme
 
-// The placeholders.
+// The stand-ins.
 inline void fuse(const auto&) {}
 inline void drive(const auto&) {}
 inline void capture_into(auto&&) {}
