@@ -15,6 +15,7 @@ packages=(
   cyclonedds-dev cyclonedds-tools   # the cyclonedds backend; idlc for the interop tests
   libfastrtps-dev libfastcdr-dev fastddsgen   # the fastdds backend; fastddsgen for the interop tests
   liblcm-dev liblcm-bin   # the lcm backend; lcm-gen, lcm-logger, lcm-logplayer for the interop tests
+  libssl-dev   # libcrypto: horus security's keys, certificates and signed documents (security/)
   libyaml-cpp-dev   # HORUS_CONFIG: the per-topic configuration file (api/src/config.cpp)
   iproute2   # ip netns: the multi-host tests make hosts out of network namespaces
   nftables   # nft: the multi-host fault tests drop multicast and packets on namespace links

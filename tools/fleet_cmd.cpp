@@ -13,18 +13,55 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <utility>
 
 #include "horus/config.hpp"
 #include "horus/fleet.hpp"
+#include "horus/security/keystore.hpp"
 
 namespace horus::tools {
 
 namespace {
 
 using clock_type = std::chrono::steady_clock;
+
+// Whether this host's fleet participants run under DDS-Security: decided, as in every process
+// of the host, by its configuration (net::Security) and its identity's files. Under it, every
+// host the fleet layer hears passed DDS-Security's authentication and access control.
+struct SecurityState {
+  bool secure = false;
+  std::string text;  // one line for the table
+  nlohmann::json json;
+};
+
+SecurityState security_state(const std::string& transport) {
+  SecurityState s;
+  const auto net = horus::net::config_from_environment();
+  const net::Security sec = net ? net->security : net::Security{};
+  std::optional<security::ParticipantFiles> files;
+  if (transport != "lcm" && sec.mode != net::SecurityMode::Off) {
+    auto got = security::secure_participant(sec, "horus fleet");
+    if (got) files = std::move(*got);
+  }
+  s.secure = files.has_value();
+  s.json = {{"mode", std::string(net::to_string(sec.mode))}, {"authenticated", s.secure}};
+  if (s.secure) {
+    s.json["identity"] = sec.identity;
+    s.json["subject"] = files->subject;
+    s.json["keystore"] = sec.keystore;
+    s.text = fmt::format("security: {}, this host is {} ({}): every host listed was authenticated by DDS-Security "
+                         "with the keystore's CA ({})",
+                         net::to_string(sec.mode), sec.identity, files->subject, sec.keystore);
+  } else {
+    s.text = fmt::format("security: {}: hosts are not authenticated (any host on the network can join{})",
+                         net::to_string(sec.mode),
+                         transport == "lcm" ? "; LCM has no security" : "; see `horus security` and security: in the configuration file");
+  }
+  return s;
+}
 
 }  // namespace
 
@@ -109,25 +146,28 @@ nlohmann::json fleet_json(const horus::Fleet& fleet) {
     j["rtt_us"] = h.rtt ? nlohmann::json(h.rtt->count()) : nlohmann::json(nullptr);
     hosts.push_back(std::move(j));
   }
-  return {{"transport", fleet.transport()}, {"malformed", fleet.malformed()}, {"hosts", hosts}};
+  const SecurityState security = security_state(fleet.transport());
+  for (auto& h : hosts) h["authenticated"] = security.secure;
+  return {{"transport", fleet.transport()}, {"malformed", fleet.malformed()}, {"security", security.json}, {"hosts", hosts}};
 }
 
 void print_fleet_table(const horus::Fleet& fleet) {
   const auto hosts = fleet.hosts();
-  fmt::print("fleet on {}: {} host{}\n", fleet.transport(), hosts.size(), hosts.size() == 1 ? "" : "s");
-  fmt::print("{:<24} {:<9} {:>8} {:>9} {:>6} {:>10} {:>6} {:>7} {:>7}\n", "host", "state", "age ms", "rtt us", "loss",
-             "offset ms", "procs", "fleet", "topics");
+  const SecurityState security = security_state(fleet.transport());
+  fmt::print("fleet on {}: {} host{}\n{}\n", fleet.transport(), hosts.size(), hosts.size() == 1 ? "" : "s", security.text);
+  fmt::print("{:<24} {:<9} {:>8} {:>9} {:>6} {:>10} {:>6} {:>7} {:>7} {:>5}\n", "host", "state", "age ms", "rtt us", "loss",
+             "offset ms", "procs", "fleet", "topics", "auth");
   for (const auto& h : hosts) {
     std::size_t fleet_topics = 0;
     for (const auto& t : h.topics) fleet_topics += t.scope == "fleet" ? 1 : 0;
     std::string state(horus::to_string(h.state));
     if (h.rejoins > 0) state += fmt::format(" ({}x)", h.rejoins);
-    fmt::print("{:<24} {:<9} {:>8} {:>9} {:>6} {:>10} {:>6} {:>7} {:>7}\n", h.name + (h.self ? " *" : ""), state,
+    fmt::print("{:<24} {:<9} {:>8} {:>9} {:>6} {:>10} {:>6} {:>7} {:>7} {:>5}\n", h.name + (h.self ? " *" : ""), state,
                h.heartbeat_age.count(), h.rtt ? std::to_string(h.rtt->count()) : "-",
                h.loss >= 0 ? fmt::format("{:.0f}%", h.loss * 100) : "-",
                h.clock_offset ? fmt::format("{:+.1f}", static_cast<double>(h.clock_offset->count()) / 1000.0) : "-",
                h.announced ? std::to_string(h.processes.size()) : "?", h.announced ? std::to_string(fleet_topics) : "?",
-               h.announced ? std::to_string(h.topics.size()) : "?");
+               h.announced ? std::to_string(h.topics.size()) : "?", security.secure ? "yes" : "no");
   }
   if (const auto bad = fleet.malformed(); bad != 0) fmt::print("{} malformed announcement(s) ignored\n", bad);
 }

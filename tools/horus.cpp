@@ -21,6 +21,8 @@
 //                                         floor (bench_cmd.hpp)
 //   horus clean                           remove segments whose processes are all gone
 //   horus config check FILE               validate a configuration file (exit 1 naming the error)
+//   horus security keystore init | host create | permissions | governance | check
+//                                         DDS-Security's keystore (security_cmd.hpp)
 //   horus config explain NAME [--file F]  which rule, scope, backend and QoS a topic gets, and
 //                                         from where (code is not known here: environment,
 //                                         file, default); the file is F or HORUS_CONFIG's
@@ -47,6 +49,7 @@
 #include "config_cmd.hpp"
 #include "fleet_cmd.hpp"
 #include "record_cmd.hpp"
+#include "security_cmd.hpp"
 #include "topic_cmd.hpp"
 
 namespace {
@@ -214,7 +217,9 @@ int main(int argc, char** argv) {
   bench_local->add_option("--window", bench_args.window, "messages in flight in the flood rows (default: half the ring)");
   bench_local->add_option("--json", bench_args.json, "write the table as JSON to FILE ('-': stdout)");
 
+  const auto security = horus::tools::add_security_commands(app);
   CLI11_PARSE(app, argc, argv);
+  if (const int rc = horus::tools::run_security(*security); rc >= 0) return rc;
   lookup.rate_window = std::chrono::milliseconds(static_cast<long long>(rate_window_s * 1000));
   // echo, hz and bw wait for a topic that does not exist yet (here or on another host) when asked
   // to: --wait, else echo's --timeout.

@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <list>
 #include <mutex>
@@ -38,14 +39,15 @@ std::string_view to_string(Source s) noexcept {
 
 namespace {
 
-constexpr std::array<std::string_view, 3> kTopLevelKeys{"network", "fleet", "topics"};
+constexpr std::array<std::string_view, 4> kTopLevelKeys{"network", "fleet", "security", "topics"};
+constexpr std::array<std::string_view, 3> kSecurityKeys{"mode", "keystore", "identity"};
 constexpr std::array<std::string_view, 6> kFleetKeys{"announce", "heartbeat_ms", "announce_ms", "misses", "max_hosts",
                                                       "forget_after"};
 constexpr std::array<std::string_view, 6> kNetworkKeys{"backend", "domain_id",     "localhost_only",
                                                        "lcm_url", "peers", "max_bandwidth"};
-constexpr std::array<std::string_view, 11> kRuleKeys{"match",         "scope",    "backend",  "reliability",
+constexpr std::array<std::string_view, 12> kRuleKeys{"match",         "scope",    "backend",  "reliability",
                                                      "durability",    "capacity", "max_rate_hz",
-                                                     "max_bandwidth", "priority", "deadline", "lifespan"};
+                                                     "max_bandwidth", "priority", "deadline", "lifespan", "protection"};
 
 template <std::size_t N>
 std::string one_of(const std::array<std::string_view, N>& names) {
@@ -186,6 +188,37 @@ class Parser {
     return {};
   }
 
+  Result<void> security(const YAML::Node& n, SecuritySection& out) const {
+    if (!n.IsDefined() || n.IsNull()) return {};
+    if (!n.IsMap()) return bad(n, "security", fmt::format("expected a map of {}, found {}", one_of(kSecurityKeys), kind(n)));
+    if (auto ok = known_keys(n, "security", kSecurityKeys); !ok) return ok;
+    out.line = n.Mark().line + 1;
+    if (const auto v = n["mode"]) {
+      auto s = scalar(v, "security.mode", "enforce, permissive or off");
+      if (!s) return std::unexpected(s.error());
+      if (*s == "enforce") out.mode = net::SecurityMode::Enforce;
+      else if (*s == "permissive") out.mode = net::SecurityMode::Permissive;
+      else if (*s == "off") out.mode = net::SecurityMode::Off;
+      else return bad(v, "security.mode", fmt::format("unknown mode '{}'; expected enforce, permissive or off", *s));
+    }
+    if (const auto v = n["keystore"]) {
+      auto s = scalar(v, "security.keystore", "a directory made by `horus security keystore init`");
+      if (!s) return std::unexpected(s.error());
+      if (s->empty()) return bad(v, "security.keystore", "empty; expected a directory made by `horus security keystore init`");
+      // A relative keystore is relative to the configuration file's directory.
+      std::filesystem::path dir(*s);
+      if (dir.is_relative() && file_.find('<') == std::string::npos) dir = std::filesystem::path(file_).parent_path() / dir;
+      out.keystore = dir.lexically_normal().string();
+    }
+    if (const auto v = n["identity"]) {
+      auto s = scalar(v, "security.identity", "this host's name in the keystore");
+      if (!s) return std::unexpected(s.error());
+      if (auto ok = net::validate_identity_name(*s); !ok) return bad(v, "security.identity", ok.error().message());
+      out.identity = *s;
+    }
+    return {};
+  }
+
   Result<void> fleet(const YAML::Node& n, FleetSection& out) const {
     if (!n.IsDefined() || n.IsNull()) return {};
     if (!n.IsMap()) return bad(n, "fleet", fmt::format("expected a map of {}, found {}", one_of(kFleetKeys), kind(n)));
@@ -314,6 +347,20 @@ class Parser {
       if (!d) return std::unexpected(d.error());
       (std::string_view(key) == "deadline" ? r.deadline : r.lifespan) = *d;
     }
+    if (const auto v = n["protection"]) {
+      auto s = scalar(v, where + ".protection", "encrypt or sign");
+      if (!s) return std::unexpected(s.error());
+      if (*s == "encrypt") r.protection = net::Protection::Encrypt;
+      else if (*s == "sign") r.protection = net::Protection::Sign;
+      else
+        return bad(v, where + ".protection",
+                   fmt::format("unknown protection '{}'; expected encrypt (the default under security) or sign "
+                               "(authenticated, not secret)",
+                               *s));
+      if (r.scope && *r.scope != Scope::Fleet)
+        return bad(v, where + ".protection",
+                   fmt::format("protection applies to fleet topics (DDS-Security); this rule's scope is {}", to_string(*r.scope)));
+    }
     if ((r.max_rate_hz || r.max_bandwidth || r.priority) && r.scope && *r.scope != Scope::Fleet)
       return bad(n, where, fmt::format("max_rate_hz, max_bandwidth and priority are budgets of the network (fleet topics); "
                                        "this rule's scope is {}",
@@ -335,58 +382,7 @@ class Parser {
   std::string file_;
 };
 
-// The segments of a dot-separated name.
-std::vector<std::string_view> segments(std::string_view s) {
-  std::vector<std::string_view> out;
-  std::size_t start = 0;
-  for (;;) {
-    const std::size_t dot = s.find('.', start);
-    out.push_back(s.substr(start, dot == std::string_view::npos ? std::string_view::npos : dot - start));
-    if (dot == std::string_view::npos) return out;
-    start = dot + 1;
-  }
-}
-
-bool match_from(const std::vector<std::string_view>& pat, std::size_t pi, const std::vector<std::string_view>& name,
-                std::size_t ni) {
-  for (; pi < pat.size(); ++pi, ++ni) {
-    if (pat[pi] == "**") {
-      for (std::size_t skip = ni; skip <= name.size(); ++skip)
-        if (match_from(pat, pi + 1, name, skip)) return true;
-      return false;
-    }
-    if (ni >= name.size() || (pat[pi] != "*" && pat[pi] != name[ni])) return false;
-  }
-  return ni == name.size();
-}
-
 }  // namespace
-
-Result<void> check_topic_pattern(std::string_view pattern) {
-  const auto rule = "expected dot-separated segments of letters, digits, '_' and '-', or '*' (one segment) or '**' "
-                    "(any number of segments), e.g. \"fleet.**\" or \"*.camera\"";
-  if (pattern.empty()) return fail(Errc::Config, fmt::format("empty pattern; {}", rule));
-  for (std::string_view seg : segments(pattern)) {
-    if (seg.empty()) return fail(Errc::Config, fmt::format("pattern '{}' has an empty segment; {}", pattern, rule));
-    if (seg == "*" || seg == "**") continue;
-    for (char c : seg) {
-      if (c == '*')
-        return fail(Errc::Config,
-                    fmt::format("pattern '{}': '*' must be a whole segment (segment '{}'); {}", pattern, seg, rule));
-      const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-';
-      if (!ok) return fail(Errc::Config, fmt::format("pattern '{}': character '{}' is not allowed; {}", pattern, c, rule));
-    }
-  }
-  return {};
-}
-
-bool topic_pattern_matches(std::string_view pattern, std::string_view topic) noexcept {
-  try {
-    return match_from(segments(pattern), 0, segments(topic), 0);
-  } catch (...) {
-    return false;
-  }
-}
 
 Result<Config> Config::parse(std::string_view text, std::string file) {
   Parser p(file);
@@ -407,6 +403,7 @@ Result<Config> Config::parse(std::string_view text, std::string file) {
     if (auto ok = p.known_keys(root, "", kTopLevelKeys); !ok) return std::unexpected(ok.error());
     if (auto ok = p.network(root["network"], c.network_); !ok) return std::unexpected(ok.error());
     if (auto ok = p.fleet(root["fleet"], c.fleet_); !ok) return std::unexpected(ok.error());
+    if (auto ok = p.security(root["security"], c.security_); !ok) return std::unexpected(ok.error());
     if (const auto topics = root["topics"]; topics && !topics.IsNull()) {
       if (!topics.IsSequence())
         return p.bad(topics, "topics", fmt::format("expected a list of rules (- match: ...), found {}", Parser::kind(topics)));
@@ -461,8 +458,21 @@ Result<const Config*> file_from(const Environment& env) {
 net::FileDefaults file_defaults(const Config* config) {
   if (config == nullptr) return {};
   const auto& n = config->network();
-  return {n.domain_id,     n.localhost_only, n.lcm_url, n.peers, n.max_bandwidth, "configuration file '" + config->file() + "'",
-          n.lcm_url_line, n.peers_line};
+  const auto& s = config->security();
+  net::FileDefaults d;
+  d.domain_id = n.domain_id;
+  d.localhost_only = n.localhost_only;
+  d.lcm_url = n.lcm_url;
+  d.peers = n.peers;
+  d.link_bandwidth = n.max_bandwidth;
+  d.security_mode = s.mode;
+  d.security_keystore = s.keystore;
+  d.security_identity = s.identity;
+  d.security_line = s.line;
+  d.origin = "configuration file '" + config->file() + "'";
+  d.lcm_url_line = n.lcm_url_line;
+  d.peers_line = n.peers_line;
+  return d;
 }
 }  // namespace
 

@@ -11,6 +11,8 @@
 #include <variant>
 
 #include "cyclone_internal.hpp"
+#include "horus/log.hpp"
+#include "horus/security/keystore.hpp"
 #include "horus/transport/encapsulation.hpp"
 
 namespace horus::dds::cyclone {
@@ -180,6 +182,8 @@ Result<void> CycloneEndpoint::create() {
     const dds_return_t rc = topic_;
     topic_ = 0;
     ddsi_sertype_unref(sertype);
+    if (rc == DDS_RETCODE_NOT_ALLOWED_BY_SECURITY)
+      return fail(Errc::Config, core_->label() + ": " + security::not_permitted(transport_->config().security, "publish or subscribe"));
     if (rc == DDS_RETCODE_BAD_PARAMETER)
       return fail(Errc::InvalidName, core_->label() + ": Cyclone DDS rejects the topic name '" + spec.wire_topic +
                                          "' (expected letters, digits, '_' and '/', not starting with a digit)");
@@ -228,11 +232,17 @@ Result<void> CycloneEndpoint::create() {
   dds_lset_publication_matched(writer_listener.get(), on_publication_matched);
   dds_lset_subscription_matched(reader_listener.get(), on_subscription_matched);
 
+  // Under DDS-Security, the host's permissions may allow only one direction: the other one is
+  // left out (what this host's publishers write then stays on the host: write() says why, the
+  // bridge counts it as dropped). Neither direction is an error.
   writer_ = dds_create_writer(participant, topic_, qos.get(), writer_listener.get());
+  bool publish_denied = false;
   if (writer_ < 0) {
     const dds_return_t rc = writer_;
     writer_ = 0;
-    return fail(Errc::Io, core_->label() + ": cannot create the DDS writer: " + dds_error(rc));
+    if (rc != DDS_RETCODE_NOT_ALLOWED_BY_SECURITY)
+      return fail(Errc::Io, core_->label() + ": cannot create the DDS writer: " + dds_error(rc));
+    publish_denied = true;
   }
   dds_qset_deadline(qos.get(), DDS_INFINITY);
   dds_qset_lifespan(qos.get(), DDS_INFINITY);
@@ -240,8 +250,16 @@ Result<void> CycloneEndpoint::create() {
   if (reader_ < 0) {
     const dds_return_t rc = reader_;
     reader_ = 0;
-    return fail(Errc::Io, core_->label() + ": cannot create the DDS reader: " + dds_error(rc));
+    if (rc != DDS_RETCODE_NOT_ALLOWED_BY_SECURITY || publish_denied)
+      return rc == DDS_RETCODE_NOT_ALLOWED_BY_SECURITY
+                 ? fail(Errc::Config, core_->label() + ": " + security::not_permitted(transport_->config().security, "publish or subscribe"))
+                 : fail(Errc::Io, core_->label() + ": cannot create the DDS reader: " + dds_error(rc));
+    detail::log().info("{}: {}; what other hosts publish on it does not reach this host", core_->label(),
+                       security::not_permitted(transport_->config().security, "subscribe"));
   }
+  if (publish_denied)
+    detail::log().info("{}: {}; what this host publishes on it stays on this host", core_->label(),
+                       security::not_permitted(transport_->config().security, "publish"));
   return {};
 }
 
@@ -262,6 +280,10 @@ Result<void> CycloneEndpoint::write(std::size_t body_size, const net::BodyWriter
     ddsi_serdata_unref(data);
     throw;
   }
+  if (writer_ == 0) {
+    ddsi_serdata_unref(data);
+    return fail(Errc::Config, core_->label() + ": " + security::not_permitted(transport_->config().security, "publish"));
+  }
   const dds_return_t rc = dds_writecdr(writer_, data);  // consumes `data`
   if (rc == DDS_RETCODE_OK) return {};
   if (rc == DDS_RETCODE_TIMEOUT)
@@ -272,13 +294,13 @@ Result<void> CycloneEndpoint::write(std::size_t body_size, const net::BodyWriter
 
 std::uint32_t CycloneEndpoint::matched_publishers() const {
   dds_subscription_matched_status_t status{};
-  if (dds_get_subscription_matched_status(reader_, &status) < 0) return 0;
+  if (reader_ == 0 || dds_get_subscription_matched_status(reader_, &status) < 0) return 0;
   return status.current_count;
 }
 
 std::uint32_t CycloneEndpoint::matched_subscribers() const {
   dds_publication_matched_status_t status{};
-  if (dds_get_publication_matched_status(writer_, &status) < 0) return 0;
+  if (writer_ == 0 || dds_get_publication_matched_status(writer_, &status) < 0) return 0;
   return status.current_count;
 }
 

@@ -88,6 +88,7 @@ class CycloneTransport final : public net::Transport, public std::enable_shared_
 
   std::string_view name() const noexcept override { return "cyclonedds"; }
   bool holds_samples() const noexcept override { return true; }
+  bool secure() const noexcept override { return secure_; }
   Result<std::unique_ptr<net::Endpoint>> open(const net::EndpointSpec& spec, net::Listener& listener) override;
 
   const net::Config& config() const noexcept { return config_; }
@@ -111,6 +112,7 @@ class CycloneTransport final : public net::Transport, public std::enable_shared_
   dds_entity_t domain_ = 0;
   dds_entity_t participant_ = 0;
   dds_guid_t guid_{};
+  bool secure_ = false;  // DDS-Security on (set by create)
   net::RemoteTypes remote_types_;  // our endpoints by topic, remote endpoints by built-in instance
 };
 

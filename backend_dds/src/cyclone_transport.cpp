@@ -9,10 +9,14 @@
 // net::RemoteTypes does the bookkeeping).
 //
 // One CycloneEndpoint per open() (cyclone_endpoint.cpp).
+#include <dlfcn.h>
+
 #include <chrono>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <memory>
+#include <optional>
 #include <mutex>
 #include <string>
 #include <string_view>
@@ -22,6 +26,7 @@
 #include "cyclone_internal.hpp"
 #include "horus/detail/repeat_filter.hpp"
 #include "horus/dds/transports.hpp"
+#include "horus/security/keystore.hpp"
 #include "horus/transport_registry.hpp"
 
 namespace horus::dds {
@@ -50,8 +55,47 @@ bool valid_wire_topic(std::string_view name) noexcept {
   return true;
 }
 
-std::string domain_xml(const net::Config& config) {
+// A security plug-in of Cyclone (dds_security_auth, _ac, _crypto). Debian installs them in
+// <libdir>/libddsc0debian/, which the dynamic loader does not search: Cyclone would not find
+// them by name. They are given by absolute path, found beside the libddsc this process loaded
+// (else by name, for a build of Cyclone that installs them on the loader's path).
+std::string cyclone_plugin(const std::string& name) {
+  const std::string file = "lib" + name + ".so";
+  Dl_info info{};
+  if (::dladdr(reinterpret_cast<void*>(&dds_create_participant), &info) != 0 && info.dli_fname != nullptr) {
+    const std::filesystem::path dir = std::filesystem::path(info.dli_fname).parent_path();
+    std::error_code ec;
+    for (const auto& candidate : {dir / "libddsc0debian" / file, dir / file})
+      if (std::filesystem::exists(candidate, ec)) return candidate.string();
+  }
+  return name;
+}
+
+std::string library_xml(const std::string& name, std::string_view init, std::string_view finalize) {
+  return "<Library path=\"" + security::xml_escape(cyclone_plugin(name)) + "\" initFunction=\"" + std::string(init) +
+         "\" finalizeFunction=\"" + std::string(finalize) + "\"/>";
+}
+
+// DDS-Security: Cyclone's plug-ins with the identity's checked files.
+std::string security_xml(const security::ParticipantFiles& f) {
+  const auto uri = [](const std::filesystem::path& p) { return security::xml_escape(security::file_uri(p)); };
+  return "<Security><Authentication>" +
+         library_xml("dds_security_auth", "init_authentication", "finalize_authentication") +
+         "<IdentityCA>" + uri(f.identity_ca) + "</IdentityCA>"
+         "<IdentityCertificate>" + uri(f.certificate) + "</IdentityCertificate>"
+         "<PrivateKey>" + uri(f.private_key) + "</PrivateKey>"
+         "</Authentication><AccessControl>" +
+         library_xml("dds_security_ac", "init_access_control", "finalize_access_control") +
+         "<Governance>" + uri(f.governance) + "</Governance>"
+         "<PermissionsCA>" + uri(f.permissions_ca) + "</PermissionsCA>"
+         "<Permissions>" + uri(f.permissions) + "</Permissions>"
+         "</AccessControl><Cryptographic>" +
+         library_xml("dds_security_crypto", "init_crypto", "finalize_crypto") + "</Cryptographic></Security>";
+}
+
+std::string domain_xml(const net::Config& config, const std::optional<security::ParticipantFiles>& secure) {
   std::string xml = "<CycloneDDS><Domain Id=\"any\">";
+  if (secure) xml += security_xml(*secure);
   // A link budget means a constrained link (Wi-Fi): datagrams that fit one Ethernet frame, so
   // that a lost packet loses one DDSI fragment, not a whole IP-fragmented datagram, and lost IP
   // fragments never fill the receiving kernel's reassembly memory (seen: 4 MiB of incomplete
@@ -206,7 +250,10 @@ Result<std::shared_ptr<CycloneTransport>> CycloneTransport::create(net::CacheTic
   const std::string where = "Cyclone DDS domain " + std::to_string(config.domain_id) +
                             " (localhost_only=" + (config.localhost_only ? "true" : "false") + ")";
   route_cyclone_log();
-  const std::string xml = domain_xml(config);
+  auto secure = security::secure_participant(config.security, where);
+  if (!secure) return std::unexpected(std::move(secure.error()));
+  t->secure_ = secure->has_value();
+  const std::string xml = domain_xml(config, *secure);
   t->domain_ = dds_create_domain(config.domain_id, xml.c_str());
   if (t->domain_ < 0) {
     const dds_return_t rc = t->domain_;
@@ -220,6 +267,10 @@ Result<std::shared_ptr<CycloneTransport>> CycloneTransport::create(net::CacheTic
   if (t->participant_ < 0) {
     const dds_return_t rc = t->participant_;
     t->participant_ = 0;
+    if (t->secure_)
+      return fail(Errc::Config, where + ": Cyclone DDS refused the secure participant of identity '" +
+                                    config.security.identity + "' in keystore '" + config.security.keystore + "': " +
+                                    dds_error(rc) + " (its log says why; `horus security check` checks the keystore)");
     return fail(Errc::Io, where + ": cannot create the participant: " + dds_error(rc));
   }
   if (const dds_return_t rc = dds_get_guid(t->participant_, &t->guid_); rc < 0)
@@ -285,6 +336,10 @@ Result<std::shared_ptr<net::Transport>> cyclone_transport(const net::Config& con
     return fail(Errc::ConfigMismatch, "Cyclone DDS domain " + std::to_string(config.domain_id) +
                                           " is already used in this process with other peers; one configuration "
                                           "per domain and process");
+  if (const net::Config& other = (*got)->config(); other.security != config.security)
+    return fail(Errc::ConfigMismatch, "Cyclone DDS domain " + std::to_string(config.domain_id) +
+                                          " is already used in this process with other security settings; one "
+                                          "configuration per domain and process");
   if (const net::Config& other = (*got)->config(); other.localhost_only != config.localhost_only)
     return fail(Errc::ConfigMismatch,
                 "Cyclone DDS domain " + std::to_string(config.domain_id) +

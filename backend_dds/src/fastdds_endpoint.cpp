@@ -14,6 +14,8 @@
 #include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
 
 #include "fastdds_internal.hpp"
+#include "horus/log.hpp"
+#include "horus/security/keystore.hpp"
 
 namespace horus::dds::fastdds_detail {
 namespace {
@@ -194,6 +196,8 @@ Result<void> FastddsEndpoint::write(std::size_t body_size, const net::BodyWriter
   if (writer.fill == nullptr)
     return fail(Errc::InvalidArgument,
                 "topic '" + core_->spec().topic + "': write() needs a BodyWriter with a fill function");
+  if (writer_ == nullptr)
+    return fail(Errc::Config, core_->topic_label() + ": " + security::not_permitted(transport_->config().security, "publish"));
   RawWriteSample sample;
   sample.body_size = body_size;
   sample.writer = &writer;
@@ -291,20 +295,34 @@ Result<void> FastddsEndpoint::create(fd::Topic* topic, fd::ContentFilteredTopic*
   }
 
   // The reader is created disabled (subscriber QoS), so the core knows it before data can arrive.
+  // Under DDS-Security, the host's permissions may allow only one direction (Fast DDS then
+  // creates no entity and logs why): the other one is left out, and write() says why.
+  const bool secure = transport_->secure();
+  const net::Security& security = transport_->config().security;
   reader_ = transport_->subscriber()->create_datareader(
       filtered, rq, &reader_listener_,
       fd::StatusMask::data_available() << fd::StatusMask::subscription_matched()
                                        << fd::StatusMask::requested_incompatible_qos() << fd::StatusMask::sample_lost());
-  if (reader_ == nullptr)
+  if (reader_ == nullptr && !secure)
     return fail(Errc::Io, core_->topic_label() + ": Fast DDS could not create the DataReader (QoS " +
                               describe(q) + ")");
-  core_->attach_reader(reader_);
+  if (reader_ != nullptr) core_->attach_reader(reader_);
   writer_ = transport_->publisher()->create_datawriter(
       topic, wq, &writer_listener_,
       fd::StatusMask::publication_matched() << fd::StatusMask::offered_incompatible_qos());
-  if (writer_ == nullptr)
+  if (writer_ == nullptr && !secure)
     return fail(Errc::Io, core_->topic_label() + ": Fast DDS could not create the DataWriter (QoS " +
                               describe(q) + ")");
+  if (writer_ == nullptr && reader_ == nullptr)
+    return fail(Errc::Config, core_->topic_label() + ": " + security::not_permitted(security, "publish or subscribe"));
+  if (writer_ == nullptr)
+    detail::log().info("{}: {}; what this host publishes on it stays on this host", core_->topic_label(),
+                       security::not_permitted(security, "publish"));
+  if (reader_ == nullptr) {
+    detail::log().info("{}: {}; what other hosts publish on it does not reach this host", core_->topic_label(),
+                       security::not_permitted(security, "subscribe"));
+    return {};
+  }
   if (reader_->enable() != ReturnCode_t::RETCODE_OK)
     return fail(Errc::Io, core_->topic_label() + ": Fast DDS could not enable the DataReader");
   return {};

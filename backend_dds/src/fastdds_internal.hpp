@@ -236,12 +236,14 @@ class FastddsTransport final : public net::Transport, public std::enable_shared_
 
   std::string_view name() const noexcept override { return "fastdds"; }
   bool holds_samples() const noexcept override { return true; }
+  bool secure() const noexcept override { return secure_; }
   Result<std::unique_ptr<net::Endpoint>> open(const net::EndpointSpec& spec, net::Listener& listener) override;
 
   // For endpoints.
   fd::Publisher* publisher() const { return publisher_; }
   /// True when writers go through the link budget's flow controller (kLinkFlowController).
   bool paced() const { return config_.link_bandwidth > 0; }
+  const net::Config& config() const noexcept { return config_; }
   fd::Subscriber* subscriber() const { return subscriber_; }
   void detach(const std::shared_ptr<Core>& core);
   void release_topic(const std::string& wire_topic);
@@ -259,6 +261,7 @@ class FastddsTransport final : public net::Transport, public std::enable_shared_
   net::CacheTicket ticket_;  // first: removes the cache entry after everything else is gone
   const net::Config config_;
   const bool control_;  // the fleet layer's participant (TransportInfo::open_control)
+  bool secure_ = false;  // DDS-Security on (set by start)
   std::shared_ptr<fd::DomainParticipantFactory> factory_;
   fd::DomainParticipant* participant_ = nullptr;
   fd::Publisher* publisher_ = nullptr;

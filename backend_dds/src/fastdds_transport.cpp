@@ -54,6 +54,7 @@
 #include "fastdds_internal.hpp"
 #include "horus/detail/repeat_filter.hpp"
 #include "horus/dds/transports.hpp"
+#include "horus/security/keystore.hpp"
 #include "horus/transport_registry.hpp"
 
 namespace horus::dds {
@@ -209,8 +210,32 @@ Result<void> FastddsTransport::start() {
     pq.flow_controllers().push_back(fc);
   }
 
+  // DDS-Security: Fast DDS's built-in plug-ins (PKI-DH, Access-Permissions, AES-GCM-GMAC) with
+  // the identity's checked files.
+  const std::string where = "Fast DDS domain " + std::to_string(config_.domain_id);
+  auto secure = security::secure_participant(config_.security, where);
+  if (!secure) return std::unexpected(std::move(secure.error()));
+  if (*secure) {
+    const security::ParticipantFiles& f = **secure;
+    auto& props = pq.properties().properties();
+    const auto set = [&](const char* name, const std::string& value) { props.emplace_back(name, value); };
+    set("dds.sec.auth.plugin", "builtin.PKI-DH");
+    set("dds.sec.auth.builtin.PKI-DH.identity_ca", security::file_uri(f.identity_ca));
+    set("dds.sec.auth.builtin.PKI-DH.identity_certificate", security::file_uri(f.certificate));
+    set("dds.sec.auth.builtin.PKI-DH.private_key", security::file_uri(f.private_key));
+    set("dds.sec.access.plugin", "builtin.Access-Permissions");
+    set("dds.sec.access.builtin.Access-Permissions.permissions_ca", security::file_uri(f.permissions_ca));
+    set("dds.sec.access.builtin.Access-Permissions.governance", security::file_uri(f.governance));
+    set("dds.sec.access.builtin.Access-Permissions.permissions", security::file_uri(f.permissions));
+    set("dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC");
+    secure_ = true;
+  }
   participant_ = factory_->create_participant(static_cast<fd::DomainId_t>(config_.domain_id), pq, &listener_,
                                               fd::StatusMask::none());
+  if (participant_ == nullptr && secure_)
+    return fail(Errc::Config, where + ": Fast DDS refused the secure participant of identity '" + config_.security.identity +
+                                  "' in keystore '" + config_.security.keystore +
+                                  "' (its log above says why; `horus security check` checks the keystore)");
   if (participant_ == nullptr)
     return fail(Errc::Io, "Fast DDS could not create a participant on domain " + std::to_string(config_.domain_id) +
                               (config_.localhost_only ? " (loopback only, UDPv4)" : " (UDPv4)") +
@@ -263,6 +288,9 @@ Result<fd::Topic*> FastddsTransport::acquire_topic(const net::EndpointSpec& spec
   }
   fd::TopicQos tq;
   fd::Topic* topic = participant_->create_topic(spec.wire_topic, spec.type_name, tq, nullptr, fd::StatusMask::none());
+  if (topic == nullptr && secure_)
+    return fail(Errc::Config, "topic '" + spec.topic + "' (DDS topic '" + spec.wire_topic +
+                                  "'): " + security::not_permitted(config_.security, "publish or subscribe"));
   if (topic == nullptr)
     return fail(Errc::Io, "topic '" + spec.topic + "': Fast DDS could not create the DDS topic '" + spec.wire_topic +
                               "' of type '" + spec.type_name + "'");

@@ -13,6 +13,7 @@
 #include <cstring>
 #include <iterator>
 #include <memory>
+#include <mutex>
 #include <new>
 #include <span>
 #include <string>
@@ -22,6 +23,7 @@
 #include <utility>
 #include <vector>
 
+#include "horus/log.hpp"
 #include "horus/transport/shared_cache.hpp"
 #include "horus/transport_registry.hpp"
 #include "lcm_internal.hpp"
@@ -198,6 +200,14 @@ void register_lcm() {
       {"lcm", net::WireFormat::Lcm, &channel_name, [](const net::Config& config) -> Result<std::shared_ptr<net::Transport>> {
          auto url = url_from(config);
          if (!url) return std::unexpected(std::move(url.error()));
+         if (config.security.mode == net::SecurityMode::Permissive) {
+           static std::once_flag once;
+           std::call_once(once, [&] {
+             horus::detail::log().warn("LCM URL '{}': security is permissive ({}) and LCM has none: its fleet topics "
+                                       "run unprotected (anyone on the network reads and writes them)",
+                                       *url, config.security.origin);
+           });
+         }
          return lcm_transport(*url);
        },
        nullptr, [](const net::Config& config) -> Result<void> {

@@ -256,6 +256,11 @@ Result<void> check_url(std::string_view url) {
 }
 
 Result<std::string> url_from(const net::Config& config) {
+  if (config.security.mode == net::SecurityMode::Enforce)
+    return fail(Errc::Config, config.security.origin +
+                                  " is enforce, but LCM has no security (no authentication, access control or "
+                                  "encryption): a fleet topic on LCM cannot be protected. Put the fleet topics on "
+                                  "cyclonedds or fastdds, or make security permissive to let LCM topics run unprotected");
   const std::string url = config.lcm_url.empty() ? std::string(kDefaultUrl) : config.lcm_url;
   if (!config.lcm_url.empty())
     if (auto ok = check_url(config.lcm_url); !ok)

@@ -19,6 +19,9 @@ Environment Environment::read() {
   e.dds_localhost = variable("HORUS_DDS_LOCALHOST");
   e.horus_lcm_url = variable("HORUS_LCM_URL");
   e.peers = variable("HORUS_PEERS");
+  e.security = variable("HORUS_SECURITY");
+  e.security_keystore = variable("HORUS_SECURITY_KEYSTORE");
+  e.security_identity = variable("HORUS_SECURITY_IDENTITY");
   e.test_clock_offset_ms = variable("HORUS_TEST_CLOCK_OFFSET_MS");
   e.lcm_default_url = variable("LCM_DEFAULT_URL");
   e.fleet_heartbeat_ms = variable("HORUS_FLEET_HEARTBEAT_MS");

@@ -18,6 +18,17 @@ std::string_view to_string(Durability d) noexcept {
   return d == Durability::TransientLocal ? "transient local" : "volatile";
 }
 
+std::string_view to_string(SecurityMode m) noexcept {
+  switch (m) {
+    case SecurityMode::Off: return "off";
+    case SecurityMode::Permissive: return "permissive";
+    case SecurityMode::Enforce: return "enforce";
+  }
+  return "?";
+}
+
+std::string_view to_string(Protection p) noexcept { return p == Protection::Sign ? "sign" : "encrypt"; }
+
 std::string check_peer(std::string_view peer) {
   if (peer.empty()) return "is empty";
   if (peer.size() > 253) return "is longer than a host name (253 characters)";
@@ -40,6 +51,81 @@ std::string check_peer(std::string_view peer) {
       at = dot + 1;
     }
     if (parts != 4) return "is not an IPv4 address (four numbers 0 to 255)";
+  }
+  return {};
+}
+
+namespace {
+
+// The security settings: each of HORUS_SECURITY, HORUS_SECURITY_KEYSTORE and
+// HORUS_SECURITY_IDENTITY over the file's security.mode, .keystore and .identity. With a
+// keystore and no mode, the mode is enforce; a mode other than off needs both the keystore and
+// the identity.
+Result<Security> security_from(const Environment& env, const FileDefaults& file) {
+  Security s;
+  std::string mode_origin;
+  const std::string file_origin = file.origin + (file.security_line > 0 ? fmt::format(", line {}", file.security_line) : "");
+  std::optional<SecurityMode> mode = file.security_mode;
+  if (mode) mode_origin = file_origin + ", security.mode";
+  if (!env.security.empty()) {
+    const std::string_view v(env.security);
+    if (v == "enforce") mode = SecurityMode::Enforce;
+    else if (v == "permissive") mode = SecurityMode::Permissive;
+    else if (v == "off") mode = SecurityMode::Off;
+    else
+      return fail(Errc::Config, fmt::format("HORUS_SECURITY={}: expected enforce (DDS-Security on every fleet topic, "
+                                            "nothing opens without it), permissive (secure when the identity's files "
+                                            "are there) or off",
+                                            v));
+    mode_origin = "environment variable HORUS_SECURITY";
+  }
+  std::string keystore_origin, identity_origin;
+  if (!env.security_keystore.empty()) {
+    s.keystore = env.security_keystore;
+    keystore_origin = "environment variable HORUS_SECURITY_KEYSTORE";
+  } else if (file.security_keystore) {
+    s.keystore = *file.security_keystore;
+    keystore_origin = file_origin + ", security.keystore";
+  }
+  if (!env.security_identity.empty()) {
+    s.identity = env.security_identity;
+    identity_origin = "environment variable HORUS_SECURITY_IDENTITY";
+  } else if (file.security_identity) {
+    s.identity = *file.security_identity;
+    identity_origin = file_origin + ", security.identity";
+  }
+  if (!mode) {
+    if (s.keystore.empty()) return Security{};
+    mode = SecurityMode::Enforce;
+    mode_origin = keystore_origin + " (a keystore without a mode: enforce)";
+  }
+  s.mode = *mode;
+  if (s.mode == SecurityMode::Off) return Security{};
+  if (s.keystore.empty())
+    return fail(Errc::Config, fmt::format("{} is {} but no keystore is given; set HORUS_SECURITY_KEYSTORE or the "
+                                          "configuration file's security.keystore (a directory made by `horus security "
+                                          "keystore init`)",
+                                          mode_origin, to_string(s.mode)));
+  if (s.identity.empty())
+    return fail(Errc::Config, fmt::format("{} is {} but this host's identity is not given; set HORUS_SECURITY_IDENTITY "
+                                          "or the configuration file's security.identity (a name made by `horus security "
+                                          "host create {} NAME`)",
+                                          mode_origin, to_string(s.mode), s.keystore));
+  if (const auto ok = validate_identity_name(s.identity); !ok)
+    return fail(Errc::Config, fmt::format("{}: {}", identity_origin, ok.error().message()));
+  s.origin = mode_origin;
+  return s;
+}
+
+}  // namespace
+
+Result<void> validate_identity_name(std::string_view name) {
+  const auto rule = "expected 1 to 64 letters, digits, '_', '-' or '.', not starting with '.' or '-' (e.g. robot1)";
+  if (name.empty() || name.size() > 64 || name.front() == '.' || name.front() == '-')
+    return fail(Errc::Config, fmt::format("identity name '{}' is not valid; {}", name, rule));
+  for (char c : name) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '-' || c == '.';
+    if (!ok) return fail(Errc::Config, fmt::format("identity name '{}' has '{}'; {}", name, c, rule));
   }
   return {};
 }
@@ -115,6 +201,9 @@ Result<Config> config_from(const Environment& env, const FileDefaults& file) {
     config.lcm_url_origin = file.origin + (file.lcm_url_line > 0 ? fmt::format(", line {}", file.lcm_url_line) : "") +
                             ", network.lcm_url";
   }
+  auto security = security_from(env, file);
+  if (!security) return std::unexpected(std::move(security.error()));
+  config.security = std::move(*security);
   return config;
 }
 

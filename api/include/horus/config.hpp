@@ -12,6 +12,11 @@
 //     misses: 3                     # heartbeats missed before a host is lost (+ one period of tolerance)
 //     max_hosts: 1024               # hosts a process keeps; the lost one lost longest ago makes room
 //     forget_after: 1h              # a host lost this long is forgotten (a duration: s, min, h)
+//   security:                       # DDS-Security on fleet topics (security/README.md)
+//     mode: enforce                 # enforce | permissive | off (HORUS_SECURITY)
+//     keystore: /etc/horus/keystore # made by `horus security keystore init` (HORUS_SECURITY_KEYSTORE);
+//                                   # a relative path is relative to this file's directory
+//     identity: robot1              # this host's identity in it (HORUS_SECURITY_IDENTITY)
 //   topics:                         # the first rule whose pattern matches wins
 //     - match: "fleet.**"           # '*' = one dot-separated segment, '**' = any number (also none)
 //       scope: fleet                # process | host | fleet
@@ -19,6 +24,7 @@
 //       reliability: reliable       # best_effort | reliable
 //       durability: transient_local # volatile | transient_local
 //       capacity: 64                # slots per publisher, a power of two
+//       protection: sign            # under security: encrypt (the default) | sign (`horus security governance`)
 //
 // Precedence, per setting: code (TopicOptions) > environment (HORUS_BACKEND, HORUS_DOMAIN_ID,
 // HORUS_DDS_LOCALHOST, HORUS_LCM_URL) > file > the message type's defaults. Parsing is strict:
@@ -37,6 +43,7 @@
 
 #include "horus/backend.hpp"
 #include "horus/error.hpp"
+#include "horus/names.hpp"  // check_topic_pattern, topic_pattern_matches
 #include "horus/network.hpp"
 
 namespace horus {
@@ -60,6 +67,7 @@ struct TopicRule {
   std::optional<Priority> priority;             // fleet topics: the share of the host's link budget
   std::optional<std::chrono::nanoseconds> deadline;  // "100ms", "1.5 s" in the file
   std::optional<std::chrono::nanoseconds> lifespan;
+  std::optional<net::Protection> protection;  // under DDS-Security (the governance document)
 };
 
 /// Parses a bandwidth: a number of bytes per second, or a number with a unit (B/s, kB/s, MB/s,
@@ -83,6 +91,14 @@ struct FleetSection {
 inline constexpr std::uint32_t kMinHeartbeatMs = 10;
 inline constexpr std::uint32_t kMaxHeartbeatMs = 60000;
 
+/// The `security:` section (net::Security).
+struct SecuritySection {
+  std::optional<net::SecurityMode> mode;
+  std::optional<std::string> keystore;  // made absolute against the file's directory when relative
+  std::optional<std::string> identity;
+  int line = 0;  // the section's line
+};
+
 struct NetworkSection {
   std::optional<std::string> backend;
   std::optional<std::uint32_t> domain_id;
@@ -105,6 +121,7 @@ class Config {
   const std::string& file() const noexcept { return file_; }
   const NetworkSection& network() const noexcept { return network_; }
   const FleetSection& fleet() const noexcept { return fleet_; }
+  const SecuritySection& security() const noexcept { return security_; }
   const std::vector<TopicRule>& rules() const noexcept { return rules_; }
   /// The first rule whose pattern matches `topic`, or nullptr.
   const TopicRule* match(std::string_view topic) const noexcept;
@@ -113,14 +130,10 @@ class Config {
   std::string file_;
   NetworkSection network_;
   FleetSection fleet_;
+  SecuritySection security_;
   std::vector<TopicRule> rules_;
 };
 
-/// Checks a pattern: dot-separated segments, each a name segment (letters, digits, '_', '-'),
-/// '*' or '**'. The error says what is wrong.
-Result<void> check_topic_pattern(std::string_view pattern);
-/// Whether `pattern` (checked) matches `topic`: '*' is one segment, '**' any number of them.
-bool topic_pattern_matches(std::string_view pattern, std::string_view topic) noexcept;
 
 /// The process's configuration: the file HORUS_CONFIG names, read once per value of the
 /// variable (later calls return the same result); nullptr when HORUS_CONFIG is unset or empty.

@@ -18,6 +18,9 @@ struct Environment {
   std::string horus_lcm_url;       // HORUS_LCM_URL: the LCM URL of horus's topics
   std::string lcm_default_url;     // LCM_DEFAULT_URL: liblcm's own variable, when HORUS_LCM_URL is unset
   std::string peers;               // HORUS_PEERS: unicast discovery to these hosts, multicast off
+  std::string security;            // HORUS_SECURITY: enforce, permissive or off (DDS-Security)
+  std::string security_keystore;   // HORUS_SECURITY_KEYSTORE: the keystore directory
+  std::string security_identity;   // HORUS_SECURITY_IDENTITY: this host's identity in it
   std::string fleet_heartbeat_ms;  // HORUS_FLEET_HEARTBEAT_MS: the fleet layer's heartbeat period
   std::string bridge;              // HORUS_BRIDGE: 0 keeps this process from bridging fleet topics
   std::string shm_namespace;       // HORUS_NAMESPACE: the shared-memory namespace

@@ -16,4 +16,10 @@ inline constexpr std::size_t kMaxTopicNameLength = 128;
 /// no leading '-'. The error names the offending character and the rule.
 Result<void> validate_topic_name(std::string_view name);
 
+/// Checks a pattern: dot-separated segments, each a name segment (letters, digits, '_', '-'),
+/// '*' or '**'. The error says what is wrong.
+Result<void> check_topic_pattern(std::string_view pattern);
+/// Whether `pattern` (checked) matches `topic`: '*' is one segment, '**' any number of them.
+bool topic_pattern_matches(std::string_view pattern, std::string_view topic) noexcept;
+
 }  // namespace horus

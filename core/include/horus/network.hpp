@@ -43,6 +43,34 @@ struct Qos {
   std::int8_t priority = 0;      // the topic's share of the host's link: -1 low, 0 normal, 1 high
 };
 
+/// DDS-Security for fleet topics (the configuration file's `security:` section,
+/// HORUS_SECURITY, HORUS_SECURITY_KEYSTORE, HORUS_SECURITY_IDENTITY; security/README.md).
+/// Off: plain DDS. Enforce: a DDS transport opens only as an authenticated participant with
+/// access control and encryption, a missing or invalid file of the keystore is an error, and a
+/// transport without security (LCM) refuses to open. Permissive: secure when the identity's files
+/// are there and valid, plain (with a warning) when they are not, and LCM opens with a warning.
+enum class SecurityMode : std::uint8_t { Off, Permissive, Enforce };
+/// "off", "permissive", "enforce".
+std::string_view to_string(SecurityMode m) noexcept;
+
+struct Security {
+  SecurityMode mode = SecurityMode::Off;
+  std::string keystore;  // the keystore directory (horus security keystore init)
+  std::string identity;  // this host's identity in it (horus security host create)
+  std::string origin;    // where the settings came from, for errors; empty when mode is Off
+  bool operator==(const Security&) const = default;
+};
+
+/// Checks an identity's name (a host in a keystore, the CN of its certificate): 1 to 64
+/// letters, digits, '_', '-', '.'; the error says what is wrong.
+Result<void> validate_identity_name(std::string_view name);
+
+/// What governance gives a topic's samples under security (a topic rule's `protection:`):
+/// encrypted (AES-GCM, the default) or signed only (GMAC: authenticated, readable on the wire).
+enum class Protection : std::uint8_t { Encrypt, Sign };
+/// "encrypt", "sign".
+std::string_view to_string(Protection p) noexcept;
+
 /// Process-wide settings of a transport (one participant per distinct DDS domain and
 /// localhost_only; one LCM instance per URL). Made by the configuration (api/, from the
 /// environment and the configuration file) and passed to TransportInfo::open.
@@ -62,6 +90,8 @@ struct Config {
   /// The host's link budget in bytes per second (network.max_bandwidth); 0: none. A transport
   /// that can pace what it sends (Fast DDS's flow controllers) paces its fragments at it.
   std::uint64_t link_bandwidth = 0;
+  /// DDS-Security (Security); LCM refuses SecurityMode::Enforce.
+  Security security;
   bool operator==(const Config&) const = default;
 };
 
@@ -73,6 +103,10 @@ struct FileDefaults {
   std::optional<std::string> lcm_url;
   std::optional<std::vector<std::string>> peers;  // checked by check_peer
   std::optional<std::uint64_t> link_bandwidth;    // network.max_bandwidth
+  std::optional<SecurityMode> security_mode;      // security.mode
+  std::optional<std::string> security_keystore;   // security.keystore
+  std::optional<std::string> security_identity;   // security.identity
+  int security_line = 0;                          // the line of the security section (0: not known)
   std::string origin;
   int lcm_url_line = 0;  // where lcm_url and peers are in the file (0: not known), for errors
   int peers_line = 0;
@@ -192,6 +226,9 @@ class Transport {
   /// True when its endpoints honour Listener::room(): a sample not taken stays in the reader
   /// and the protocol pushes back on the writer (DDS, reliable). LCM has nowhere to keep it.
   virtual bool holds_samples() const noexcept { return false; }
+  /// True when it runs under DDS-Security (net::Security): its peers are authenticated hosts of
+  /// the keystore, their access checked, the traffic signed or encrypted.
+  virtual bool secure() const noexcept { return false; }
 };
 
 }  // namespace horus::net

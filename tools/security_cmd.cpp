@@ -1,0 +1,204 @@
+#include "security_cmd.hpp"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <ctime>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "horus/config.hpp"
+#include "horus/security/keystore.hpp"
+
+namespace horus::tools {
+
+struct SecurityCommands {
+  CLI::App* init = nullptr;
+  CLI::App* host = nullptr;
+  CLI::App* permissions = nullptr;
+  CLI::App* governance = nullptr;
+  CLI::App* check = nullptr;
+  std::string dir, name, config_file, not_before, not_after, organization = "horus";
+  std::vector<std::string> publish, subscribe;
+  std::uint32_t days = 0;
+  std::optional<std::uint32_t> domain;
+  bool one_ca = false, replace = false, no_fleet_topics = false;
+};
+
+namespace {
+
+// "2026-11-27" or "2026-11-27T13:05:00" (UTC, an optional Z).
+std::optional<security::Clock::time_point> parse_utc(const std::string& text) {
+  std::tm tm{};
+  int n = 0;
+  if (std::sscanf(text.c_str(), "%4d-%2d-%2d%n", &tm.tm_year, &tm.tm_mon, &tm.tm_mday, &n) != 3) return std::nullopt;
+  std::string rest = text.substr(static_cast<std::size_t>(n));
+  if (!rest.empty()) {
+    int m = 0;
+    if (std::sscanf(rest.c_str(), "T%2d:%2d:%2d%n", &tm.tm_hour, &tm.tm_min, &tm.tm_sec, &m) != 3) return std::nullopt;
+    rest = rest.substr(static_cast<std::size_t>(m));
+    if (!rest.empty() && rest != "Z") return std::nullopt;
+  }
+  if (tm.tm_mon < 1 || tm.tm_mon > 12 || tm.tm_mday < 1 || tm.tm_mday > 31 || tm.tm_hour > 23 || tm.tm_min > 59 ||
+      tm.tm_sec > 60)
+    return std::nullopt;
+  tm.tm_year -= 1900;
+  tm.tm_mon -= 1;
+  return security::Clock::from_time_t(timegm(&tm));
+}
+
+// The validity the options give; an error message, or empty.
+std::string validity_of(const SecurityCommands& c, std::uint32_t default_days, security::Validity& out) {
+  out.days = c.days > 0 ? c.days : default_days;
+  if (!c.not_before.empty()) {
+    out.not_before = parse_utc(c.not_before);
+    if (!out.not_before) return fmt::format("--not-before '{}': expected a UTC date, 2026-11-27 or 2026-11-27T13:05:00", c.not_before);
+  }
+  if (!c.not_after.empty()) {
+    out.not_after = parse_utc(c.not_after);
+    if (!out.not_after) return fmt::format("--not-after '{}': expected a UTC date, 2026-11-27 or 2026-11-27T13:05:00", c.not_after);
+  }
+  if (!(out.start() < out.end())) return "the validity ends before it starts (--not-before, --not-after, --days)";
+  return {};
+}
+
+int report(const Result<std::vector<std::string>>& done, std::string_view command) {
+  if (!done) {
+    fmt::print(stderr, "horus security {}: {}\n", command, done.error().message());
+    return 1;
+  }
+  for (const std::string& line : *done) fmt::print("{}\n", line);
+  return 0;
+}
+
+int run_governance(const SecurityCommands& c, const security::Keystore& ks) {
+  const Config* config = nullptr;
+  std::optional<Config> loaded;
+  if (!c.config_file.empty()) {
+    auto got = Config::load(c.config_file);
+    if (!got) {
+      fmt::print(stderr, "horus security governance: {}\n", got.error().message());
+      return 1;
+    }
+    loaded = std::move(*got);
+    config = &*loaded;
+  } else {
+    auto got = config_from_environment();
+    if (!got) {
+      fmt::print(stderr, "horus security governance: {}\n", got.error().message());
+      return 1;
+    }
+    config = *got;
+  }
+  security::GovernanceSpec spec;
+  spec.domain = c.domain;
+  if (config != nullptr)
+    for (const TopicRule& r : config->rules())
+      if (r.protection) spec.rules.push_back({r.match, *r.protection});
+  const int rc = report(security::write_governance(ks, spec), "governance");
+  if (rc != 0) return rc;
+  fmt::print("topics: ");
+  for (const auto& r : spec.rules) fmt::print("{} {}, ", r.pattern, to_string(r.protection));
+  fmt::print("every other topic encrypt{}\n",
+             config == nullptr ? " (no configuration file: HORUS_CONFIG is unset and no --config)"
+                               : fmt::format(" (rules with `protection:` of {})", config->file()));
+  return 0;
+}
+
+int run_check(const security::Keystore& ks) {
+  const security::CheckReport r = security::check_keystore(ks, security::Clock::now());
+  for (const security::CheckLine& l : r.lines) {
+    const char* state = l.state == security::CheckLine::State::Ok        ? "ok     "
+                        : l.state == security::CheckLine::State::Warning ? "WARNING"
+                                                                         : "ERROR  ";
+    fmt::print("{} {}: {}\n", state, l.item, l.text);
+  }
+  fmt::print("{}: {} error{}, {} warning{}\n", ks.dir().string(), r.errors, r.errors == 1 ? "" : "s", r.warnings,
+             r.warnings == 1 ? "" : "s");
+  return r.errors > 0 ? 1 : 0;
+}
+
+}  // namespace
+
+std::shared_ptr<SecurityCommands> add_security_commands(CLI::App& app) {
+  auto c = std::make_shared<SecurityCommands>();
+  auto* sec = app.add_subcommand("security", "DDS-Security: make and check the keystore of a fleet");
+  sec->require_subcommand(1);
+  const auto dir = [&](CLI::App* cmd) { cmd->add_option("dir", c->dir, "the keystore directory")->required(); };
+  const auto validity = [&](CLI::App* cmd, std::string_view days) {
+    cmd->add_option("--days", c->days, fmt::format("days of validity (default {})", days))->check(CLI::Range(1, 36500));
+    cmd->add_option("--not-before", c->not_before, "start of validity, UTC (2026-11-27 or 2026-11-27T13:05:00)");
+    cmd->add_option("--not-after", c->not_after, "end of validity, UTC (overrides --days)");
+  };
+  auto* keystore = sec->add_subcommand("keystore", "the keystore's CAs");
+  keystore->require_subcommand(1);
+  c->init = keystore->add_subcommand("init", "make a keystore: an identity CA, a permissions CA and a governance");
+  dir(c->init);
+  c->init->add_flag("--one-ca", c->one_ca, "one CA for identities and permissions");
+  c->init->add_option("--org", c->organization, "the O= of the certificates (default horus)");
+  validity(c->init, "3650");
+  auto* host = sec->add_subcommand("host", "hosts' identities");
+  host->require_subcommand(1);
+  c->host = host->add_subcommand("create", "make a host's key and certificate (CN=NAME), signed by the identity CA");
+  dir(c->host);
+  c->host->add_option("name", c->name, "the host's identity name (HORUS_SECURITY_IDENTITY on that host)")->required();
+  c->host->add_flag("--replace", c->replace, "renew an existing identity with a new key (rotation)");
+  validity(c->host, "365");
+  c->permissions = sec->add_subcommand("permissions", "sign what a host may publish and subscribe");
+  dir(c->permissions);
+  c->permissions->add_option("name", c->name, "the host's identity name")->required();
+  c->permissions->add_option("--publish", c->publish, "topic patterns it may publish (robot1.**, fleet.map)");
+  c->permissions->add_option("--subscribe", c->subscribe, "topic patterns it may subscribe to");
+  c->permissions->add_flag("--no-fleet-topics", c->no_fleet_topics,
+                           "do not allow the fleet layer's own topics (horus.fleet.**: heartbeats, announcements)");
+  c->permissions->add_option("--domain", c->domain, "the DDS domain (default: every domain)")->check(CLI::Range(0, 232));
+  validity(c->permissions, "365");
+  c->governance = sec->add_subcommand("governance", "sign the fleet's governance, from the configuration file's rules");
+  dir(c->governance);
+  c->governance->add_option("--config", c->config_file, "the configuration file (default: HORUS_CONFIG's)");
+  c->governance->add_option("--domain", c->domain, "the DDS domain (default: every domain)")->check(CLI::Range(0, 232));
+  c->check = sec->add_subcommand("check", "check the CAs, signatures, expiry and every host's files");
+  dir(c->check);
+  return c;
+}
+
+int run_security(const SecurityCommands& c) {
+  const security::Keystore ks(c.dir);
+  security::Validity validity;
+  if (c.init != nullptr && *c.init) {
+    if (const std::string why = validity_of(c, 3650, validity); !why.empty()) {
+      fmt::print(stderr, "horus security keystore init: {}\n", why);
+      return 2;
+    }
+    return report(security::init_keystore(ks, {c.one_ca, c.organization, validity}), "keystore init");
+  }
+  if (c.host != nullptr && *c.host) {
+    if (const std::string why = validity_of(c, 365, validity); !why.empty()) {
+      fmt::print(stderr, "horus security host create: {}\n", why);
+      return 2;
+    }
+    return report(security::create_host(ks, c.name, validity, c.replace), "host create");
+  }
+  if (c.permissions != nullptr && *c.permissions) {
+    if (const std::string why = validity_of(c, 365, validity); !why.empty()) {
+      fmt::print(stderr, "horus security permissions: {}\n", why);
+      return 2;
+    }
+    if (c.publish.empty() && c.subscribe.empty() && c.no_fleet_topics) {
+      fmt::print(stderr, "horus security permissions: nothing to allow; expected --publish or --subscribe patterns\n");
+      return 2;
+    }
+    security::PermissionsSpec spec;
+    spec.publish = c.publish;
+    spec.subscribe = c.subscribe;
+    spec.fleet_topics = !c.no_fleet_topics;
+    spec.domain = c.domain;
+    return report(security::write_permissions(ks, c.name, spec, validity), "permissions");
+  }
+  if (c.governance != nullptr && *c.governance) return run_governance(c, ks);
+  if (c.check != nullptr && *c.check) return run_check(ks);
+  return -1;
+}
+
+}  // namespace horus::tools
