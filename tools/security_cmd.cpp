@@ -152,12 +152,12 @@ std::shared_ptr<SecurityCommands> add_security_commands(CLI::App& app) {
   c->permissions->add_option("--subscribe", c->subscribe, "topic patterns it may subscribe to");
   c->permissions->add_flag("--no-fleet-topics", c->no_fleet_topics,
                            "do not allow the fleet layer's own topics (horus.fleet.**: heartbeats, announcements)");
-  c->permissions->add_option("--domain", c->domain, "the DDS domain (default: every domain)")->check(CLI::Range(0, 232));
+  c->permissions->add_option("--domain", c->domain, "the DDS domain (default: domains 0 to 230)")->check(CLI::Range(0, 232));
   validity(c->permissions, "365");
   c->governance = sec->add_subcommand("governance", "sign the fleet's governance, from the configuration file's rules");
   dir(c->governance);
   c->governance->add_option("--config", c->config_file, "the configuration file (default: HORUS_CONFIG's)");
-  c->governance->add_option("--domain", c->domain, "the DDS domain (default: every domain)")->check(CLI::Range(0, 232));
+  c->governance->add_option("--domain", c->domain, "the DDS domain (default: domains 0 to 230)")->check(CLI::Range(0, 232));
   c->check = sec->add_subcommand("check", "check the CAs, signatures, expiry and every host's files");
   dir(c->check);
   return c;

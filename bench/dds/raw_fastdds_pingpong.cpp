@@ -35,6 +35,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <fstream>
 #include <chrono>
 #include <cinttypes>
 #include <cstdint>
@@ -228,6 +229,18 @@ bool setup(Endpoints& ep, std::uint32_t domain, fd::TypeSupport type, const std:
     pq.wire_protocol().default_unicast_locator_list.push_back(loopback);
   }
   pq.transport().user_transports.push_back(udp);
+  // BENCH_FASTDDS_SECURITY: a file of "name=value" lines, participant properties (DDS-Security's
+  // dds.sec.*, run_dds_bench.sh --secure).
+  if (const char* file = std::getenv("BENCH_FASTDDS_SECURITY"); file != nullptr && file[0] != '\0') {
+    std::ifstream in(file);
+    if (!in) {
+      std::fprintf(stderr, "raw-fastdds: cannot read the security configuration %s\n", file);
+      return false;
+    }
+    for (std::string line; std::getline(in, line);)
+      if (const std::size_t eq = line.find('='); eq != std::string::npos)
+        pq.properties().properties().emplace_back(line.substr(0, eq), line.substr(eq + 1));
+  }
 
   ep.participant = fd::DomainParticipantFactory::get_instance()->create_participant(
       static_cast<fd::DomainId_t>(domain), pq, nullptr, fd::StatusMask::none());

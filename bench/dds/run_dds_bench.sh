@@ -4,7 +4,12 @@
 # settings (UDP only, no shared memory), in the same run, on one host (loopback) and between
 # two network-namespace hosts joined by a veth pair (root needed for that part).
 #
-#   bench/dds/run_dds_bench.sh [--quick] [--local-only] [--poll] [--rounds N] [--build-dir DIR]
+#   bench/dds/run_dds_bench.sh [--quick] [--local-only] [--poll] [--secure] [--rounds N] [--build-dir DIR]
+#
+# --secure: what DDS-Security costs. A keystore made with `horus security` (identities bench_a
+# and bench_b, everything allowed), and every implementation, raw and horus, plain, with every
+# topic signed, then encrypted (the governance signed again between them); CmdVel and a 1080p
+# Image; security_table.py prints p50 and throughput per protection and their ratio to plain.
 #
 # Each side has its own HORUS_NAMESPACE (its own shared memory, as on two hosts), so horus's
 # fleet topic goes publisher -> shared memory -> this host's bridge -> the network -> the other
@@ -23,20 +28,23 @@ build="$here/../../build/default"
 quick=0
 local_only=0
 rounds=3
+secure=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --quick) quick=1 ;;
     --local-only) local_only=1 ;;
     --poll) export BENCH_POLL=1 ;;
+    --secure) secure=1 ;;
     --rounds) rounds="$2"; shift ;;
     --build-dir) build="$2"; shift ;;
-    *) echo "usage: $0 [--quick] [--local-only] [--poll] [--rounds N] [--build-dir DIR]" >&2; exit 2 ;;
+    *) echo "usage: $0 [--quick] [--local-only] [--poll] [--secure] [--rounds N] [--build-dir DIR]" >&2; exit 2 ;;
   esac
   shift
 done
 bin="$build/bench"
 . "$(dirname "$0")/../build_on_demand.sh"
 bench_build "$build" horus_dds_pingpong raw_cyclone_pingpong raw_fastdds_pingpong
+[ "$secure" = 0 ] || bench_build "$build" horus_cli
 domain=$(( 1 + $$ % 200 ))
 if [ "$quick" = 1 ]; then n_small=2000; n_image=30; rounds=1; tput_s=1; else n_small=20000; n_image=200; tput_s=3; fi
 
@@ -46,6 +54,52 @@ impls=()
 [ -x "$bin/raw-fastdds-pingpong" ] && impls+=("raw-fastdds")
 [ -x "$bin/horus-dds-pingpong" ] && impls+=("horus-fastdds")
 [ ${#impls[@]} -gt 0 ] || { echo "no ping-pong programs in $bin (build first)" >&2; exit 1; }
+
+# --secure: the keystore, each side's files for the raw programs, and the protection in force.
+protection=plain
+types="cmdvel image"
+ks=""
+if [ "$secure" = 1 ]; then
+  ks="$(mktemp -d)/keys"
+  cli="$build/tools/horus"
+  "$cli" security keystore init "$ks" >/dev/null
+  plugins=$(dirname "$(ldd "$bin/raw-cyclone-pingpong" | awk '/libddsc/ {print $3; exit}')")/libddsc0debian
+  for side in a b; do
+    "$cli" security host create "$ks" "bench_$side" >/dev/null
+    "$cli" security permissions "$ks" "bench_$side" --publish '**' --subscribe '**' >/dev/null
+    h="$ks/hosts/bench_$side"
+    lib() { echo "<Library path=\"$plugins/libdds_security_$1.so\" initFunction=\"init_$2\" finalizeFunction=\"finalize_$2\"/>"; }
+    echo "<Security><Authentication>$(lib auth authentication)<IdentityCA>file://$ks/public/identity_ca.cert.pem</IdentityCA><IdentityCertificate>file://$h/cert.pem</IdentityCertificate><PrivateKey>file://$h/key.pem</PrivateKey></Authentication><AccessControl>$(lib ac access_control)<Governance>file://$ks/governance.p7s</Governance><PermissionsCA>file://$ks/public/permissions_ca.cert.pem</PermissionsCA><Permissions>file://$h/permissions.p7s</Permissions></AccessControl><Cryptographic>$(lib crypto crypto)</Cryptographic></Security>" >"$h/cyclone.xml"
+    {
+      echo "dds.sec.auth.plugin=builtin.PKI-DH"
+      echo "dds.sec.auth.builtin.PKI-DH.identity_ca=file://$ks/public/identity_ca.cert.pem"
+      echo "dds.sec.auth.builtin.PKI-DH.identity_certificate=file://$h/cert.pem"
+      echo "dds.sec.auth.builtin.PKI-DH.private_key=file://$h/key.pem"
+      echo "dds.sec.access.plugin=builtin.Access-Permissions"
+      echo "dds.sec.access.builtin.Access-Permissions.permissions_ca=file://$ks/public/permissions_ca.cert.pem"
+      echo "dds.sec.access.builtin.Access-Permissions.governance=file://$ks/governance.p7s"
+      echo "dds.sec.access.builtin.Access-Permissions.permissions=file://$h/permissions.p7s"
+      echo "dds.sec.crypto.plugin=builtin.AES-GCM-GMAC"
+    } >"$h/fastdds.properties"
+  done
+fi
+# Every topic signed or encrypted: the governance signed again from a one-rule file.
+set_protection() {
+  protection="$1"
+  [ "$1" = plain ] && return
+  printf 'topics:\n  - match: "**"\n    protection: %s\n' "$1" >"$ks/protection.yaml"
+  "$build/tools/horus" security governance "$ks" --config "$ks/protection.yaml" >/dev/null
+}
+# The environment that secures side a or b of an implementation (nothing when plain).
+sec_env() {  # impl side
+  [ "$protection" = plain ] && return
+  local h="$ks/hosts/bench_$2"
+  case "$1" in
+    horus-*) echo "HORUS_SECURITY=enforce HORUS_SECURITY_KEYSTORE=$ks HORUS_SECURITY_IDENTITY=bench_$2" ;;
+    raw-cyclone) echo "BENCH_CYCLONE_SECURITY=$h/cyclone.xml" ;;
+    raw-fastdds) echo "BENCH_FASTDDS_SECURITY=$h/fastdds.properties" ;;
+  esac
+}
 
 # command prefix for an implementation
 prog() {
@@ -59,6 +113,7 @@ prog() {
 
 ns1="" ns2=""
 cleanup() {
+  [ -n "$ks" ] && rm -rf "$(dirname "$ks")"
   pkill -f "pingpong pong $domain " 2>/dev/null || true
   [ -n "$ns1" ] && ip netns del "$ns1" 2>/dev/null || true
   [ -n "$ns2" ] && ip netns del "$ns2" 2>/dev/null || true
@@ -84,10 +139,10 @@ one() {  # setting impl type
   local in1="" in2="" envs="BENCH_LOCALHOST=1"
   if [ "$setting" = netns ]; then in1="ip netns exec $ns1"; in2="ip netns exec $ns2"; envs="BENCH_LOCALHOST=0"; fi
   # pong: stdin held open by a sleep (it stops at EOF, at the stop sample, or after 300 s)
-  ( sleep 320 | $in2 env HORUS_NAMESPACE=bench_b$$ $envs $p pong $domain "$type" 300 >/dev/null 2>&1 & )
+  ( sleep 320 | $in2 env HORUS_NAMESPACE=bench_b$$ $envs $(sec_env "$impl" b) $p pong $domain "$type" 300 >/dev/null 2>&1 & )
   sleep 0.5
   local out
-  out=$($in1 env HORUS_NAMESPACE=bench_a$$ $envs timeout 300 $p ping $domain "$type" $n $warm 2>&1 | grep RESULT || echo "FAILED impl=$impl type=$type")
+  out=$($in1 env HORUS_NAMESPACE=bench_a$$ $envs $(sec_env "$impl" a) timeout 300 $p ping $domain "$type" $n $warm 2>&1 | grep RESULT || echo "FAILED impl=$impl type=$type")
   pkill -f "pingpong pong $domain $type" 2>/dev/null || true
   sleep 0.3
   echo "$out"
@@ -100,9 +155,9 @@ tput() {  # setting impl type
   local in1="" in2="" envs="BENCH_LOCALHOST=1"
   if [ "$setting" = netns ]; then in1="ip netns exec $ns1"; in2="ip netns exec $ns2"; envs="BENCH_LOCALHOST=0"; fi
   out="$(mktemp)"
-  ( sleep $((tput_s + 40)) | $in2 env HORUS_NAMESPACE=bench_b$$ $envs timeout $((tput_s + 40)) $p sink $domain "$type" $((tput_s + 30)) >"$out" 2>&1 & )
+  ( sleep $((tput_s + 40)) | $in2 env HORUS_NAMESPACE=bench_b$$ $envs $(sec_env "$impl" b) timeout $((tput_s + 40)) $p sink $domain "$type" $((tput_s + 30)) >"$out" 2>&1 & )
   sleep 0.5
-  $in1 env HORUS_NAMESPACE=bench_a$$ $envs timeout $((tput_s + 40)) $p source $domain "$type" "$tput_s" >/dev/null 2>&1 || true
+  $in1 env HORUS_NAMESPACE=bench_a$$ $envs $(sec_env "$impl" a) timeout $((tput_s + 40)) $p source $domain "$type" "$tput_s" >/dev/null 2>&1 || true
   local deadline=$((SECONDS + 10))
   while ! grep -q RESULT "$out" && [ $SECONDS -lt $deadline ]; do sleep 0.2; done
   grep RESULT "$out" || echo "FAILED impl=$impl type=$type mode=tput"
@@ -113,6 +168,22 @@ tput() {  # setting impl type
 
 run_setting() {
   local setting="$1" results=""
+  if [ "$secure" = 1 ]; then
+    for prot in plain sign encrypt; do
+      set_protection "$prot"
+      for type in $types; do
+        for r in $(seq 1 "$rounds"); do
+          for impl in "${impls[@]}"; do results+="$(one "$setting" "$impl" "$type") round=$r protection=$prot"$'\n'; done
+        done
+        for impl in "${impls[@]}"; do results+="$(tput "$setting" "$impl" "$type") protection=$prot"$'\n'; done
+      done
+    done
+    echo "$results" | python3 "$here/security_table.py" "$setting"
+    if [ -n "${HORUS_BENCH_RESULTS:-}" ]; then
+      grep -E '^(RESULT|FAILED)' <<<"$results" | sed "s/^\(RESULT\|FAILED\) /\1 suite=dds-security setting=$setting /" >>"$HORUS_BENCH_RESULTS" || true
+    fi
+    return
+  fi
   for type in cmdvel kilobyte image; do
     for r in $(seq 1 "$rounds"); do
       for impl in "${impls[@]}"; do
@@ -132,7 +203,7 @@ run_setting() {
   fi
 }
 
-echo "horus DDS latency (one-way = RTT/2), $rounds round(s), domain $domain, $(nproc) CPUs"
+echo "horus DDS latency (one-way = RTT/2), $rounds round(s), domain $domain, $(nproc) CPUs$([ "$secure" = 1 ] && echo ", DDS-Security: plain, signed, encrypted")"
 run_setting local
 if [ "$local_only" = 0 ]; then
   if [ "$(id -u)" = 0 ] && make_hosts; then

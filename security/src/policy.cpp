@@ -10,7 +10,8 @@
 namespace horus::security {
 namespace {
 
-constexpr std::size_t kMaxDoubleStars = 4;  // 2^4 expressions at most per pattern
+constexpr std::size_t kMaxDoubleStars = 4;
+constexpr std::uint32_t kMaxRangeDomain = 230;  // "every domain": Cyclone DDS's largest domain id  // 2^4 expressions at most per pattern
 
 }  // namespace
 
@@ -33,9 +34,9 @@ namespace {
 
 std::string domains_xml(const std::optional<std::uint32_t>& domain, std::string_view indent) {
   if (domain) return fmt::format("{}<domains><id>{}</id></domains>\n", indent, *domain);
-  // Every domain: a range with no end (Cyclone DDS 0.10 refuses to parse a range that ends above
-  // its own largest domain id, 230, where horus allows 232).
-  return fmt::format("{}<domains><id_range><min>0</min></id_range></domains>\n", indent);
+  // Every domain Cyclone DDS has: 0 to 230 (Cyclone 0.10 refuses to parse a range that ends
+  // above its largest domain id, and reads a range without an end as its start alone).
+  return fmt::format("{}<domains><id_range><min>0</min><max>{}</max></id_range></domains>\n", indent, kMaxRangeDomain);
 }
 
 std::string xml_time(std::chrono::system_clock::time_point t) {

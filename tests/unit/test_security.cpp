@@ -232,6 +232,8 @@ TEST(SecurityPolicy, PermissionsAllowWhatIsListedAndTheFleetLayerAndDenyTheRest)
   EXPECT_NE(p->find("<topic>horus/fleet/map</topic>", sub), std::string::npos);
   EXPECT_EQ(p->find("<topic>horus/robot1/*</topic>", sub), std::string::npos);
   EXPECT_NE(p->find("<default>DENY</default>"), std::string::npos);
+  // Every domain Cyclone DDS can use (a range without an end would be its start alone there).
+  EXPECT_NE(p->find("<domains><id_range><min>0</min><max>230</max></id_range></domains>"), std::string::npos) << *p;
   spec.publish = {"*.cmd_vel"};
   auto wide = permissions_xml(spec);
   ASSERT_FALSE(wide);

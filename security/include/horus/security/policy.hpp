@@ -40,7 +40,7 @@ struct GovernanceRule {
 struct GovernanceSpec {
   /// The rules in order (the first that matches a topic wins); every other topic is encrypted.
   std::vector<GovernanceRule> rules;
-  std::optional<std::uint32_t> domain;  // nullopt: every domain (0..232)
+  std::optional<std::uint32_t> domain;  // nullopt: every domain (0..230, Cyclone DDS's)
 };
 /// The governance document: authenticated participants only (join access control), discovery
 /// and liveliness encrypted, read and write access control on every topic, each topic's data
@@ -53,7 +53,7 @@ struct PermissionsSpec {
   std::vector<std::string> publish;    // horus topic patterns
   std::vector<std::string> subscribe;  // horus topic patterns
   bool fleet_topics = true;            // also allow kFleetTopics both ways
-  std::optional<std::uint32_t> domain;  // nullopt: every domain
+  std::optional<std::uint32_t> domain;  // nullopt: every domain (0..230, Cyclone DDS's)
   std::chrono::system_clock::time_point not_before, not_after;
 };
 /// A host's permissions document: one grant allowing what `spec` lists, denying the rest.
