@@ -37,7 +37,7 @@ struct SecurityState {
   nlohmann::json json;
 };
 
-SecurityState security_state(const std::string& transport) {
+SecurityState read_security_state(const std::string& transport) {
   SecurityState s;
   const auto net = horus::net::config_from_environment();
   const net::Security sec = net ? net->security : net::Security{};
@@ -61,6 +61,13 @@ SecurityState security_state(const std::string& transport) {
                          transport == "lcm" ? "; LCM has no security" : "; see `horus security` and security: in the configuration file");
   }
   return s;
+}
+
+// Once per run: the live table refreshes every second, and the check reads and verifies the
+// identity's certificates and signatures.
+const SecurityState& security_state(const std::string& transport) {
+  static const SecurityState state = read_security_state(transport);
+  return state;
 }
 
 }  // namespace
@@ -146,14 +153,14 @@ nlohmann::json fleet_json(const horus::Fleet& fleet) {
     j["rtt_us"] = h.rtt ? nlohmann::json(h.rtt->count()) : nlohmann::json(nullptr);
     hosts.push_back(std::move(j));
   }
-  const SecurityState security = security_state(fleet.transport());
+  const SecurityState& security = security_state(fleet.transport());
   for (auto& h : hosts) h["authenticated"] = security.secure;
   return {{"transport", fleet.transport()}, {"malformed", fleet.malformed()}, {"security", security.json}, {"hosts", hosts}};
 }
 
 void print_fleet_table(const horus::Fleet& fleet) {
   const auto hosts = fleet.hosts();
-  const SecurityState security = security_state(fleet.transport());
+  const SecurityState& security = security_state(fleet.transport());
   fmt::print("fleet on {}: {} host{}\n{}\n", fleet.transport(), hosts.size(), hosts.size() == 1 ? "" : "s", security.text);
   fmt::print("{:<24} {:<9} {:>8} {:>9} {:>6} {:>10} {:>6} {:>7} {:>7} {:>5}\n", "host", "state", "age ms", "rtt us", "loss",
              "offset ms", "procs", "fleet", "topics", "auth");

@@ -2,8 +2,6 @@
 
 #include <fmt/format.h>
 
-#include <cstdio>
-#include <ctime>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,35 +26,15 @@ struct SecurityCommands {
 
 namespace {
 
-// "2026-11-27" or "2026-11-27T13:05:00" (UTC, an optional Z).
-std::optional<security::Clock::time_point> parse_utc(const std::string& text) {
-  std::tm tm{};
-  int n = 0;
-  if (std::sscanf(text.c_str(), "%4d-%2d-%2d%n", &tm.tm_year, &tm.tm_mon, &tm.tm_mday, &n) != 3) return std::nullopt;
-  std::string rest = text.substr(static_cast<std::size_t>(n));
-  if (!rest.empty()) {
-    int m = 0;
-    if (std::sscanf(rest.c_str(), "T%2d:%2d:%2d%n", &tm.tm_hour, &tm.tm_min, &tm.tm_sec, &m) != 3) return std::nullopt;
-    rest = rest.substr(static_cast<std::size_t>(m));
-    if (!rest.empty() && rest != "Z") return std::nullopt;
-  }
-  if (tm.tm_mon < 1 || tm.tm_mon > 12 || tm.tm_mday < 1 || tm.tm_mday > 31 || tm.tm_hour > 23 || tm.tm_min > 59 ||
-      tm.tm_sec > 60)
-    return std::nullopt;
-  tm.tm_year -= 1900;
-  tm.tm_mon -= 1;
-  return security::Clock::from_time_t(timegm(&tm));
-}
-
 // The validity the options give; an error message, or empty.
 std::string validity_of(const SecurityCommands& c, std::uint32_t default_days, security::Validity& out) {
   out.days = c.days > 0 ? c.days : default_days;
   if (!c.not_before.empty()) {
-    out.not_before = parse_utc(c.not_before);
+    out.not_before = security::parse_utc(c.not_before);
     if (!out.not_before) return fmt::format("--not-before '{}': expected a UTC date, 2026-11-27 or 2026-11-27T13:05:00", c.not_before);
   }
   if (!c.not_after.empty()) {
-    out.not_after = parse_utc(c.not_after);
+    out.not_after = security::parse_utc(c.not_after);
     if (!out.not_after) return fmt::format("--not-after '{}': expected a UTC date, 2026-11-27 or 2026-11-27T13:05:00", c.not_after);
   }
   if (!(out.start() < out.end())) return "the validity ends before it starts (--not-before, --not-after, --days)";

@@ -268,6 +268,8 @@ Result<void> CycloneEndpoint::write(std::size_t body_size, const net::BodyWriter
     return fail(Errc::MessageTooLarge, core_->label() + ": a body of " + std::to_string(body_size) +
                                            " bytes exceeds the largest DDS sample (" + std::to_string(kMaxBody) +
                                            " bytes)");
+  if (writer_ == 0)  // access control refused the writer (create())
+    return fail(Errc::Config, core_->label() + ": " + security::not_permitted(transport_->config().security, "publish"));
   const auto size = static_cast<std::uint32_t>(net::encapsulation::serialized_size(body_size));
   std::byte* bytes = nullptr;
   ddsi_serdata* data = make_raw_serdata(sertype_, size, &bytes);
@@ -279,10 +281,6 @@ Result<void> CycloneEndpoint::write(std::size_t body_size, const net::BodyWriter
   } catch (...) {
     ddsi_serdata_unref(data);
     throw;
-  }
-  if (writer_ == 0) {
-    ddsi_serdata_unref(data);
-    return fail(Errc::Config, core_->label() + ": " + security::not_permitted(transport_->config().security, "publish"));
   }
   const dds_return_t rc = dds_writecdr(writer_, data);  // consumes `data`
   if (rc == DDS_RETCODE_OK) return {};

@@ -79,21 +79,21 @@ Result<Security> security_from(const Environment& env, const FileDefaults& file)
                                             v));
     mode_origin = "environment variable HORUS_SECURITY";
   }
-  std::string keystore_origin, identity_origin;
-  if (!env.security_keystore.empty()) {
-    s.keystore = env.security_keystore;
-    keystore_origin = "environment variable HORUS_SECURITY_KEYSTORE";
-  } else if (file.security_keystore) {
-    s.keystore = *file.security_keystore;
-    keystore_origin = file_origin + ", security.keystore";
-  }
-  if (!env.security_identity.empty()) {
-    s.identity = env.security_identity;
-    identity_origin = "environment variable HORUS_SECURITY_IDENTITY";
-  } else if (file.security_identity) {
-    s.identity = *file.security_identity;
-    identity_origin = file_origin + ", security.identity";
-  }
+  // A variable over the file's key: the value and where it came from.
+  const auto pick = [&](const std::string& variable, const char* name, const std::optional<std::string>& key,
+                        const char* key_name, std::string& value) -> std::string {
+    if (!variable.empty()) {
+      value = variable;
+      return std::string("environment variable ") + name;
+    }
+    if (!key) return {};
+    value = *key;
+    return file_origin + ", " + key_name;
+  };
+  const std::string keystore_origin =
+      pick(env.security_keystore, "HORUS_SECURITY_KEYSTORE", file.security_keystore, "security.keystore", s.keystore);
+  const std::string identity_origin =
+      pick(env.security_identity, "HORUS_SECURITY_IDENTITY", file.security_identity, "security.identity", s.identity);
   if (!mode) {
     if (s.keystore.empty()) return Security{};
     mode = SecurityMode::Enforce;

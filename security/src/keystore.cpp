@@ -64,22 +64,6 @@ Result<Ca> read_ca(const fs::path& cert_file, const fs::path& key_file, std::str
   return Ca{std::move(*cert), std::move(*key)};
 }
 
-// A date in a permissions document ("2026-11-27T13:05:00", with an optional "Z"); nullopt when
-// it is not one.
-std::optional<Clock::time_point> parse_xml_time(std::string_view text) {
-  std::tm tm{};
-  int consumed = 0;
-  const std::string s(text);
-  if (std::sscanf(s.c_str(), "%4d-%2d-%2dT%2d:%2d:%2d%n", &tm.tm_year, &tm.tm_mon, &tm.tm_mday, &tm.tm_hour, &tm.tm_min,
-                  &tm.tm_sec, &consumed) != 6)
-    return std::nullopt;
-  const std::string_view rest = text.substr(static_cast<std::size_t>(consumed));
-  if (!rest.empty() && rest != "Z") return std::nullopt;
-  tm.tm_year -= 1900;
-  tm.tm_mon -= 1;
-  return Clock::from_time_t(timegm(&tm));
-}
-
 // The text between <tag> and </tag>, or nullopt.
 std::optional<std::string> element(std::string_view xml, std::string_view tag) {
   const std::string open = fmt::format("<{}>", tag), close = fmt::format("</{}>", tag);
@@ -177,8 +161,8 @@ HostCheck check_host(const Keystore& ks, const std::string& name, Clock::time_po
   const auto subject = element(*content, "subject_name");
   const auto from = element(*content, "not_before");
   const auto until = element(*content, "not_after");
-  const auto from_t = from ? parse_xml_time(*from) : std::nullopt;
-  const auto until_t = until ? parse_xml_time(*until) : std::nullopt;
+  const auto from_t = from ? parse_utc(*from) : std::nullopt;
+  const auto until_t = until ? parse_utc(*until) : std::nullopt;
   if (!subject || *subject != h.files.subject) {
     note(h, CheckLine::State::Error, who + ": permissions",
          fmt::format("their subject '{}' is not the certificate's '{}'; {}", subject.value_or("(none)"), h.files.subject,
@@ -198,6 +182,26 @@ HostCheck check_host(const Keystore& ks, const std::string& name, Clock::time_po
 }
 
 }  // namespace
+
+std::optional<Clock::time_point> parse_utc(std::string_view text) {
+  std::tm tm{};
+  int n = 0;
+  const std::string str(text);
+  if (std::sscanf(str.c_str(), "%4d-%2d-%2d%n", &tm.tm_year, &tm.tm_mon, &tm.tm_mday, &n) != 3) return std::nullopt;
+  std::string_view rest = text.substr(static_cast<std::size_t>(n));
+  if (!rest.empty()) {
+    int m = 0;
+    const std::string time(rest);
+    if (std::sscanf(time.c_str(), "T%2d:%2d:%2d%n", &tm.tm_hour, &tm.tm_min, &tm.tm_sec, &m) != 3) return std::nullopt;
+    rest = rest.substr(static_cast<std::size_t>(m));
+  }
+  if ((!rest.empty() && rest != "Z") || tm.tm_mon < 1 || tm.tm_mon > 12 || tm.tm_mday < 1 || tm.tm_mday > 31 ||
+      tm.tm_hour > 23 || tm.tm_min > 59 || tm.tm_sec > 60)
+    return std::nullopt;
+  tm.tm_year -= 1900;
+  tm.tm_mon -= 1;
+  return Clock::from_time_t(timegm(&tm));
+}
 
 Clock::time_point Validity::start() const { return not_before.value_or(Clock::now() - std::chrono::minutes(1)); }
 Clock::time_point Validity::end() const { return not_after.value_or(start() + std::chrono::hours(24) * days); }

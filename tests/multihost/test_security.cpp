@@ -113,14 +113,15 @@ TEST_P(SecureFleet, AuthenticatedHostsExchangeAndOthersNeitherReadNorInject) {
   const Keystores& k = Keystores::get();
   const std::string topic = "sec.pose";
   const long long start = unix_ms() + 3000;
-  auto pub = lan.spawn(0, member(topic, 1, start, 1, 15, {"await-reader"}), env(backend(), "a", k.fleet));
+  // a stays 7 s (publishers -1), so that b's view below finds it alive.
+  auto pub = lan.spawn(0, member(topic, 1, start, -1, 7, {"await-reader"}), env(backend(), "a", k.fleet));
   auto sub = lan.spawn(1, member(topic, 0, start, 1, 15), env(backend(), "b", k.fleet));
   // The intruders publish too (20 ms apart, overlapping a's messages) and expect two publishers.
   auto plain = lan.spawn(2, member(topic, 2, start, 2, 5, {"period=20"}), env(backend()));
   auto foreign = lan.spawn(3, member(topic, 3, start, 2, 5, {"period=20"}), env(backend(), "x", k.other));
-  // b's view of the fleet while the messages flow (its snapshot 3.5 s from now, after the
-  // start): a, authenticated; neither intruder.
-  auto view = lan.spawn(1, {HORUS_CLI, "fleet", "--once", "--wait", "3500"}, env(backend(), "b", k.fleet));
+  // b's view of the fleet, a table a second for 7 s (the fleet layer's own participant
+  // authenticates on its own time): a appears, authenticated; neither intruder ever does.
+  auto view = lan.spawn(1, {HORUS_CLI, "fleet", "--duration", "7"}, env(backend(), "b", k.fleet));
   EXPECT_EQ(sub.wait(30s), 0) << "b:\n" << sub.output() << "\na:\n" << pub.output();
   EXPECT_NE(sub.output().find("received 50 from 1 publishers"), std::string::npos) << sub.output();
   (void)pub.wait(20s);
@@ -170,26 +171,31 @@ INSTANTIATE_TEST_SUITE_P(Dds, SecureFleet,
 TEST(SecureFleetRefusals, AnExpiredCertificateAndLcmUnderEnforceAreRefusedClearly) {
   if (!Keystores::get().why.empty()) FAIL() << Keystores::get().why;
   const Keystores& k = Keystores::get();
+  // A process of `backend` with `identity` that opens a fleet topic, in a shared-memory namespace
+  // of its own (another run of this test may be using the same topic).
+  const auto open = [&](const std::string& backend, const std::string& identity, const fs::path& keystore,
+                        const std::string& extra) {
+    std::vector<std::string> args = {"env"};
+    for (const std::string& e : env(backend, identity, keystore)) args.push_back(e);
+    args.push_back(extra);
+    args.push_back("HORUS_NAMESPACE=secref" + std::to_string(::getpid()) + backend);
+    for (const std::string& a : {std::string(FLEET_MEMBER), std::string("sec.pose"), std::string("fleet"), std::string("1"),
+                                 std::string("10"), std::to_string(unix_ms()), std::string("1"), std::string("5")})
+      args.push_back(a);
+    auto p = horus_test::start_logged(
+        args, (fs::temp_directory_path() / ("horus_test_refused_" + std::to_string(::getpid()) + backend)).string());
+    EXPECT_EQ(p.wait(20s), 3) << backend << ":\n" << p.output();  // the topic does not open
+    return p.output();
+  };
   for (const char* backend : {"cyclonedds", "fastdds"}) {
     if (!horus::backend_available(horus::Backend::network(backend))) continue;
-    std::vector<std::string> e = env(backend, "old", k.fleet);
-    e.push_back("HORUS_DDS_LOCALHOST=1");
-    auto p = horus_test::start_logged({"env", e[0], e[1], e[2], e[3], e[4], e[5], e[6],
-                                       FLEET_MEMBER, "sec.pose", "fleet", "1", "10", std::to_string(unix_ms()), "1", "5"},
-                                      (fs::temp_directory_path() / ("horus_test_expired_" + std::to_string(::getpid()))).string());
-    EXPECT_EQ(p.wait(20s), 3) << backend << ":\n" << p.output();  // the topic does not open
-    EXPECT_NE(p.output().find((k.fleet / "hosts" / "old" / "cert.pem").string() + "' expired on 2020-06-01"),
-              std::string::npos)
-        << backend << ":\n" << p.output();
+    const std::string out = open(backend, "old", k.fleet, "HORUS_DDS_LOCALHOST=1");
+    EXPECT_NE(out.find((k.fleet / "hosts" / "old" / "cert.pem").string() + "' expired on 2020-06-01"), std::string::npos)
+        << backend << ":\n" << out;
   }
   if (horus::backend_available(horus::Backend::Lcm)) {
-    std::vector<std::string> e = env("lcm", "a", k.fleet);
-    auto p = horus_test::start_logged({"env", e[0], e[1], e[2], e[3], e[4], e[5], "HORUS_LCM_URL=udpm://239.255.76.67:7667?ttl=0",
-                                       FLEET_MEMBER, "sec.pose", "fleet", "1", "10", std::to_string(unix_ms()), "1", "5"},
-                                      (fs::temp_directory_path() / ("horus_test_lcm_enforce_" + std::to_string(::getpid()))).string());
-    EXPECT_EQ(p.wait(20s), 3) << p.output();
-    EXPECT_NE(p.output().find("environment variable HORUS_SECURITY is enforce, but LCM has no security"), std::string::npos)
-        << p.output();
+    const std::string out = open("lcm", "a", k.fleet, "HORUS_LCM_URL=udpm://239.255.76.67:7667?ttl=0");
+    EXPECT_NE(out.find("environment variable HORUS_SECURITY is enforce, but LCM has no security"), std::string::npos) << out;
   }
 }
 

@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "horus/error.hpp"
@@ -46,6 +47,10 @@ class Keystore {
  private:
   std::filesystem::path dir_;
 };
+
+/// A UTC date as `horus security` takes it and permissions documents write it: "2026-11-27" or
+/// "2026-11-27T13:05:00", an optional "Z"; nullopt when it is not one.
+std::optional<Clock::time_point> parse_utc(std::string_view text);
 
 /// The validity of what is made: from `not_before` (default: now, less a minute for clocks a
 /// little behind) to `not_after` (default: `days` after it).
