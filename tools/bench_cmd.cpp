@@ -8,7 +8,8 @@
 //   ping -> start {run, host, pid, stamps}                    the pong it measures with (stamps=1: note echo times)
 //   pong -> stamps {run, t0, d, last}                         echo times, every 50 ms (bench_cmd_internal.hpp)
 //   ping -> flush {run}                                       after the drain: the echo times left, last=1
-//   ping -> bye {run}                                         the run is over
+//   ping -> bye {run}                                         the run is over (repeated until closed, 2 s at most)
+//   pong -> closed {run, host, pid}                           the session is closed (to each bye of a run it served)
 // A pong opens PREFIX.ping.TYPE and PREFIX.pong.TYPE for a hello's type and echoes what arrives
 // on the first into the second, unchanged, until bye, a start naming another pong, or 10 s
 // without traffic. The ping tags each message with its sequence number (bench_peer.hpp), keeps
@@ -22,12 +23,14 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <deque>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -263,6 +266,7 @@ int run_pong(const BenchArgs& a, const std::optional<Backend>& backend, const st
   std::fflush(stdout);
   if (ready_flag != nullptr) ready_flag->store(true);
   std::map<std::string, std::unique_ptr<PongSession>> sessions;
+  std::deque<std::string> closed;  // the runs closed last
   int finished = 0;
   auto close = [&](const std::string& run, const char* why) {
     auto it = sessions.find(run);
@@ -276,6 +280,8 @@ int run_pong(const BenchArgs& a, const std::optional<Backend>& backend, const st
     std::fflush(stdout);
     sessions.erase(it);
     ++finished;
+    closed.push_back(run);  // a repeated bye is answered too
+    if (closed.size() > 16) closed.pop_front();
   };
   while (!stop.load()) {
     (void)control->wait(std::chrono::milliseconds(sessions.empty() ? 100 : 20));
@@ -325,6 +331,8 @@ int run_pong(const BenchArgs& a, const std::optional<Backend>& backend, const st
       } else if (op == "flush") {
         if (auto it = sessions.find(run); it != sessions.end()) flush_stamps(*control, *it->second, bench_now_ns(), true, true);
       } else if (op == "bye") {
+        if (sessions.contains(run) || std::find(closed.begin(), closed.end(), run) != closed.end())
+          control->send({{"op", "closed"}, {"run", run}, {"host", host}, {"pid", pid}});
         close(run, "done");
       }
     }

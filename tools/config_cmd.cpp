@@ -1,5 +1,6 @@
 // horus config check / explain (config_cmd.hpp): a configuration file validated, and what a
-// topic name gets from the environment and the file (horus/config.hpp's choose()).
+// topic name gets from the environment and the file (horus/config.hpp's choose()), and under
+// DDS-Security its protection (security_cmd.hpp's governance_spec()).
 #include "config_cmd.hpp"
 
 #include <fmt/format.h>
@@ -13,6 +14,7 @@
 #include "horus/config.hpp"
 #include "horus/horus.hpp"
 #include "horus/transport_registry.hpp"
+#include "security_cmd.hpp"
 
 namespace horus::tools {
 
@@ -57,6 +59,45 @@ std::string from_where(horus::Source s, const horus::TopicChoice& c) {
   return std::string(horus::to_string(s));
 }
 
+// A fleet topic under DDS-Security: the settings in force (the environment over the file), and
+// the protection the fleet's governance gives it when signed from this file's rules.
+int print_security(std::string_view topic, const horus::Backend& backend, const horus::Config* config) {
+  auto net = horus::net::config_from_environment(config);
+  if (!net) {
+    fmt::print(stderr, "horus config explain: {}\n", net.error().message());
+    return 1;
+  }
+  const horus::net::Security& s = net->security;
+  if (s.mode == horus::net::SecurityMode::Off) {
+    fmt::print("  security    {:<16} {}\n", "off", "no security settings (security: or HORUS_SECURITY*), or mode off");
+    return 0;
+  }
+  fmt::print("  security    {:<16} {}: identity '{}' in keystore {}\n", horus::net::to_string(s.mode), s.origin, s.identity,
+             s.keystore);
+  if (backend.transport() == "lcm") {
+    fmt::print("  protection  {:<16} {}\n", "none",
+               s.mode == horus::net::SecurityMode::Enforce ? "LCM has no security: the topic is refused under enforce"
+                                                           : "LCM has no security: the topic is plain");
+    return 0;
+  }
+  const security::GovernanceSpec spec = governance_spec(config);
+  const security::TopicProtection p = security::protection_of(spec, topic);
+  // spec.rules are the file's rules with `protection:`, in order: the p.rule-th of those.
+  const horus::TopicRule* rule = nullptr;
+  std::size_t nth = 0;
+  if (p.rule)
+    for (const horus::TopicRule& r : config->rules())
+      if (r.protection && nth++ == *p.rule) {
+        rule = &r;
+        break;
+      }
+  fmt::print("  protection  {:<16} {}\n", horus::net::to_string(p.protection),
+             rule != nullptr ? fmt::format("file {}, line {}: rule '{}' (once `horus security governance` signs it)",
+                                           config->file(), rule->line, rule->match)
+                             : "default (no rule with protection: matches; the governance encrypts the rest)");
+  return 0;
+}
+
 }  // namespace
 
 int cmd_config_explain(const std::string& topic, const std::string& file) {
@@ -95,6 +136,7 @@ int cmd_config_explain(const std::string& topic, const std::string& file) {
   if (horus::is_network(c.backend)) {
     fmt::print("  backend     {:<16} {}\n", c.backend.transport(), from_where(c.backend_from, c));
     if (auto wire = horus::wire_name(c.backend, topic)) fmt::print("  wire name   {}\n", *wire);
+    if (const int rc = print_security(topic, c.backend, config); rc != 0) return rc;
   }
   fmt::print("  capacity    {:<16} {}\n", c.capacity ? std::to_string(*c.capacity) : "type default",
              from_where(c.capacity_from, c));

@@ -2,12 +2,14 @@
 
 #include <fmt/format.h>
 
+#include <fstream>
+
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "horus/config.hpp"
-#include "horus/security/keystore.hpp"
+#include "horus/security/dds_config.hpp"
 
 namespace horus::tools {
 
@@ -17,12 +19,21 @@ struct SecurityCommands {
   CLI::App* permissions = nullptr;
   CLI::App* governance = nullptr;
   CLI::App* check = nullptr;
-  std::string dir, name, config_file, not_before, not_after, organization = "horus";
+  CLI::App* dds_config = nullptr;
+  std::string dir, name, config_file, not_before, not_after, organization = "horus", library, output;
   std::vector<std::string> publish, subscribe;
   std::uint32_t days = 0;
   std::optional<std::uint32_t> domain;
   bool one_ca = false, replace = false, no_fleet_topics = false;
 };
+
+security::GovernanceSpec governance_spec(const Config* config) {
+  security::GovernanceSpec spec;
+  if (config != nullptr)
+    for (const TopicRule& r : config->rules())
+      if (r.protection) spec.rules.push_back({r.match, *r.protection});
+  return spec;
+}
 
 namespace {
 
@@ -69,11 +80,8 @@ int run_governance(const SecurityCommands& c, const security::Keystore& ks) {
     }
     config = *got;
   }
-  security::GovernanceSpec spec;
+  security::GovernanceSpec spec = governance_spec(config);
   spec.domain = c.domain;
-  if (config != nullptr)
-    for (const TopicRule& r : config->rules())
-      if (r.protection) spec.rules.push_back({r.match, *r.protection});
   const int rc = report(security::write_governance(ks, spec), "governance");
   if (rc != 0) return rc;
   fmt::print("topics: ");
@@ -95,6 +103,35 @@ int run_check(const security::Keystore& ks) {
   fmt::print("{}: {} error{}, {} warning{}\n", ks.dir().string(), r.errors, r.errors == 1 ? "" : "s", r.warnings,
              r.warnings == 1 ? "" : "s");
   return r.errors > 0 ? 1 : 0;
+}
+
+// The configuration another DDS program reads to join with identity `name`: checked first, so
+// an expired or unsigned identity is an error here and not a silent handshake failure there.
+int run_dds_config(const SecurityCommands& c) {
+  const net::Security identity{net::SecurityMode::Enforce, c.dir, c.name, "horus security dds-config"};
+  auto files = security::participant_files(identity);
+  if (!files) {
+    fmt::print(stderr, "horus security dds-config: {}\n", files.error().message());
+    return 1;
+  }
+  auto text = security::third_party_config(*files, c.library);
+  if (!text) {
+    fmt::print(stderr, "horus security dds-config: {}\n", text.error().message());
+    return 2;
+  }
+  if (c.output.empty()) {
+    fmt::print("{}", *text);
+    return 0;
+  }
+  std::ofstream out(c.output, std::ios::trunc);
+  out << *text;
+  out.close();
+  if (!out) {
+    fmt::print(stderr, "horus security dds-config: cannot write '{}'\n", c.output);
+    return 1;
+  }
+  fmt::print("wrote {} ({} configuration of identity '{}')\n", c.output, c.library, c.name);
+  return 0;
 }
 
 }  // namespace
@@ -138,6 +175,13 @@ std::shared_ptr<SecurityCommands> add_security_commands(CLI::App& app) {
   c->governance->add_option("--domain", c->domain, "the DDS domain (default: domains 0 to 230)")->check(CLI::Range(0, 232));
   c->check = sec->add_subcommand("check", "check the CAs, signatures, expiry and every host's files");
   dir(c->check);
+  c->dds_config = sec->add_subcommand("dds-config", "the configuration another DDS program joins the fleet with");
+  dir(c->dds_config);
+  c->dds_config->add_option("name", c->name, "the identity it uses (made with host create and permissions)")->required();
+  c->dds_config->add_option("--for", c->library, "cyclonedds (for CYCLONEDDS_URI) or fastdds (an XML profile)")
+      ->required()
+      ->check(CLI::IsMember({"cyclonedds", "fastdds"}));
+  c->dds_config->add_option("-o,--output", c->output, "write it to this file (default: standard output)");
   return c;
 }
 
@@ -176,6 +220,7 @@ int run_security(const SecurityCommands& c) {
   }
   if (c.governance != nullptr && *c.governance) return run_governance(c, ks);
   if (c.check != nullptr && *c.check) return run_check(ks);
+  if (c.dds_config != nullptr && *c.dds_config) return run_dds_config(c);
   return -1;
 }
 

@@ -5,13 +5,21 @@
 //   horus security permissions DIR NAME --publish P... --subscribe P... [--domain N] [--days N]
 //   horus security governance DIR [--config FILE] [--domain N]
 //   horus security check DIR
+//   horus security dds-config DIR NAME --for cyclonedds|fastdds [-o FILE]
 #pragma once
 
 #include <CLI/CLI.hpp>
 
 #include <memory>
 
+#include "horus/config.hpp"
+#include "horus/security/policy.hpp"
+
 namespace horus::tools {
+
+/// The governance the configuration file's rules give (their `protection:`, in order; nullptr:
+/// none): what `horus security governance` signs and `horus config explain` shows.
+security::GovernanceSpec governance_spec(const Config* config);
 
 struct SecurityCommands;
 /// Adds `security` and its commands to `app`; what they parse goes into the returned object.

@@ -487,6 +487,9 @@ Result<Config> config_from_environment() {
   if (!config) return std::unexpected(config.error());
   return config_from(env, file_defaults(*config));
 }
+Result<Config> config_from_environment(const horus::Config* file) {
+  return config_from(Environment::read(), file_defaults(file));
+}
 }  // namespace net
 
 Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code, const Config* config) {

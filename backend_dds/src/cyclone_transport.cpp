@@ -9,12 +9,9 @@
 // net::RemoteTypes does the bookkeeping).
 //
 // One CycloneEndpoint per open() (cyclone_endpoint.cpp).
-#include <dlfcn.h>
-
 #include <chrono>
 #include <cstdint>
 #include <cstring>
-#include <filesystem>
 #include <memory>
 #include <optional>
 #include <mutex>
@@ -26,7 +23,7 @@
 #include "cyclone_internal.hpp"
 #include "horus/detail/repeat_filter.hpp"
 #include "horus/dds/transports.hpp"
-#include "horus/security/keystore.hpp"
+#include "horus/security/dds_config.hpp"
 #include "horus/transport_registry.hpp"
 
 namespace horus::dds {
@@ -55,47 +52,9 @@ bool valid_wire_topic(std::string_view name) noexcept {
   return true;
 }
 
-// A security plug-in of Cyclone (dds_security_auth, _ac, _crypto). Debian installs them in
-// <libdir>/libddsc0debian/, which the dynamic loader does not search: Cyclone would not find
-// them by name. They are given by absolute path, found beside the libddsc this process loaded
-// (else by name, for a build of Cyclone that installs them on the loader's path).
-std::string cyclone_plugin(const std::string& name) {
-  const std::string file = "lib" + name + ".so";
-  Dl_info info{};
-  if (::dladdr(reinterpret_cast<void*>(&dds_create_participant), &info) != 0 && info.dli_fname != nullptr) {
-    const std::filesystem::path dir = std::filesystem::path(info.dli_fname).parent_path();
-    std::error_code ec;
-    for (const auto& candidate : {dir / "libddsc0debian" / file, dir / file})
-      if (std::filesystem::exists(candidate, ec)) return candidate.string();
-  }
-  return name;
-}
-
-std::string library_xml(const std::string& name, std::string_view init, std::string_view finalize) {
-  return "<Library path=\"" + security::xml_escape(cyclone_plugin(name)) + "\" initFunction=\"" + std::string(init) +
-         "\" finalizeFunction=\"" + std::string(finalize) + "\"/>";
-}
-
-// DDS-Security: Cyclone's plug-ins with the identity's checked files.
-std::string security_xml(const security::ParticipantFiles& f) {
-  const auto uri = [](const std::filesystem::path& p) { return security::xml_escape(security::file_uri(p)); };
-  return "<Security><Authentication>" +
-         library_xml("dds_security_auth", "init_authentication", "finalize_authentication") +
-         "<IdentityCA>" + uri(f.identity_ca) + "</IdentityCA>"
-         "<IdentityCertificate>" + uri(f.certificate) + "</IdentityCertificate>"
-         "<PrivateKey>" + uri(f.private_key) + "</PrivateKey>"
-         "</Authentication><AccessControl>" +
-         library_xml("dds_security_ac", "init_access_control", "finalize_access_control") +
-         "<Governance>" + uri(f.governance) + "</Governance>"
-         "<PermissionsCA>" + uri(f.permissions_ca) + "</PermissionsCA>"
-         "<Permissions>" + uri(f.permissions) + "</Permissions>"
-         "</AccessControl><Cryptographic>" +
-         library_xml("dds_security_crypto", "init_crypto", "finalize_crypto") + "</Cryptographic></Security>";
-}
-
 std::string domain_xml(const net::Config& config, const std::optional<security::ParticipantFiles>& secure) {
   std::string xml = "<CycloneDDS><Domain Id=\"any\">";
-  if (secure) xml += security_xml(*secure);
+  if (secure) xml += security::cyclone_security_xml(*secure, security::cyclone_plugin_dir());
   // A link budget means a constrained link (Wi-Fi): datagrams that fit one Ethernet frame, so
   // that a lost packet loses one DDSI fragment, not a whole IP-fragmented datagram, and lost IP
   // fragments never fill the receiving kernel's reassembly memory (seen: 4 MiB of incomplete

@@ -54,7 +54,7 @@
 #include "fastdds_internal.hpp"
 #include "horus/detail/repeat_filter.hpp"
 #include "horus/dds/transports.hpp"
-#include "horus/security/keystore.hpp"
+#include "horus/security/dds_config.hpp"
 #include "horus/transport_registry.hpp"
 
 namespace horus::dds {
@@ -218,16 +218,7 @@ Result<void> FastddsTransport::start() {
   if (*secure) {
     const security::ParticipantFiles& f = **secure;
     auto& props = pq.properties().properties();
-    const auto set = [&](const char* name, const std::string& value) { props.emplace_back(name, value); };
-    set("dds.sec.auth.plugin", "builtin.PKI-DH");
-    set("dds.sec.auth.builtin.PKI-DH.identity_ca", security::file_uri(f.identity_ca));
-    set("dds.sec.auth.builtin.PKI-DH.identity_certificate", security::file_uri(f.certificate));
-    set("dds.sec.auth.builtin.PKI-DH.private_key", security::file_uri(f.private_key));
-    set("dds.sec.access.plugin", "builtin.Access-Permissions");
-    set("dds.sec.access.builtin.Access-Permissions.permissions_ca", security::file_uri(f.permissions_ca));
-    set("dds.sec.access.builtin.Access-Permissions.governance", security::file_uri(f.governance));
-    set("dds.sec.access.builtin.Access-Permissions.permissions", security::file_uri(f.permissions));
-    set("dds.sec.crypto.plugin", "builtin.AES-GCM-GMAC");
+    for (auto& [name, value] : security::dds_security_properties(f)) props.emplace_back(name, value);
     secure_ = true;
   }
   participant_ = factory_->create_participant(static_cast<fd::DomainId_t>(config_.domain_id), pq, &listener_,

@@ -225,30 +225,21 @@ static int setup(struct endpoints* ep, uint32_t domain_id, int type, const char*
   snprintf(pong_name, sizeof pong_name, "horus/bench/%s/pong", type_name);
 
   memset(ep, 0, sizeof *ep);
-  /* BENCH_CYCLONE_SECURITY: a file holding a <Security> element (DDS-Security, run_dds_bench.sh
-   * --secure), put first in the domain's configuration. */
+  /* CYCLONEDDS_URI, when set, is merged after this configuration, as Cyclone merges a list of
+   * configurations: how a Cyclone user adds DDS-Security (run_dds_bench.sh --secure gives the
+   * document `horus security dds-config --for cyclonedds` writes). */
   const char* xml = localhost ? kLocalhostXml : kLanXml;
-  const char* security_file = getenv("BENCH_CYCLONE_SECURITY");
-  char* secured = NULL;
-  if (security_file != NULL && security_file[0] != '\0') {
-    static char security[8192];
-    FILE* f = fopen(security_file, "r");
-    const size_t got = f != NULL ? fread(security, 1, sizeof security - 1, f) : 0;
-    if (f != NULL) fclose(f);
-    security[got] = '\0';
-    const char* prefix = "<CycloneDDS><Domain Id=\"any\">";
-    const size_t at = strlen(prefix), n = strlen(xml) + got + 1;
-    secured = got > 0 ? malloc(n) : NULL;
-    if (secured == NULL || strncmp(xml, prefix, at) != 0) {
-      free(secured);
-      fprintf(stderr, "raw-cyclone: cannot read the security configuration %s\n", security_file);
-      return 0;
-    }
-    snprintf(secured, n, "%s%s%s", prefix, security, xml + at);
-    xml = secured;
+  const char* more = getenv("CYCLONEDDS_URI");
+  char* merged = NULL;
+  if (more != NULL && more[0] != '\0') {
+    const size_t n = strlen(xml) + strlen(more) + 2;
+    merged = malloc(n);
+    if (merged == NULL) return 0;
+    snprintf(merged, n, "%s,%s", xml, more);
+    xml = merged;
   }
   ep->domain = dds_create_domain((dds_domainid_t)domain_id, xml);
-  free(secured);
+  free(merged);
   if (ep->domain < 0) {
     fprintf(stderr, "raw-cyclone: dds_create_domain(%u): %s\n", domain_id, dds_strretcode(ep->domain));
     return 0;

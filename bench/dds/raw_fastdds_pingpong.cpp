@@ -35,7 +35,6 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <fstream>
 #include <chrono>
 #include <cinttypes>
 #include <cstdint>
@@ -208,7 +207,12 @@ bool setup(Endpoints& ep, std::uint32_t domain, fd::TypeSupport type, const std:
   const char* env = std::getenv("BENCH_LOCALHOST");
   const bool localhost = env != nullptr && env[0] != '\0' && std::strcmp(env, "0") != 0;
 
-  fd::DomainParticipantQos pq;
+  // The default participant profile of FASTRTPS_DEFAULT_PROFILES_FILE, when set, under this
+  // program's own settings: how a Fast DDS user adds DDS-Security (run_dds_bench.sh --secure
+  // gives the profile `horus security dds-config --for fastdds` writes).
+  auto* factory = fd::DomainParticipantFactory::get_instance();
+  factory->load_profiles();
+  fd::DomainParticipantQos pq = factory->get_default_participant_qos();
   pq.name(is_ping                ? "raw-fastdds-ping"
           : role == Role::kPong  ? "raw-fastdds-pong"
           : role == Role::kSink  ? "raw-fastdds-sink"
@@ -229,20 +233,8 @@ bool setup(Endpoints& ep, std::uint32_t domain, fd::TypeSupport type, const std:
     pq.wire_protocol().default_unicast_locator_list.push_back(loopback);
   }
   pq.transport().user_transports.push_back(udp);
-  // BENCH_FASTDDS_SECURITY: a file of "name=value" lines, participant properties (DDS-Security's
-  // dds.sec.*, run_dds_bench.sh --secure).
-  if (const char* file = std::getenv("BENCH_FASTDDS_SECURITY"); file != nullptr && file[0] != '\0') {
-    std::ifstream in(file);
-    if (!in) {
-      std::fprintf(stderr, "raw-fastdds: cannot read the security configuration %s\n", file);
-      return false;
-    }
-    for (std::string line; std::getline(in, line);)
-      if (const std::size_t eq = line.find('='); eq != std::string::npos)
-        pq.properties().properties().emplace_back(line.substr(0, eq), line.substr(eq + 1));
-  }
 
-  ep.participant = fd::DomainParticipantFactory::get_instance()->create_participant(
+  ep.participant = factory->create_participant(
       static_cast<fd::DomainId_t>(domain), pq, nullptr, fd::StatusMask::none());
   if (ep.participant == nullptr) {
     std::fprintf(stderr, "raw-fastdds: could not create a participant on domain %u\n", domain);

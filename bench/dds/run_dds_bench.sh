@@ -63,24 +63,11 @@ if [ "$secure" = 1 ]; then
   ks="$(mktemp -d)/keys"
   cli="$build/tools/horus"
   "$cli" security keystore init "$ks" >/dev/null
-  plugins=$(dirname "$(ldd "$bin/raw-cyclone-pingpong" | awk '/libddsc/ {print $3; exit}')")/libddsc0debian
   for side in a b; do
     "$cli" security host create "$ks" "bench_$side" >/dev/null
     "$cli" security permissions "$ks" "bench_$side" --publish '**' --subscribe '**' >/dev/null
-    h="$ks/hosts/bench_$side"
-    lib() { echo "<Library path=\"$plugins/libdds_security_$1.so\" initFunction=\"init_$2\" finalizeFunction=\"finalize_$2\"/>"; }
-    echo "<Security><Authentication>$(lib auth authentication)<IdentityCA>file://$ks/public/identity_ca.cert.pem</IdentityCA><IdentityCertificate>file://$h/cert.pem</IdentityCertificate><PrivateKey>file://$h/key.pem</PrivateKey></Authentication><AccessControl>$(lib ac access_control)<Governance>file://$ks/governance.p7s</Governance><PermissionsCA>file://$ks/public/permissions_ca.cert.pem</PermissionsCA><Permissions>file://$h/permissions.p7s</Permissions></AccessControl><Cryptographic>$(lib crypto crypto)</Cryptographic></Security>" >"$h/cyclone.xml"
-    {
-      echo "dds.sec.auth.plugin=builtin.PKI-DH"
-      echo "dds.sec.auth.builtin.PKI-DH.identity_ca=file://$ks/public/identity_ca.cert.pem"
-      echo "dds.sec.auth.builtin.PKI-DH.identity_certificate=file://$h/cert.pem"
-      echo "dds.sec.auth.builtin.PKI-DH.private_key=file://$h/key.pem"
-      echo "dds.sec.access.plugin=builtin.Access-Permissions"
-      echo "dds.sec.access.builtin.Access-Permissions.permissions_ca=file://$ks/public/permissions_ca.cert.pem"
-      echo "dds.sec.access.builtin.Access-Permissions.governance=file://$ks/governance.p7s"
-      echo "dds.sec.access.builtin.Access-Permissions.permissions=file://$h/permissions.p7s"
-      echo "dds.sec.crypto.plugin=builtin.AES-GCM-GMAC"
-    } >"$h/fastdds.properties"
+    "$cli" security dds-config "$ks" "bench_$side" --for cyclonedds -o "$ks/hosts/bench_$side/cyclonedds.xml" >/dev/null
+    "$cli" security dds-config "$ks" "bench_$side" --for fastdds -o "$ks/hosts/bench_$side/fastdds.xml" >/dev/null
   done
 fi
 # Every topic signed or encrypted: the governance signed again from a one-rule file.
@@ -96,8 +83,8 @@ sec_env() {  # impl side
   local h="$ks/hosts/bench_$2"
   case "$1" in
     horus-*) echo "HORUS_SECURITY=enforce HORUS_SECURITY_KEYSTORE=$ks HORUS_SECURITY_IDENTITY=bench_$2" ;;
-    raw-cyclone) echo "BENCH_CYCLONE_SECURITY=$h/cyclone.xml" ;;
-    raw-fastdds) echo "BENCH_FASTDDS_SECURITY=$h/fastdds.properties" ;;
+    raw-cyclone) echo "CYCLONEDDS_URI=file://$h/cyclonedds.xml" ;;
+    raw-fastdds) echo "FASTRTPS_DEFAULT_PROFILES_FILE=$h/fastdds.xml" ;;
   esac
 }
 

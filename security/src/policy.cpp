@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <fnmatch.h>
+
 #include <algorithm>
 #include <ctime>
 
@@ -10,8 +12,8 @@
 namespace horus::security {
 namespace {
 
-constexpr std::size_t kMaxDoubleStars = 4;
-constexpr std::uint32_t kMaxRangeDomain = 230;  // "every domain": Cyclone DDS's largest domain id  // 2^4 expressions at most per pattern
+constexpr std::size_t kMaxDoubleStars = 4;       // 2^4 expressions at most per pattern
+constexpr std::uint32_t kMaxRangeDomain = 230;  // "every domain": Cyclone DDS's largest domain id
 
 }  // namespace
 
@@ -187,6 +189,19 @@ Result<std::string> permissions_xml(const PermissionsSpec& spec) {
       "</dds>\n",
       kHeader, xml_escape(spec.grant), xml_escape(spec.grant), xml_escape(spec.subject), xml_time(spec.not_before),
       xml_time(spec.not_after), allow);
+}
+
+TopicProtection protection_of(const GovernanceSpec& spec, std::string_view topic) {
+  std::string dds = "horus/";
+  for (char c : topic) dds += c == '.' ? '/' : c;
+  for (std::size_t i = 0; i < spec.rules.size(); ++i) {
+    const GovernanceRule& rule = spec.rules[i];
+    auto expressions = dds_topic_expressions(rule.pattern, rule.protection == net::Protection::Encrypt);
+    if (!expressions) continue;  // governance_xml refuses such a rule
+    for (const std::string& e : *expressions)
+      if (::fnmatch(e.c_str(), dds.c_str(), 0) == 0) return {rule.protection, i};
+  }
+  return {net::Protection::Encrypt, std::nullopt};
 }
 
 }  // namespace horus::security

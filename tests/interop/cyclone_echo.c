@@ -5,7 +5,9 @@
  *
  *   cyclone_echo <domain> <prefix> <seconds>      prints "ready"; stops when stdin closes
  *
- * Loopback only, unicast discovery, as horus's HORUS_DDS_LOCALHOST=1. */
+ * Loopback only, unicast discovery, as horus's HORUS_DDS_LOCALHOST=1. CYCLONEDDS_URI, when set,
+ * is merged after that, as Cyclone merges a list of configurations: how its user adds
+ * DDS-Security (the document `horus security dds-config --for cyclonedds` writes). */
 #include <poll.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -69,12 +71,25 @@ int main(int argc, char** argv) {
   const dds_domainid_t domain = (dds_domainid_t)atoi(argv[1]);
   const char* prefix = argv[2];
   const time_t end = time(NULL) + atoi(argv[3]);
-  if (dds_create_domain(domain, kConfig) < 0) {
+  const char* more = getenv("CYCLONEDDS_URI");
+  char* config = malloc(strlen(kConfig) + (more ? strlen(more) : 0) + 2);
+  if (config == NULL) return 3;
+  strcpy(config, kConfig);
+  if (more && *more) {
+    strcat(config, ",");
+    strcat(config, more);
+  }
+  const dds_entity_t created = dds_create_domain(domain, config);
+  free(config);
+  if (created < 0) {
     fprintf(stderr, "cyclone_echo: dds_create_domain failed\n");
     return 3;
   }
   dds_entity_t pp = dds_create_participant(domain, NULL, NULL);
-  if (pp < 0) return 3;
+  if (pp < 0) {
+    fprintf(stderr, "cyclone_echo: cannot create a participant: %s\n", dds_strretcode(pp));
+    return 3;
+  }
   /* Reader best effort (accepts any writer), writer reliable + transient local (satisfies any reader). */
   dds_qos_t* rq = dds_create_qos();
   dds_qset_reliability(rq, DDS_RELIABILITY_BEST_EFFORT, 0);

@@ -5,7 +5,9 @@
 //
 //   fastdds_echo <domain> <prefix> <seconds>      prints "ready"; stops when stdin closes
 //
-// Loopback only (UDPv4 on 127.0.0.1, unicast discovery), as horus's HORUS_DDS_LOCALHOST=1.
+// Loopback only (UDPv4 on 127.0.0.1, unicast discovery), as horus's HORUS_DDS_LOCALHOST=1, on
+// top of the default participant profile of FASTRTPS_DEFAULT_PROFILES_FILE when set: how its
+// user adds DDS-Security (the profile `horus security dds-config --for fastdds` writes).
 #include <poll.h>
 #include <unistd.h>
 
@@ -77,7 +79,9 @@ int main(int argc, char** argv) {
   const std::string prefix = argv[2];
   const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(std::atoi(argv[3]));
 
-  fd::DomainParticipantQos pq;
+  auto* factory = fd::DomainParticipantFactory::get_instance();
+  factory->load_profiles();
+  fd::DomainParticipantQos pq = factory->get_default_participant_qos();
   pq.transport().use_builtin_transports = false;
   auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
   udp->interfaceWhiteList.emplace_back("127.0.0.1");
@@ -91,7 +95,6 @@ int main(int argc, char** argv) {
   pq.wire_protocol().builtin.initialPeersList.push_back(loopback);
   pq.wire_protocol().default_unicast_locator_list.push_back(loopback);
   pq.transport().user_transports.push_back(udp);
-  auto* factory = fd::DomainParticipantFactory::get_instance();
   fd::DomainParticipant* pp = factory->create_participant(static_cast<fd::DomainId_t>(domain), pq);
   if (pp == nullptr) {
     std::fprintf(stderr, "fastdds_echo: cannot create a participant\n");

@@ -40,13 +40,14 @@ inline horus::TopicOptions on(Backend b) {
 
 /// A peer process: stdin is a pipe (closing it stops the peer), its stdout says "ready".
 /// `program` runs with `args` and the environment, HORUS_BACKEND replaced by `backend`'s name
-/// and HORUS_NAMESPACE by one of its own (it stands for another host).
+/// and HORUS_NAMESPACE by one of its own (it stands for another host), plus `more_env`
+/// ("NAME=value" each).
 class Peer {
  public:
 #ifdef HORUS_DDS_PEER
   Peer(Backend backend, std::vector<std::string> args) : Peer(HORUS_DDS_PEER, backend, std::move(args)) {}
 #endif
-  Peer(const std::string& program, Backend backend, std::vector<std::string> args) {
+  Peer(const std::string& program, Backend backend, std::vector<std::string> args, std::vector<std::string> more_env = {}) {
     int in[2], out[2];
     EXPECT_EQ(::pipe(in), 0);
     EXPECT_EQ(::pipe(out), 0);
@@ -61,6 +62,7 @@ class Peer {
     // take the shared-memory path between them).
     std::vector<std::string> env_strings{"HORUS_BACKEND=" + std::string(horus::to_string(backend)),
                                          "HORUS_NAMESPACE=peer" + std::to_string(::getpid())};
+    env_strings.insert(env_strings.end(), more_env.begin(), more_env.end());
     for (char** e = environ; *e != nullptr; ++e) {
       const std::string_view v(*e);
       if (v.rfind("HORUS_BACKEND=", 0) != 0 && v.rfind("HORUS_NAMESPACE=", 0) != 0) env_strings.emplace_back(*e);

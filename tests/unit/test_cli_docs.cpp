@@ -20,7 +20,7 @@ const std::vector<std::string> kCommands = {
     "topic list", "topic info",  "topic echo",     "topic hz", "topic bw",   "topic pub",   "fleet",
     "record",     "record info", "record recover", "play",     "bench pong", "bench ping", "bench local",
     "clean",      "config check", "config explain", "security keystore init", "security host create",
-    "security permissions", "security governance", "security check"};
+    "security permissions", "security governance", "security check", "security dds-config"};
 
 // The options of one command's --help: "-n,--count INT  ..." gives "-n" and "--count".
 std::vector<std::vector<std::string>> options_of(const std::string& help) {

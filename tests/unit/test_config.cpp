@@ -402,6 +402,47 @@ TEST_F(ConfigTest, TheCliChecksAFileAndExplainsWhatATopicGetsAndFromWhere) {
   EXPECT_NE(out.find("invalid topic name"), std::string::npos) << out;
 }
 
+// Under DDS-Security, explain says where the settings come from and how the governance signed
+// from the file protects a fleet topic: the first rule with `protection:` that matches, as
+// DDS-Security matches it (a single `*` in an encrypt rule also crosses dots), else encrypt.
+TEST_F(ConfigTest, TheCliExplainsAFleetTopicsSecurityAndProtection) {
+  TempFile file(
+      "security:\n  keystore: keys\n  identity: robot1\n"
+      "topics:\n"
+      "  - match: robot1.status\n    scope: fleet\n    backend: cyclonedds\n    protection: sign\n"
+      "  - match: robot1.*\n    scope: fleet\n    backend: cyclonedds\n    protection: encrypt\n"
+      "  - match: \"robot1.**\"\n    scope: fleet\n    backend: cyclonedds\n    protection: sign\n"
+      "  - match: \"radio.**\"\n    scope: fleet\n    backend: lcm\n"
+      "  - match: \"**\"\n    scope: fleet\n    backend: cyclonedds\n");
+  std::string out;
+  const std::string unset = "env -u HORUS_SECURITY -u HORUS_SECURITY_KEYSTORE -u HORUS_SECURITY_IDENTITY ";
+  const std::string cli = unset + HORUS_CLI;
+  ASSERT_EQ(horus_test::run_command(cli + " config explain robot1.cam.left --file " + file.path, out), 0) << out;
+  EXPECT_NE(out.find("security    enforce          configuration file '" + file.path +
+                     "', line 2, security.keystore (a keystore without a mode: enforce)"),
+            std::string::npos)
+      << out;
+  EXPECT_NE(out.find("identity 'robot1' in keystore"), std::string::npos) << out;
+  // robot1.* is widened for encryption: it also takes robot1.cam.left, before robot1.**.
+  EXPECT_NE(out.find("protection  encrypt          file " + file.path + ", line 9: rule 'robot1.*'"), std::string::npos) << out;
+  ASSERT_EQ(horus_test::run_command(cli + " config explain robot1.status --file " + file.path, out), 0) << out;
+  EXPECT_NE(out.find("protection  sign             file " + file.path + ", line 5: rule 'robot1.status'"), std::string::npos)
+      << out;
+  ASSERT_EQ(horus_test::run_command(cli + " config explain other.pose --file " + file.path, out), 0) << out;
+  EXPECT_NE(out.find("protection  encrypt          default"), std::string::npos) << out;
+  ASSERT_EQ(horus_test::run_command(cli + " config explain radio.ping --file " + file.path, out), 0) << out;
+  EXPECT_NE(out.find("protection  none             LCM has no security: the topic is refused under enforce"), std::string::npos)
+      << out;
+  // The environment over the file.
+  ASSERT_EQ(horus_test::run_command(unset + "HORUS_SECURITY=off " + HORUS_CLI + " config explain robot1.cam.left --file " +
+                                        file.path,
+                                    out),
+            0)
+      << out;
+  EXPECT_NE(out.find("security    off"), std::string::npos) << out;
+  EXPECT_EQ(out.find("protection"), std::string::npos) << out;
+}
+
 // What only a transport knows is checked too: LCM's URL (whenever the file gives one) and its
 // refusal of peers (when a rule or network.backend uses LCM), with the file and the line.
 TEST_F(ConfigTest, TheCliChecksTheLcmUrlAndPeersWithTheFileAndLine) {

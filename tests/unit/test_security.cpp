@@ -2,7 +2,9 @@
 // variables, topic patterns as DDS-Security's fnmatch expressions, the governance and permissions
 // documents, and a keystore made, checked and damaged the ways a fleet's operator meets: an
 // expired certificate, a document edited after signing, another host's permissions, a key others
-// can read, a certificate of another CA. The namespace-host tests are multihost/test_security.cpp.
+// can read, a certificate of another CA; what another DDS program is configured with (dds-config).
+// The namespace-host tests are multihost/test_security.cpp; a third-party program under security,
+// interop/test_dds_interop.cpp.
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
@@ -18,6 +20,7 @@
 #include "horus/config.hpp"
 #include "horus/environment.hpp"
 #include "horus/network.hpp"
+#include "horus/security/dds_config.hpp"
 #include "horus/security/keystore.hpp"
 #include "horus/security/policy.hpp"
 #include "horus/transport_registry.hpp"
@@ -213,6 +216,23 @@ TEST(SecurityPolicy, GovernanceListsTheRulesInOrderThenEncryptsEverythingElse) {
   EXPECT_NE(g->find("<enable_join_access_control>true</enable_join_access_control>"), std::string::npos);
 }
 
+TEST(SecurityPolicy, ATopicsProtectionIsTheFirstRuleDdsSecurityMatchesElseEncrypt) {
+  const GovernanceSpec spec{{{"horus.fleet.heartbeat", Protection::Sign},
+                             {"robot1.*", Protection::Encrypt},
+                             {"robot1.**", Protection::Sign}},
+                            {}};
+  const auto heartbeat = protection_of(spec, "horus.fleet.heartbeat");
+  EXPECT_EQ(heartbeat.protection, Protection::Sign);
+  EXPECT_EQ(heartbeat.rule, std::optional<std::size_t>(0));
+  // fnmatch's '*' crosses '/': the widened encrypt rule takes two segments below robot1 too.
+  EXPECT_EQ(protection_of(spec, "robot1.cam.left").rule, std::optional<std::size_t>(1));
+  EXPECT_EQ(protection_of(spec, "robot1.cam.left").protection, Protection::Encrypt);
+  EXPECT_EQ(protection_of(spec, "robot1").rule, std::optional<std::size_t>(2));
+  EXPECT_EQ(protection_of(spec, "robot1").protection, Protection::Sign);
+  EXPECT_EQ(protection_of(spec, "robot2.pose").rule, std::nullopt);
+  EXPECT_EQ(protection_of(spec, "robot2.pose").protection, Protection::Encrypt);
+}
+
 TEST(SecurityPolicy, PermissionsAllowWhatIsListedAndTheFleetLayerAndDenyTheRest) {
   PermissionsSpec spec;
   spec.grant = "robot1";
@@ -382,6 +402,42 @@ TEST(Keystore, PermissiveRunsPlainWhenTheFilesAreMissingAndEnforceRefuses) {
   auto off = secure_participant({}, "test transport");
   ASSERT_TRUE(off);
   EXPECT_FALSE(off->has_value());
+}
+
+// ---------------------------------------------------------------------------- other DDS programs
+
+TEST(DdsConfig, AnotherProgramGetsTheStandardPropertiesAndDocumentsNamingTheIdentitysFiles) {
+  Fleet f;
+  ASSERT_NO_FATAL_FAILURE(f.make());
+  auto files = participant_files(f.security());
+  ASSERT_TRUE(files) << files.error().message();
+  const auto properties = dds_security_properties(*files);
+  ASSERT_EQ(properties.size(), 9u);
+  EXPECT_EQ(properties.front(), std::make_pair(std::string("dds.sec.auth.plugin"), std::string("builtin.PKI-DH")));
+  EXPECT_EQ(properties.back(), std::make_pair(std::string("dds.sec.crypto.plugin"), std::string("builtin.AES-GCM-GMAC")));
+  auto fastdds = third_party_config(*files, "fastdds");
+  ASSERT_TRUE(fastdds) << fastdds.error().message();
+  auto cyclone = third_party_config(*files, "cyclonedds");
+  ASSERT_TRUE(cyclone) << cyclone.error().message();
+  for (const auto& [name, value] : properties) {
+    EXPECT_NE(fastdds->find("<name>" + name + "</name><value>" + value + "</value>"), std::string::npos) << name;
+  }
+  EXPECT_NE(fastdds->find("is_default_profile=\"true\""), std::string::npos) << *fastdds;
+  EXPECT_NE(cyclone->find("<CycloneDDS><Domain Id=\"any\"><Security><Authentication>"), std::string::npos) << *cyclone;
+  EXPECT_NE(cyclone->find("<PrivateKey>" + file_uri(f.ks.host_key("robot1")) + "</PrivateKey>"), std::string::npos) << *cyclone;
+  EXPECT_NE(cyclone->find("<Permissions>" + file_uri(f.ks.permissions_p7s("robot1")) + "</Permissions>"), std::string::npos);
+  // The plug-ins by path where this machine has them, by name otherwise.
+  const fs::path plugins = cyclone_plugin_dir();
+  const std::string auth = plugins.empty() ? "dds_security_auth" : (plugins / "libdds_security_auth.so").string();
+  EXPECT_NE(cyclone->find("<Library path=\"" + auth + "\" initFunction=\"init_authentication\""), std::string::npos)
+      << *cyclone;
+  if (!plugins.empty()) {
+    EXPECT_TRUE(fs::exists(plugins / "libdds_security_crypto.so"));
+  }
+  auto other = third_party_config(*files, "opendds");
+  ASSERT_FALSE(other);
+  EXPECT_EQ(other.error().code(), Errc::InvalidArgument);
+  EXPECT_NE(other.error().message().find("'opendds': expected cyclonedds"), std::string::npos) << other.error().message();
 }
 
 }  // namespace

@@ -148,6 +148,9 @@ namespace net {
 Result<Config> config_from_environment();
 /// The network settings `file` alone gives (no environment): what `horus config check` checks.
 Result<Config> config_of(const horus::Config& file);
+/// The environment over `file` (nullptr: the environment alone): what a process would get if
+/// HORUS_CONFIG named that file (`horus config explain --file`).
+Result<Config> config_from_environment(const horus::Config* file);
 }  // namespace net
 /// Same as net::config_from_environment() (the name horus has always had).
 inline Result<net::Config> network_config_from_environment() { return net::config_from_environment(); }

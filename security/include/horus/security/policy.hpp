@@ -47,6 +47,15 @@ struct GovernanceSpec {
 /// encrypted or signed per `spec`.
 Result<std::string> governance_xml(const GovernanceSpec& spec);
 
+/// How the governance of `spec` protects horus topic `topic`, as DDS-Security matches it (the
+/// first rule whose expressions match its DDS name): the protection, and the rule's index in
+/// spec.rules (nullopt: no rule matches, the topic is encrypted).
+struct TopicProtection {
+  net::Protection protection = net::Protection::Encrypt;
+  std::optional<std::size_t> rule;
+};
+TopicProtection protection_of(const GovernanceSpec& spec, std::string_view topic);
+
 struct PermissionsSpec {
   std::string grant;    // the grant's name (the host's identity name)
   std::string subject;  // the subject name of the host's certificate ("CN=robot1,O=horus", RFC 2253)
