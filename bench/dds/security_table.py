@@ -1,7 +1,8 @@
 """Reads RESULT lines of run_dds_bench.sh --secure on stdin (each with protection=plain|sign|encrypt)
 and prints what DDS-Security costs: per message type and implementation, the one-way p50 (median
 over rounds) and the throughput plain, signed and encrypted, with each one's ratio to plain, and
-horus against the raw library under the same protection."""
+horus against the raw library under the same protection; then each cell's p50 / p99 / p99.9 (median
+over rounds) with the spread of p50 over the rounds (min-max)."""
 import statistics
 import sys
 
@@ -59,5 +60,18 @@ for t in ["cmdvel", "image"]:
             ratio = f"({v[0] / plain[0]:.2f}x)" if v and plain[0] > 0 else ""
             cells.append(f"{v[0]:>8.0f} {v[1]:>7.1f} MB {ratio:>7}" if v else f"{'-':>26}")
         print(f"{t:<7} {impl:<17} " + " ".join(cells))
+print(f"\n{title}: one-way p50 [min-max over rounds] / p99 / p99.9 in us, median over rounds")
+print(f"{'type':<7} {'implementation':<17} {'protection':<8} {'p50':>9} {'[min-max]':>21} {'p99':>9} {'p99.9':>9}")
+for t in ["cmdvel", "image"]:
+    for impl in impls:
+        for prot in prots:
+            rs = lat.get((t, impl, prot))
+            if not rs:
+                continue
+            p50s = [float(r["p50_ns"]) / 1000 for r in rs]
+            med = lambda k: statistics.median(float(r[k]) for r in rs) / 1000
+            spread = f"[{min(p50s):.1f}-{max(p50s):.1f}]"
+            print(f"{t:<7} {impl:<17} {prot:<8} {statistics.median(p50s):>9.1f} {spread:>21} {med('p99_ns'):>9.1f} "
+                  f"{med('p999_ns'):>9.1f}")
 for f in failed:
     print(f)

@@ -8,6 +8,7 @@
 //   - c's publications on robot2.cmd_vel never reach b (its permissions allow robot1.**), while
 //     a's do, and c's log says why;
 //   - an expired certificate, and LCM under enforce, are refused with a clear error;
+//   - on b under enforce, `horus record` and `horus bench` work with b's identity;
 //   - Cyclone DDS and Fast DDS authenticate each other only when the Cyclone participant begins
 //     the handshake (the one with the lower GUID, from its certificate's subject): of the two
 //     ways to pair a's and b's identities across the libraries, exactly one works.
@@ -16,8 +17,12 @@
 
 #include <unistd.h>
 
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -197,6 +202,46 @@ TEST(SecureFleetRefusals, AnExpiredCertificateAndLcmUnderEnforceAreRefusedClearl
     const std::string out = open("lcm", "a", k.fleet, "HORUS_LCM_URL=udpm://239.255.76.67:7667?ttl=0");
     EXPECT_NE(out.find("environment variable HORUS_SECURITY is enforce, but LCM has no security"), std::string::npos) << out;
   }
+}
+
+// The CLI under enforce, with the host's identity (on Cyclone DDS; the transport is the one the
+// tests above check on both libraries): on b, `horus record` records a's fleet topic, found
+// through the secured fleet layer, and `horus bench ping` measures round trips to a pong on a.
+TEST(SecureFleetCli, RecordAndBenchWorkWithTheHostsIdentity) {
+  if (!horus::backend_available(horus::Backend::CycloneDds)) GTEST_SKIP() << "cyclonedds is not in this build";
+  if (!Keystores::get().why.empty()) FAIL() << Keystores::get().why;
+  const Keystores& k = Keystores::get();
+  NetnsLan lan(2);
+  if (!lan.ok()) GTEST_SKIP() << lan.why();
+  const std::string tag = std::to_string(::getpid());
+  const std::string file = (fs::temp_directory_path() / ("horus_test_secure_" + tag + ".mcap")).string();
+  const std::string json = (fs::temp_directory_path() / ("horus_test_secure_" + tag + ".json")).string();
+  const auto a = env("cyclonedds", "a", k.fleet), b = env("cyclonedds", "b", k.fleet);
+  auto rec = lan.spawn(1, {HORUS_CLI, "record", "-o", file, "--topics", "sec.rec", "--duration", "9"}, b);
+  auto pub = lan.spawn(0, member("sec.rec", 1, unix_ms() + 3000, 1, 9, {"await-reader", "period=20"}), a);
+  auto pong = lan.spawn(0, {HORUS_CLI, "bench", "pong", "--topic-prefix", "sec.bench", "--once"}, a);
+  auto ping = lan.spawn(1, {HORUS_CLI, "bench", "ping", "--topic-prefix", "sec.bench", "--remote", "--type", "Pose2D",
+                            "--rate", "100", "--count", "200", "--warmup", "4", "--json", json, "-q"},
+                        b);
+  EXPECT_EQ(ping.wait(40s), 0) << ping.output() << "\npong:\n" << pong.output();
+  EXPECT_EQ(pong.wait(15s), 0) << pong.output();
+  std::ifstream summary(json);
+  const auto j = nlohmann::json::parse(summary, nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << ping.output();
+  EXPECT_EQ(j.value("received", 0), 200) << j.dump();
+  EXPECT_EQ(rec.wait(30s), 0) << rec.output();
+  (void)pub.wait(20s);
+  auto info = lan.spawn(1, {HORUS_CLI, "record", "info", "--json", file}, b);
+  ASSERT_EQ(info.wait(20s), 0) << info.output();
+  const std::string out = info.output();
+  const auto recorded = nlohmann::json::parse(out.substr(std::min(out.find('{'), out.size())), nullptr, false);
+  ASSERT_FALSE(recorded.is_discarded()) << out;
+  int messages = -1;
+  for (const auto& t : recorded.value("topics", nlohmann::json::array()))
+    if (t.value("topic", "") == "sec.rec") messages = t.value("messages", 0);
+  EXPECT_EQ(messages, 50) << out << "\nrecord:\n" << rec.output() << "\npublisher:\n" << pub.output();
+  fs::remove(file);
+  fs::remove(json);
 }
 
 // Cyclone DDS 0.10 and Fast DDS 2.9: the pairing in which the Cyclone participant begins the
