@@ -6,8 +6,9 @@
 // local, xcdr1, lcm: each message type of fuzz_common.hpp encoded by its codec, the selector
 // byte first (xcdr1 with the encapsulation header, lcm with the mode byte); dynamic: a type's
 // signature, NUL, its XCDR1 body; announcement: an encapsulated Announcement; mcap: recordings
-// with each compression; lcm_log: an event log; config: configuration files; shm: the segment
-// file of a topic of each kind as it is created, the kind byte first.
+// with each compression; lcm_log: an event log; config: configuration files (one with a
+// security: section and protection: rules); shm: the segment file of a topic of each kind as it
+// is created, the kind byte first.
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -219,6 +220,19 @@ topics:
     scope: host
 )"));
   put("config", "bad", text("topics:\n  - match: a.**\n    scop: host\n"));
+  put("config", "secure", text(R"(security:
+  mode: enforce
+  keystore: keys
+  identity: robot1
+topics:
+  - match: horus.fleet.heartbeat
+    scope: fleet
+    protection: sign
+  - match: "robot1.*"
+    scope: fleet
+    backend: fastdds
+    protection: encrypt
+)"));
 }
 
 void segments() {
