@@ -80,17 +80,8 @@ int print_security(std::string_view topic, const horus::Backend& backend, const 
                                                            : "LCM has no security: the topic is plain");
     return 0;
   }
-  const security::GovernanceSpec spec = governance_spec(config);
-  const security::TopicProtection p = security::protection_of(spec, topic);
-  // spec.rules are the file's rules with `protection:`, in order: the p.rule-th of those.
-  const horus::TopicRule* rule = nullptr;
-  std::size_t nth = 0;
-  if (p.rule)
-    for (const horus::TopicRule& r : config->rules())
-      if (r.protection && nth++ == *p.rule) {
-        rule = &r;
-        break;
-      }
+  const security::TopicProtection p = security::protection_of(governance_spec(config), topic);
+  const horus::TopicRule* rule = p.rule ? protection_rules(config).at(*p.rule) : nullptr;
   fmt::print("  protection  {:<16} {}\n", horus::net::to_string(p.protection),
              rule != nullptr ? fmt::format("file {}, line {}: rule '{}' (once `horus security governance` signs it)",
                                            config->file(), rule->line, rule->match)

@@ -27,11 +27,17 @@ struct SecurityCommands {
   bool one_ca = false, replace = false, no_fleet_topics = false;
 };
 
-security::GovernanceSpec governance_spec(const Config* config) {
-  security::GovernanceSpec spec;
+std::vector<const TopicRule*> protection_rules(const Config* config) {
+  std::vector<const TopicRule*> out;
   if (config != nullptr)
     for (const TopicRule& r : config->rules())
-      if (r.protection) spec.rules.push_back({r.match, *r.protection});
+      if (r.protection) out.push_back(&r);
+  return out;
+}
+
+security::GovernanceSpec governance_spec(const Config* config) {
+  security::GovernanceSpec spec;
+  for (const TopicRule* r : protection_rules(config)) spec.rules.push_back({r->match, *r->protection});
   return spec;
 }
 

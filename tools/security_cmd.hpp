@@ -11,14 +11,17 @@
 #include <CLI/CLI.hpp>
 
 #include <memory>
+#include <vector>
 
 #include "horus/config.hpp"
 #include "horus/security/policy.hpp"
 
 namespace horus::tools {
 
-/// The governance the configuration file's rules give (their `protection:`, in order; nullptr:
-/// none): what `horus security governance` signs and `horus config explain` shows.
+/// The configuration file's rules with `protection:`, in order (nullptr: none).
+std::vector<const TopicRule*> protection_rules(const Config* config);
+/// The governance those rules give (the i-th governance rule is the i-th of protection_rules):
+/// what `horus security governance` signs and `horus config explain` shows.
 security::GovernanceSpec governance_spec(const Config* config);
 
 struct SecurityCommands;

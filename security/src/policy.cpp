@@ -66,6 +66,17 @@ Result<std::vector<std::string>> expressions_of(const std::vector<std::string>& 
 
 }  // namespace
 
+namespace {
+
+// A governance rule's expressions: an encrypt rule may widen a single '*' (more topics
+// encrypted), a sign rule may not (it would weaken protection). governance_xml writes them,
+// protection_of matches them: the two agree by construction.
+Result<std::vector<std::string>> rule_expressions(const GovernanceRule& r) {
+  return dds_topic_expressions(r.pattern, r.protection == net::Protection::Encrypt);
+}
+
+}  // namespace
+
 Result<std::vector<std::string>> dds_topic_expressions(std::string_view pattern, bool widen_single) {
   if (auto ok = check_topic_pattern(pattern); !ok) return std::unexpected(std::move(ok.error()));
   std::vector<std::string_view> segs;
@@ -123,7 +134,7 @@ Result<std::string> governance_xml(const GovernanceSpec& spec) {
         xml_escape(expression), data);
   };
   for (const GovernanceRule& r : spec.rules) {
-    auto e = dds_topic_expressions(r.pattern, r.protection == net::Protection::Encrypt);
+    auto e = rule_expressions(r);
     if (!e) return std::unexpected(Error(Errc::Config, fmt::format("protection: {}: {}", to_string(r.protection), e.error().message())));
     for (const std::string& x : *e) rule(x, r.protection);
   }
@@ -195,11 +206,10 @@ TopicProtection protection_of(const GovernanceSpec& spec, std::string_view topic
   std::string dds = "horus/";
   for (char c : topic) dds += c == '.' ? '/' : c;
   for (std::size_t i = 0; i < spec.rules.size(); ++i) {
-    const GovernanceRule& rule = spec.rules[i];
-    auto expressions = dds_topic_expressions(rule.pattern, rule.protection == net::Protection::Encrypt);
+    auto expressions = rule_expressions(spec.rules[i]);
     if (!expressions) continue;  // governance_xml refuses such a rule
     for (const std::string& e : *expressions)
-      if (::fnmatch(e.c_str(), dds.c_str(), 0) == 0) return {rule.protection, i};
+      if (::fnmatch(e.c_str(), dds.c_str(), 0) == 0) return {spec.rules[i].protection, i};
   }
   return {net::Protection::Encrypt, std::nullopt};
 }
