@@ -22,6 +22,7 @@ packages=(
   libzstd-dev liblz4-dev zlib1g-dev   # MCAP recordings: zstd and lz4 chunks, CRC-32 (record/)
   nodejs   # the independent MCAP readers of the recording tests (tests/interop/mcap_js)
   gnuplot-nox   # horus bench ping --plot: the latency histogram and CDF as PNG
+  pybind11-dev python3-dev python3-numpy python3-pytest   # the Python package horus (python/) and its tests
 )
 
 missing=()

@@ -79,14 +79,12 @@ struct Opened {
   std::uint64_t lcm_fingerprint = 0;
   std::unique_ptr<TypedReader> reader;
   std::unique_ptr<TypedWriter> writer;
-  std::unique_ptr<RecordSource> source;
-  std::unique_ptr<PlaySink> sink;
   // horus bench (bench_peer.hpp): what to open, and the peer
   const BenchPayload* bench_payload = nullptr;
   const BenchEndpoints* bench_endpoints = nullptr;
   std::unique_ptr<BenchPeer> bench;
 };
-enum class Want { Name, Reader, Writer, Record, PlayCdr, PlayLcm, BenchCheck, Bench };
+enum class Want { Name, Reader, Writer, BenchCheck, Bench };
 void open_first_half(std::string_view type_name, const std::string& name, const std::optional<Backend>& backend,
                      Want want, Opened& out, std::string& error);
 void open_second_half(std::string_view type_name, const std::string& name, const std::optional<Backend>& backend,

@@ -1,3 +1,4 @@
+#include "horus/record/standard.hpp"
 #include "typed_reader_impl.hpp"
 
 namespace horus::tools {
@@ -35,16 +36,27 @@ std::string standard_type_by_lcm_fingerprint(std::uint64_t fingerprint) {
   return open_any({}, {}, std::nullopt, detail::Want::Name, error, std::move(by_fingerprint)).qualified;
 }
 
+// Recording and playing go through the record library's sources and sinks of every standard
+// type (horus/record/standard.hpp), compiled there once for this CLI and the Python package.
 std::unique_ptr<RecordSource> open_record_source(std::string_view type_name, const std::string& name,
                                                  const std::optional<Backend>& backend, std::string& error) {
-  return open_any(type_name, name, backend, detail::Want::Record, error).source;
+  error.clear();
+  if (standard_type(type_name).empty()) return nullptr;
+  TopicOptions options;
+  options.backend = backend;
+  auto source = open_standard_source(type_name, name, options);
+  if (!source) error = source.error().message();
+  return source ? std::move(*source) : nullptr;
 }
 
 std::unique_ptr<PlaySink> open_play_sink(std::string_view type_name, const std::string& name, bool lcm_encoding,
                                          std::uint64_t& type_hash, std::string& error) {
-  auto out = open_any(type_name, name, std::nullopt, lcm_encoding ? detail::Want::PlayLcm : detail::Want::PlayCdr, error);
-  type_hash = out.hash;
-  return std::move(out.sink);
+  error.clear();
+  type_hash = 0;
+  if (standard_type(type_name).empty()) return nullptr;
+  auto sink = open_standard_sink(type_name, name, lcm_encoding, type_hash);
+  if (!sink) error = sink.error().message();
+  return sink ? std::move(*sink) : nullptr;
 }
 
 std::string bench_type(const BenchPayload& payload, std::string& error) {

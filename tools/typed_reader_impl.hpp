@@ -82,9 +82,7 @@ void open_as(msg::TypeList<T...>, std::string_view type_name, const std::string&
     auto topic = Topic<M>::open(name, options);
     if (!topic) error = topic.error().message();
     else if (want == Want::Reader) out.reader = std::make_unique<ReaderOf<M>>(std::move(*topic));
-    else if (want == Want::Writer) out.writer = std::make_unique<WriterOf<M>>(std::move(*topic));
-    else if (want == Want::Record) out.source = std::make_unique<TopicSource<M>>(std::move(*topic));
-    else out.sink = std::make_unique<TopicSink<M>>(std::move(*topic), want == Want::PlayLcm);
+    else out.writer = std::make_unique<WriterOf<M>>(std::move(*topic));
   };
   (try_one.template operator()<T>(), ...);
 }

@@ -1,0 +1,178 @@
+// A reflected field's value to and from Python: numbers, enums (horus.msg enums), text
+// (fixed char arrays as str), nested messages (views into the parent), fixed arrays of numbers
+// (NumPy views into the message), vectors and byte buffers (NumPy copies), lists of the rest.
+// Every error names the field path and what was expected.
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <string_view>
+#include <type_traits>
+#include <vector>
+
+#include "horus/byte_buffer.hpp"
+#include "horus/fixed_string.hpp"
+#include "horus/reflect.hpp"
+
+namespace horus::python {
+
+namespace py = pybind11;
+
+template <class V>
+struct is_array : std::false_type {};
+template <class E, std::size_t N>
+struct is_array<std::array<E, N>> : std::true_type {
+  using element = E;
+};
+template <class V>
+struct is_vector : std::false_type {};
+template <class E, class A>
+struct is_vector<std::vector<E, A>> : std::true_type {
+  using element = E;
+};
+template <>
+struct is_vector<ByteBuffer> : std::true_type {
+  using element = std::uint8_t;
+};
+
+template <class V>
+inline constexpr bool is_number = std::is_arithmetic_v<V> && !std::is_same_v<V, bool> && !std::is_same_v<V, char>;
+
+[[noreturn]] void type_error(std::string_view path, std::string_view expected, py::handle got);
+[[noreturn]] void value_error(const std::string& text);
+
+/// A Python int or float as the number type V, range-checked (an int field refuses 1.5 and 300
+/// for a uint8); errors name `path`.
+template <class V>
+V number_from(py::handle h, std::string_view path) {
+  if constexpr (std::is_floating_point_v<V>) {
+    if (!py::isinstance<py::float_>(h) && !py::isinstance<py::int_>(h) && !py::hasattr(h, "__float__"))
+      type_error(path, "a number", h);
+    return static_cast<V>(h.cast<double>());
+  } else {
+    if (py::isinstance<py::bool_>(h) || !py::hasattr(h, "__index__")) type_error(path, "an integer", h);
+    const py::int_ i = py::reinterpret_steal<py::int_>(PyNumber_Index(h.ptr()));
+    int overflow = 0;
+    if constexpr (std::is_signed_v<V>) {
+      const long long v = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);
+      if (overflow == 0 && v >= std::numeric_limits<V>::min() && v <= std::numeric_limits<V>::max())
+        return static_cast<V>(v);
+    } else {
+      const unsigned long long v = PyLong_AsUnsignedLongLong(i.ptr());
+      if (PyErr_Occurred()) PyErr_Clear();
+      else if (v <= std::numeric_limits<V>::max()) return static_cast<V>(v);
+    }
+    value_error(std::string(path) + ": " + py::str(h).cast<std::string>() + " is out of range for " +
+                (std::is_signed_v<V> ? "int" : "uint") + std::to_string(sizeof(V) * 8) + " (" +
+                std::to_string(std::numeric_limits<V>::min()) + " to " + std::to_string(std::numeric_limits<V>::max()) +
+                ")");
+  }
+}
+
+/// The NumPy array of `n` V at `data`: a view kept valid by `base`, or a copy without one.
+template <class V>
+py::array numpy_of(const V* data, std::size_t n, py::handle base, bool writable) {
+  if (!base) return py::array_t<V>(static_cast<py::ssize_t>(n), data);
+  py::array_t<V> a(static_cast<py::ssize_t>(n), data, base);
+  if (!writable) a.attr("setflags")(py::arg("write") = false);
+  return a;
+}
+
+template <class V>
+py::object to_py(V& v, py::handle owner);
+template <class V>
+void from_py(py::handle h, V& v, const std::string& path);
+
+template <class V>
+py::object to_py(V& v, py::handle owner) {
+  using namespace horus::reflect;
+  if constexpr (std::is_same_v<V, bool> || is_number<V>) {
+    return py::cast(v);
+  } else if constexpr (std::is_same_v<V, char>) {
+    return py::str(&v, 1);
+  } else if constexpr (ReflectedEnum<V>) {
+    return py::cast(v);
+  } else if constexpr (reflect::detail::is_char_array<V>::value) {
+    const auto s = fixed_str_view(v);
+    return py::str(s.data(), s.size());
+  } else if constexpr (Reflected<V>) {
+    return py::cast(&v, py::return_value_policy::reference_internal, owner);
+  } else if constexpr (is_array<V>::value) {
+    using E = typename is_array<V>::element;
+    if constexpr (is_number<E>) {
+      return numpy_of<E>(v.data(), v.size(), owner, true);
+    } else {
+      py::list out;
+      for (auto& e : v) out.append(to_py(e, owner));
+      return out;
+    }
+  } else if constexpr (is_vector<V>::value) {
+    using E = typename is_vector<V>::element;
+    return numpy_of<E>(v.data(), v.size(), py::handle(), false);
+  } else {
+    static_assert(sizeof(V) == 0, "a field type the Python binding does not know");
+  }
+}
+
+/// A horus.msg enum from an enum member, its name or its value.
+template <class E>
+E enum_from(py::handle h, std::string_view path) {
+  if (py::isinstance<E>(h)) return h.cast<E>();
+  std::string names;
+  for (const auto& ev : reflect::enum_values<E>()) names += (names.empty() ? "" : ", ") + std::string(ev.name);
+  if (py::isinstance<py::str>(h)) {
+    E e{};
+    if (reflect::enum_from_name(h.cast<std::string>(), e)) return e;
+    value_error(std::string(path) + ": '" + h.cast<std::string>() + "' is not one of " + names);
+  }
+  const auto raw = number_from<std::underlying_type_t<E>>(h, path);
+  for (const auto& ev : reflect::enum_values<E>())
+    if (static_cast<std::underlying_type_t<E>>(ev.value) == raw) return ev.value;
+  value_error(std::string(path) + ": " + std::to_string(raw) + " is not a value of " + names);
+}
+
+template <class V>
+void from_py(py::handle h, V& v, const std::string& path) {
+  using namespace horus::reflect;
+  if constexpr (std::is_same_v<V, bool>) {
+    if (!py::isinstance<py::bool_>(h) && !py::isinstance<py::int_>(h)) type_error(path, "a bool", h);
+    v = h.cast<bool>();
+  } else if constexpr (is_number<V>) {
+    v = number_from<V>(h, path);
+  } else if constexpr (std::is_same_v<V, char>) {
+    if (!py::isinstance<py::str>(h) || py::len(h) != 1) type_error(path, "a one-character str", h);
+    v = h.cast<std::string>()[0];
+  } else if constexpr (ReflectedEnum<V>) {
+    v = enum_from<V>(h, path);
+  } else if constexpr (reflect::detail::is_char_array<V>::value) {
+    if (!py::isinstance<py::str>(h)) type_error(path, "a str", h);
+    const auto s = h.cast<std::string>();
+    if (!set_fixed_str(v, s))
+      value_error(path + ": '" + s + "' is " + std::to_string(s.size()) + " bytes; the field holds at most " +
+                  std::to_string(v.size() - 1));
+  } else if constexpr (Reflected<V>) {
+    if (!py::isinstance<V>(h)) type_error(path, std::string(horus::type_name<V>()), h);
+    v = h.cast<const V&>();
+  } else if constexpr (is_array<V>::value || is_vector<V>::value) {
+    if (!py::isinstance<py::sequence>(h) && !py::isinstance<py::array>(h)) type_error(path, "a sequence", h);
+    const py::sequence seq = py::isinstance<py::array>(h) ? py::sequence(h.attr("tolist")()) : h.cast<py::sequence>();
+    const std::size_t n = py::len(seq);
+    if constexpr (is_array<V>::value) {
+      if (n != v.size())
+        value_error(path + ": " + std::to_string(n) + " elements given; the field has exactly " + std::to_string(v.size()));
+    } else {
+      v.resize(n);
+    }
+    for (std::size_t i = 0; i < n; ++i) from_py(seq[i], v[i], path + "[" + std::to_string(i) + "]");
+  } else {
+    static_assert(sizeof(V) == 0, "a field type the Python binding does not know");
+  }
+}
+
+}  // namespace horus::python

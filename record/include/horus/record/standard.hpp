@@ -1,0 +1,49 @@
+// Recording and playing the standard messages by name, for programs that know a topic's type
+// only at run time (`horus record` / `horus play`, the Python package): a RecordSource and a
+// PlaySink of every standard type, compiled once here (src/standard_*.cpp, two halves built in
+// parallel) instead of in each program.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string_view>
+
+#include "horus/backend.hpp"
+#include "horus/error.hpp"
+#include "horus/record/player.hpp"
+#include "horus/record/recorder.hpp"
+
+namespace horus {
+
+/// A recorder's source for topic `name` of the standard message called `type_name` (qualified,
+/// "horus::msg::Pose2D", or not, "Pose2D"), opened as Topic<T>::open(name, options). Errors:
+/// the topic's, and Errc::InvalidArgument when `type_name` names no standard message.
+Result<std::unique_ptr<RecordSource>> open_standard_source(std::string_view type_name, std::string_view name,
+                                                           const TopicOptions& options = {});
+
+/// A player's sink publishing into topic `name` the standard message called `type_name`,
+/// decoding LCM's encoding (`lcm_encoding`) or XCDR1 with its header. `type_hash` receives the
+/// type's hash, to compare with the recorded one. Errors as open_standard_source.
+Result<std::unique_ptr<PlaySink>> open_standard_sink(std::string_view type_name, std::string_view name,
+                                                     bool lcm_encoding, std::uint64_t& type_hash,
+                                                     const TopicOptions& options = {});
+
+namespace record_detail {
+/// What one half of the standard types found for a name (standard_*.cpp).
+struct StandardOpen {
+  bool known = false;
+  std::uint64_t hash = 0;
+  bool want_sink = false;
+  bool lcm_encoding = false;
+  std::unique_ptr<RecordSource> source;
+  std::unique_ptr<PlaySink> sink;
+  std::optional<Error> error;
+};
+void open_standard_first(std::string_view type_name, std::string_view name, const TopicOptions& options,
+                         StandardOpen& out);
+void open_standard_second(std::string_view type_name, std::string_view name, const TopicOptions& options,
+                          StandardOpen& out);
+}  // namespace record_detail
+
+}  // namespace horus
