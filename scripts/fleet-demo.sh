@@ -8,20 +8,25 @@
 # reports it lost after 3 missed heartbeats, then rejoined; at the end `horus fleet --once` shows
 # the fleet from the monitor's host.
 #
-#   sudo scripts/fleet-demo.sh [--backend cyclonedds|fastdds|lcm] [--duration 10] [--no-cut] [--no-build]
+# With --python the monitor host runs the Python monitor (examples/python/monitor.py) instead:
+# the same topics, scopes and configuration file, from Python.
+#
+#   sudo scripts/fleet-demo.sh [--backend cyclonedds|fastdds|lcm] [--duration 10] [--no-cut] [--no-build] [--python]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 backend=cyclonedds
 duration=10
 build=1
 cut=1
+python=0
 while [ $# -gt 0 ]; do
   case "$1" in
     --backend) backend="$2"; shift 2 ;;
     --duration) duration="$2"; shift 2 ;;
     --no-build) build=0; shift ;;
     --no-cut) cut=0; shift ;;
-    *) echo "fleet-demo.sh: unknown argument '$1' (expected --backend NAME, --duration SECONDS, --no-cut, --no-build)" >&2; exit 2 ;;
+    --python) python=1; shift ;;
+    *) echo "fleet-demo.sh: unknown argument '$1' (expected --backend NAME, --duration SECONDS, --no-cut, --no-build, --python)" >&2; exit 2 ;;
   esac
 done
 case "$backend" in cyclonedds|fastdds|lcm) ;; *) echo "fleet-demo.sh: --backend $backend: expected cyclonedds, fastdds or lcm" >&2; exit 2 ;; esac
@@ -32,7 +37,9 @@ fi
 if [ "$build" = 1 ]; then
   scripts/install-deps.sh
   cmake --preset default >/dev/null
-  cmake --build --preset default --target fleet_demo horus_cli
+  targets=(fleet_demo horus_cli)
+  if [ "$python" = 1 ]; then targets+=(horus_python); fi
+  cmake --build --preset default --target "${targets[@]}"
 fi
 demo="$PWD/build/default/examples/fleet_demo"
 cli="$PWD/build/default/tools/horus"
@@ -58,7 +65,13 @@ on() {  # on HOST command...: runs it in that host's namespaces with the demo's 
 
 echo "horus fleet demo: 3 namespace hosts ($subnet.1-3), fleet topics on $backend, scopes from examples/fleet.yaml"
 # The monitor first (DDS discovery is quickest for participants that start after it), then the robots.
-on 3 "$demo" --role monitor --robots 2 --duration "$duration" --interval 2 &
+if [ "$python" = 1 ]; then
+  py=python3
+  [ -x /usr/bin/python3 ] && py=/usr/bin/python3  # Debian's, with python3-numpy
+  on 3 env PYTHONPATH="$PWD/build/default/python" "$py" "$PWD/examples/python/monitor.py" --robots 2 --duration "$duration" --interval 2 &
+else
+  on 3 "$demo" --role monitor --robots 2 --duration "$duration" --interval 2 &
+fi
 monitor=$!
 sleep 0.5
 nodes=()

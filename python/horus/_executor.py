@@ -65,6 +65,11 @@ class Executor:
         self._stop_wait()
         return tid
 
+    def topic(self, ident):
+        """The horus.Topic of subscription `ident` (its counts: dropped_count(), ...)."""
+        with self._lock:
+            return self._subscriptions[ident][0]
+
     def remove(self, ident):
         """Removes a subscription or a timer; False when there is none with this id."""
         with self._lock:

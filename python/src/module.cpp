@@ -76,6 +76,12 @@ const MessageType* find_type(std::string_view qualified) {
   return it == types().end() ? nullptr : &it->second;
 }
 
+const MessageType* find_type_by_lcm_fingerprint(std::uint64_t fingerprint) {
+  for (const auto& [q, t] : types())
+    if (fingerprint != 0 && t.lcm_fingerprint == fingerprint) return &t;
+  return nullptr;
+}
+
 const MessageType& type_of(py::handle cls) {
   if (py::isinstance<py::str>(cls)) {
     const auto name = cls.cast<std::string>();

@@ -214,7 +214,10 @@ void bind_tools(py::module_& m) {
            py::arg("path"), py::arg("recover") = false)
       .def_property_readonly("topics", [](const Player& p) {
         py::dict d;
-        for (const auto& c : p.channels()) d[py::str(c.topic)] = c.type;
+        for (const auto& c : p.channels()) {
+          const MessageType* t = c.type.empty() ? find_type_by_lcm_fingerprint(c.lcm_fingerprint) : find_type(c.type);
+          d[py::str(c.topic)] = t != nullptr ? t->cls : py::object(py::none());
+        }
         return d;
       })
       .def_property_readonly("start_ns", &Player::start_ns)
@@ -222,7 +225,13 @@ void bind_tools(py::module_& m) {
       .def("bind", [](Player& p, const std::string& topic, py::handle type, const std::string& to, const py::kwargs& kw) {
         const PlayChannel* c = p.channel(topic);
         if (c == nullptr) throw py::key_error(fmt::format("the recording has no topic '{}'", topic));
-        const MessageType& t = type.is_none() ? type_of(py::str(c->type)) : type_of(type);
+        const MessageType* found = !type.is_none() ? &type_of(type)
+                                   : !c->type.empty()  ? &type_of(py::str(c->type))
+                                                       : find_type_by_lcm_fingerprint(c->lcm_fingerprint);
+        if (found == nullptr)
+          throw py::type_error(fmt::format("'{}' was recorded without a type horus knows (LCM fingerprint {:016x}): pass "
+                                           "type=horus.msg.X", topic, c->lcm_fingerprint));
+        const MessageType& t = *found;
         std::uint64_t hash = 0;
         auto sink = ok_or_raise(open_standard_sink(t.qualified, to.empty() ? topic : to, c->encoding == "lcm", hash,
                                                    topic_options(kw)));

@@ -65,6 +65,7 @@ struct MessageType {
   std::uint64_t hash = 0;
   py::object cls;          // horus.msg.Pose2D
   bool large = false;      // Image, DepthImage, PointCloud, Tensor (a pool; loan())
+  std::uint64_t lcm_fingerprint = 0;  // lcm-gen's (0: no LCM encoding): an LCM log's channels carry only it
   std::unique_ptr<AnyTopic> (*open)(const std::string& name, const TopicOptions& options) = nullptr;
 };
 
@@ -75,6 +76,8 @@ void register_type(MessageType type);
 const MessageType& type_of(py::handle cls);
 /// The type called `qualified`, or null.
 const MessageType* find_type(std::string_view qualified);
+/// The type whose LCM fingerprint is `fingerprint`, or null.
+const MessageType* find_type_by_lcm_fingerprint(std::uint64_t fingerprint);
 
 /// The message classes, domain by domain (messages_*.cpp).
 void bind_messages_first(py::module_& msg);

@@ -18,6 +18,7 @@
 #include "horus/json.hpp"
 #include "horus/msg/all.hpp"
 #include "horus/topic.hpp"
+#include "horus/wire/lcm.hpp"
 #include "large_data.hpp"
 #include "loan.hpp"
 #include "typed.hpp"
@@ -199,6 +200,7 @@ MessageType message_type(py::object cls) {
   t.hash = type_hash<T>;
   t.cls = std::move(cls);
   t.large = kLarge<T>;
+  if constexpr (lcm::expressible<T>) t.lcm_fingerprint = lcm::fingerprint<T>();
   t.open = [](const std::string& name, const TopicOptions& options) -> std::unique_ptr<AnyTopic> {
     auto topic = Topic<T>::open(name, options);
     if (!topic) raise(topic.error());
