@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Sets up everything, builds, and runs every test: the default build (all tests), then the
+# Sets up everything, builds, installs the Python package horus, and runs every test: the
+# default build (all tests, the Python ones included), then the
 # concurrency tests (and the LCM transport's threads) again under ThreadSanitizer, and the
 # decoders of untrusted bytes (the local codec, the XCDR1 and LCM codecs, serialized topics, MCAP
 # files and LCM logs, and every fuzz target's corpus and regression inputs) under
@@ -12,6 +13,14 @@ jobs=$(nproc)
 
 cmake --preset default
 cmake --build --preset default -j "$jobs"
+# The Python package into Debian's python3 (site-packages): `python3 -c "import horus"` works
+# after this script; the tests below use the build tree's copy.
+if [ -d build/default/python/horus ]; then
+  cmake --install build/default --component python >/dev/null
+  py=python3
+  [ -x /usr/bin/python3 ] && py=/usr/bin/python3
+  (cd / && "$py" -c "import horus; print('python3: horus', horus.__version__, 'installed at', horus.__path__[0])")
+fi
 ctest --preset default -j "$jobs"
 
 if [ "${HORUS_TEST_TSAN:-1}" != "0" ]; then

@@ -16,14 +16,111 @@
 
 namespace horus::python {
 
+void* cpp_object(PyObject* obj, PyTypeObject* owner, const char* what) {
+  if (PyObject_TypeCheck(obj, owner) == 0)
+    throw py::type_error(fmt::format("{}: expected a {}, got {}", what, owner->tp_name, Py_TYPE(obj)->tp_name));
+  auto* inst = reinterpret_cast<py::detail::instance*>(obj);
+  void* p = inst->get_value_and_holder().value_ptr();
+  if (p == nullptr) throw py::type_error(fmt::format("{}: the {} was not initialized (__init__ not called)", what, owner->tp_name));
+  return p;
+}
+
+namespace {
+
+// horus._horus.Field: one reflected field of a message class, as a data descriptor.
+struct FieldObject {
+  PyObject_HEAD
+  FieldInfo* info;
+};
+
+// Runs f, turning a C++ exception into the Python error it stands for; false then.
+template <class F>
+bool guarded(F&& f) {
+  try {
+    f();
+    return true;
+  } catch (py::error_already_set& e) {
+    e.restore();
+  } catch (const py::builtin_exception& e) {
+    e.set_error();
+  } catch (const std::exception& e) {
+    PyErr_SetString(PyExc_RuntimeError, e.what());
+  }
+  return false;
+}
+
+PyObject* field_get(PyObject* self, PyObject* obj, PyObject*) {
+  if (obj == nullptr || obj == Py_None) {  // on the class: the descriptor itself
+    Py_INCREF(self);
+    return self;
+  }
+  const FieldInfo& f = *reinterpret_cast<FieldObject*>(self)->info;
+  PyObject* out = nullptr;
+  guarded([&] { out = f.get(f.addr(cpp_object(obj, f.owner, f.path.c_str())), obj).release().ptr(); });
+  return out;
+}
+
+int field_set(PyObject* self, PyObject* obj, PyObject* value) {
+  const FieldInfo& f = *reinterpret_cast<FieldObject*>(self)->info;
+  if (value == nullptr) {
+    PyErr_Format(PyExc_AttributeError, "%s: a message field cannot be deleted", f.path.c_str());
+    return -1;
+  }
+  if (f.set == nullptr) {
+    PyErr_Format(PyExc_AttributeError, "%s is read-only (large data: its metadata comes from the constructor)",
+                 f.path.c_str());
+    return -1;
+  }
+  return guarded([&] { f.set(f.addr(cpp_object(obj, f.owner, f.path.c_str())), value, f.path); }) ? 0 : -1;
+}
+
+void field_dealloc(PyObject* self) {
+  PyTypeObject* type = Py_TYPE(self);
+  delete reinterpret_cast<FieldObject*>(self)->info;
+  type->tp_free(self);
+  Py_DECREF(type);  // a heap type: each instance holds a reference to it
+}
+
+PyObject* field_repr(PyObject* self) {
+  return PyUnicode_FromFormat("<horus field %s>", reinterpret_cast<FieldObject*>(self)->info->path.c_str());
+}
+
+PyTypeObject* field_type() {
+  static PyTypeObject* const type = [] {
+    static PyType_Slot slots[] = {
+        {Py_tp_descr_get, reinterpret_cast<void*>(&field_get)},
+        {Py_tp_descr_set, reinterpret_cast<void*>(&field_set)},
+        {Py_tp_dealloc, reinterpret_cast<void*>(&field_dealloc)},
+        {Py_tp_repr, reinterpret_cast<void*>(&field_repr)},
+        {0, nullptr},
+    };
+    static PyType_Spec spec = {"horus._horus.Field", static_cast<int>(sizeof(FieldObject)), 0, Py_TPFLAGS_DEFAULT, slots};
+    PyObject* t = PyType_FromSpec(&spec);  // kept for the life of the process
+    if (t == nullptr) throw py::error_already_set();
+    return reinterpret_cast<PyTypeObject*>(t);
+  }();
+  return type;
+}
+
+}  // namespace
+
 void add_field(py::handle cls, FieldInfo f) {
-  const auto info = std::make_shared<const FieldInfo>(std::move(f));
-  py::cpp_function get([info](py::handle self) { return info->get(info->addr(self), self); });
-  py::cpp_function set;
-  if (info->set != nullptr)
-    set = py::cpp_function([info](py::handle self, py::handle v) { info->set(info->addr(self), v, info->path); });
-  py::object property = py::module_::import("builtins").attr("property");
-  py::setattr(cls, info->name.c_str(), property(get, set.ptr() != nullptr ? py::object(set) : py::object(py::none())));
+  PyTypeObject* type = field_type();
+  auto* obj = reinterpret_cast<FieldObject*>(type->tp_alloc(type, 0));
+  if (obj == nullptr) throw py::error_already_set();
+  obj->info = new FieldInfo(std::move(f));
+  py::setattr(cls, obj->info->name.c_str(), py::reinterpret_steal<py::object>(reinterpret_cast<PyObject*>(obj)));
+}
+
+void add_fields(py::handle cls, const std::string& class_name, const FieldSpec* specs, std::size_t n) {
+  py::tuple names(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const FieldSpec& f = specs[i];
+    add_field(cls, FieldInfo{std::string(f.name), class_name + "." + std::string(f.name),
+                             reinterpret_cast<PyTypeObject*>(cls.ptr()), f.addr, f.get, f.set});
+    names[i] = py::str(std::string(f.name));
+  }
+  py::setattr(cls, "fields", names);
 }
 
 namespace {

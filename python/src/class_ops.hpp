@@ -20,7 +20,8 @@ namespace py = pybind11;
 struct FieldInfo {
   std::string name;  // the C++ name
   std::string path;  // "Pose2D.x", for errors
-  void* (*addr)(py::handle self) = nullptr;                 // the field in the instance's C++ object
+  PyTypeObject* owner = nullptr;                            // the class
+  void* (*addr)(void* object) = nullptr;                    // the field in the C++ object
   py::object (*get)(void* field, py::handle owner) = nullptr;  // to_py of the field's type
   void (*set)(void* field, py::handle value, const std::string& path) = nullptr;  // null: read-only
 };
@@ -40,8 +41,22 @@ struct ClassOps {
   py::object (*from_json)(const nlohmann::json& j) = nullptr;  // large data only (its fields are read-only)
 };
 
-/// Adds `f` to `cls` as a property.
+/// One field as the per-type table gives it (typed_impl.hpp's field_specs): constant data.
+struct FieldSpec {
+  std::string_view name;
+  void* (*addr)(void* object);
+  py::object (*get)(void* field, py::handle owner);
+  void (*set)(void* field, py::handle value, const std::string& path);  // null: read-only
+};
+
+/// The C++ object of `obj`, an instance of `owner` (of a subclass); raises TypeError naming
+/// `what` otherwise. Reads pybind11's instance directly: a field access costs no type caster.
+void* cpp_object(PyObject* obj, PyTypeObject* owner, const char* what);
+
+/// Adds `f` to `cls` as a data descriptor (a C type, horus._horus.Field: no pybind11 call per access).
 void add_field(py::handle cls, FieldInfo f);
+/// Adds the `n` fields of `specs` as properties, and the tuple of their names as `fields`.
+void add_fields(py::handle cls, const std::string& class_name, const FieldSpec* specs, std::size_t n);
 /// Adds __eq__, __copy__, __deepcopy__, copy, to_dict (and, for large data, _from_dict) to `cls`.
 void add_methods(py::handle cls, const ClassOps* ops);
 

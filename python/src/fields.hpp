@@ -51,13 +51,17 @@ inline constexpr bool is_number = std::is_arithmetic_v<V> && !std::is_same_v<V, 
 /// for a uint8); errors name `path`.
 template <class V>
 V number_from(py::handle h, std::string_view path) {
+  PyObject* o = h.ptr();
   if constexpr (std::is_floating_point_v<V>) {
-    if (!py::isinstance<py::float_>(h) && !py::isinstance<py::int_>(h) && !py::hasattr(h, "__float__"))
-      type_error(path, "a number", h);
-    return static_cast<V>(h.cast<double>());
+    if (PyFloat_Check(o)) return static_cast<V>(PyFloat_AS_DOUBLE(o));
+    if (PyBool_Check(o) || (!PyLong_Check(o) && !py::hasattr(h, "__float__"))) type_error(path, "a number", h);
+    const double v = PyFloat_AsDouble(o);
+    if (v == -1.0 && PyErr_Occurred()) throw py::error_already_set();
+    return static_cast<V>(v);
   } else {
-    if (py::isinstance<py::bool_>(h) || !py::hasattr(h, "__index__")) type_error(path, "an integer", h);
-    const py::int_ i = py::reinterpret_steal<py::int_>(PyNumber_Index(h.ptr()));
+    if (PyBool_Check(o) || (!PyLong_Check(o) && !py::hasattr(h, "__index__"))) type_error(path, "an integer", h);
+    const py::object i = py::reinterpret_steal<py::object>(PyNumber_Index(o));  // a NumPy integer too
+    if (!i) throw py::error_already_set();
     int overflow = 0;
     if constexpr (std::is_signed_v<V>) {
       const long long v = PyLong_AsLongLongAndOverflow(i.ptr(), &overflow);

@@ -60,6 +60,45 @@ D described(std::optional<D> d, std::string_view what) {
 }
 }  // namespace
 
+namespace {
+template <class V>
+V arg(const py::args& a, std::size_t i, V fallback, const char* what) {
+  if (i >= a.size()) return fallback;
+  if constexpr (std::is_enum_v<V>) return enum_from<V>(a[i], what);
+  else if constexpr (std::is_same_v<V, std::vector<std::uint64_t>>) return a[i].cast<std::vector<std::uint64_t>>();
+  else return number_from<V>(a[i], what);
+}
+void arity(const py::args& a, std::size_t lo, std::size_t hi, const char* usage) {
+  if (a.size() < lo || a.size() > hi) throw py::type_error(fmt::format("loan: expected {}, or a descriptor", usage));
+}
+}  // namespace
+
+msg::ImageDescriptor describe_from(const msg::Image*, const py::args& a) {
+  arity(a, 2, 3, "(height, width[, encoding])");
+  return described(msg::Image::describe(arg<std::uint32_t>(a, 0, 0, "height"), arg<std::uint32_t>(a, 1, 0, "width"),
+                                        arg(a, 2, msg::ImageEncoding::Rgb8, "encoding")),
+                   "Image.describe");
+}
+msg::DepthImageDescriptor describe_from(const msg::DepthImage*, const py::args& a) {
+  arity(a, 2, 3, "(height, width[, dtype])");
+  return described(msg::DepthImage::describe(arg<std::uint32_t>(a, 0, 0, "height"), arg<std::uint32_t>(a, 1, 0, "width"),
+                                             arg(a, 2, msg::TensorDtype::F32, "dtype")),
+                   "DepthImage.describe");
+}
+msg::PointCloudDescriptor describe_from(const msg::PointCloud*, const py::args& a) {
+  arity(a, 1, 3, "(num_points[, fields_per_point[, dtype]])");
+  return described(msg::PointCloud::describe(arg<std::uint64_t>(a, 0, 0, "num_points"),
+                                             arg<std::uint32_t>(a, 1, 3, "fields_per_point"),
+                                             arg(a, 2, msg::TensorDtype::F32, "dtype")),
+                   "PointCloud.describe");
+}
+msg::TensorDescriptor describe_from(const msg::Tensor*, const py::args& a) {
+  arity(a, 1, 2, "(shape[, dtype])");
+  const auto shape = arg(a, 0, std::vector<std::uint64_t>{}, "shape");
+  return described(msg::Tensor::describe(std::span<const std::uint64_t>(shape), arg(a, 1, msg::TensorDtype::F32, "dtype")),
+                   "Tensor.describe");
+}
+
 ArrayShape array_shape(const msg::Image& m) {
   const std::uint32_t bpp = m.bytes_per_pixel(), ch = m.channels();
   const std::uint32_t elem = ch == 0 ? 1 : bpp / ch;

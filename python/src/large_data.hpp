@@ -49,6 +49,12 @@ py::array data_view(py::object self) {
   return array_over(m.is_consistent() ? array_shape(m) : ArrayShape{}, p, m.data().size(), self, writable);
 }
 
+/// Topic.loan(*args): the descriptor Type.describe(*args) gives, made without a Python call.
+msg::ImageDescriptor describe_from(const msg::Image*, const py::args& a);
+msg::DepthImageDescriptor describe_from(const msg::DepthImage*, const py::args& a);
+msg::PointCloudDescriptor describe_from(const msg::PointCloud*, const py::args& a);
+msg::TensorDescriptor describe_from(const msg::Tensor*, const py::args& a);
+
 /// The constructors and methods of the four classes beyond their reflected fields.
 void bind_large_extras(py::class_<msg::Image>& c);
 void bind_large_extras(py::class_<msg::DepthImage>& c);

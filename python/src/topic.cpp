@@ -63,15 +63,7 @@ class PyTopic {
   bool wait_for(py::handle timeout) {
     return sliced(seconds(timeout, "wait_for(timeout)"), [&](nanoseconds part) { return t().wait_for(part); }, kTrue);
   }
-  py::object loan(const py::args& args) {
-    if (!type_->large)
-      throw py::type_error(fmt::format("loan: {} is not large data (only Image, DepthImage, PointCloud and Tensor "
-                                       "topics lend pool slots)", type_->short_name));
-    if (args.size() == 1 && !py::isinstance<py::int_>(args[0]) && !py::isinstance<py::list>(args[0]) &&
-        !py::isinstance<py::tuple>(args[0]))
-      return t().loan(args[0]);
-    return t().loan(type_->cls.attr("describe")(*args));
-  }
+  py::object loan(const py::args& args) { return t().loan(args); }
 
  private:
   const MessageType* type_;

@@ -54,8 +54,9 @@ class AnyTopic {
   virtual std::string_view name() const = 0;
   virtual void publish_only() = 0;
   virtual WaitSet::Id attach(WaitSet& ws) = 0;
-  /// Large data: a slot of the pool lent for a message `desc` describes (a descriptor object).
-  virtual py::object loan(py::handle desc) = 0;
+  /// Large data: a slot of the pool lent for the message a descriptor object (args[0]) or
+  /// Type.describe's arguments describe.
+  virtual py::object loan(const py::args& args) = 0;
 };
 
 /// Registered for each standard type when the module loads.

@@ -33,23 +33,29 @@ inline std::string short_name(std::string_view qualified) {
   return std::string(at == std::string_view::npos ? qualified : qualified.substr(at + 2));
 }
 
+/// T's Python class (bound before any instance exists).
+template <class T>
+PyTypeObject* class_of() {
+  static PyTypeObject* const type = reinterpret_cast<PyTypeObject*>(py::type::of<T>().ptr());
+  return type;
+}
+
 /// A Python object as a T: an instance of T's class (raises TypeError naming both types otherwise).
 template <class T>
 const T& message_from(py::handle h) {
-  if (!py::isinstance<T>(h))
+  if (PyObject_TypeCheck(h.ptr(), class_of<T>()) == 0)
     type_error("message", fmt::format("a horus.msg.{} (the topic's type)", short_name(type_name<T>())), h);
-  return h.cast<const T&>();
+  return *static_cast<const T*>(cpp_object(h.ptr(), class_of<T>(), "message"));
 }
 
 // The per-type and per-field functions behind class_ops.hpp.
 template <class T>
 const void* self_of(py::handle obj) {
-  return &obj.cast<const T&>();
+  return cpp_object(obj.ptr(), class_of<T>(), short_name(type_name<T>()).c_str());
 }
 template <class T, std::size_t I>
-void* field_addr(py::handle obj) {
-  T& m = obj.cast<T&>();
-  return &(m.*(reflect::get<I>(reflect::fields<T>()).ptr));
+void* field_addr(void* object) {
+  return &(static_cast<T*>(object)->*(reflect::get<I>(reflect::fields<T>()).ptr));
 }
 template <class V>
 py::object get_erased(void* field, py::handle owner) {
@@ -76,27 +82,24 @@ const ClassOps* class_ops() {
   return &ops;
 }
 
+// The field table of T: per field, its address function and its type's converters.
+template <class T, std::size_t I>
+constexpr FieldSpec field_spec() {
+  constexpr auto f = reflect::get<I>(reflect::fields<T>());
+  using V = typename std::remove_cvref_t<decltype(f)>::type;
+  FieldSpec spec{f.name, &field_addr<T, I>, nullptr, nullptr};
+  if constexpr (std::is_same_v<V, ByteBuffer>) {
+    spec.get = [](void*, py::handle owner) -> py::object { return data_view<T>(py::reinterpret_borrow<py::object>(owner)); };
+  } else {
+    spec.get = &get_erased<V>;
+    if constexpr (!kLarge<T>) spec.set = &set_erased<V>;
+  }
+  return spec;
+}
 template <class T, std::size_t... I>
 void add_fields(py::handle cls, std::index_sequence<I...>) {
-  constexpr auto fields = reflect::fields<T>();
-  const std::string name = short_name(type_name<T>());
-  auto one = [&]<std::size_t K>() {
-    using V = typename std::remove_cvref_t<decltype(reflect::get<K>(fields))>::type;
-    const std::string field(reflect::get<K>(fields).name);
-    FieldInfo f{field, name + "." + field, &field_addr<T, K>, nullptr, nullptr};
-    if constexpr (std::is_same_v<V, ByteBuffer>) {
-      f.get = [](void*, py::handle owner) -> py::object { return data_view<T>(py::reinterpret_borrow<py::object>(owner)); };
-    } else {
-      f.get = &get_erased<V>;
-      if constexpr (!kLarge<T>) f.set = &set_erased<V>;
-    }
-    add_field(cls, std::move(f));
-  };
-  (one.template operator()<I>(), ...);
-  py::tuple names(sizeof...(I));
-  std::size_t i = 0;
-  reflect::for_each_field_desc<T>([&](const auto& f) { names[i++] = py::str(std::string(f.name)); });
-  cls.attr("fields") = names;
+  static constexpr FieldSpec specs[] = {field_spec<T, I>()...};
+  python::add_fields(cls, short_name(type_name<T>()), specs, sizeof...(I));
 }
 
 template <class T>
@@ -161,17 +164,17 @@ class TopicOf final : public AnyTopic {
   std::string_view name() const override { return topic_.name(); }
   void publish_only() override { topic_.publish_only(); }
   WaitSet::Id attach(WaitSet& ws) override { return ws.attach(topic_); }
-  py::object loan(py::handle desc) override {
+  py::object loan(const py::args& args) override {
     if constexpr (kLarge<T>) {
       using D = typename T::Descriptor;
-      if (!py::isinstance<D>(desc))
-        type_error("loan", fmt::format("a horus.msg.{} (from {}.describe)", short_name(type_name<D>()),
-                                       short_name(type_name<T>())),
-                   desc);
-      auto l = topic_.loan(desc.cast<const D&>());
+      const bool given = args.size() == 1 && PyObject_TypeCheck(args[0].ptr(), class_of<D>()) != 0;
+      const D desc = given ? *static_cast<const D*>(cpp_object(args[0].ptr(), class_of<D>(), "loan"))
+                           : describe_from(static_cast<const T*>(nullptr), args);
+      auto l = topic_.loan(desc);
       if (!l) raise(l.error());
       return py::cast(PyLoan(std::make_unique<LoanOf<T>>(std::move(*l))));
     } else {
+      (void)args;
       throw py::type_error(fmt::format("loan: {} is not large data (only Image, DepthImage, PointCloud and Tensor "
                                        "topics lend pool slots)",
                                        short_name(type_name<T>())));

@@ -63,6 +63,10 @@ TEST(Readme, EveryCppBlockAndCliSampleSaysHowItIsChecked) {
       EXPECT_TRUE(d.mode == "run" || d.mode == "compile" || d.mode == "top" || d.mode == "skip")
           << b.where() << ": a C++ block needs <!-- readme-test: run|compile|top|skip ... --> above it, got '"
           << d.mode << "'";
+    } else if (b.lang == "python") {
+      EXPECT_TRUE(d.mode == "python" || d.mode == "skip")
+          << b.where() << ": a Python block needs <!-- readme-test: python --> (python/tests/test_readme.py runs it) or "
+          << "skip above it, got '" << d.mode << "'";
     } else if (b.is_cli_sample()) {
       ++cli;
       EXPECT_TRUE(d.mode == "cli" || d.mode == "skip")
