@@ -8,7 +8,7 @@
      the pong answers with a loan of its own: no byte is copied on either side).
 
 Every figure is p50 / p99 / p99.9 in microseconds, per round, over several rounds (the machine
-is shared: the spread is printed). Run: bench/python/run.sh (it builds what it needs).
+is shared: the spread is printed). The ping side runs on CPU 0, the pong on the last CPU. Run: bench/python/run.sh (it builds what it needs).
 
   bench_python.py --peer build/default/bench/horus-py-peer [--rounds 5] [--count 20000] [--quick]
 """
@@ -111,6 +111,7 @@ def main():
     args = ap.parse_args()
     if args.quick:
         args.rounds, args.count = 1, 2000
+    os.sched_setaffinity(0, {0})  # as horus-py-peer's ping and local; its pong takes the last CPU
     prefix = f"bench.py.{os.getpid()}"
     cases = [("cmdvel", "CmdVel", None), ("image", "Image 64x64 RGB (12 KiB)", (64, 64)),
              ("image", "Image 1920x1080 RGB (6 MiB)", (1080, 1920))]

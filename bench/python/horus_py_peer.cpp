@@ -9,6 +9,8 @@
 //       the C++ ping against that pong: prints the round trips' "p50 p99 p999 min" in ns
 //   horus_py_peer local <count>
 //       send + recv of a CmdVel on one thread, per pair: "p50 p99 p999 min" in ns
+//
+// The pong runs on the last CPU, ping and local on CPU 0 (as bench_python.py's own side).
 #include <poll.h>
 #include <unistd.h>
 
@@ -139,6 +141,7 @@ int local(int count) {
 
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "";
+  horus::bench::pin_to_cpu(mode == "pong" ? horus::bench::cpu_count() - 1 : 0);
   if (mode == "pong" && argc == 5) {
     const std::string type = argv[3];
     return type == "image" ? pong<msg::Image>(argv[2], std::atof(argv[4])) : pong<msg::CmdVel>(argv[2], std::atof(argv[4]));

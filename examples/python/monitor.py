@@ -5,7 +5,8 @@ Robots (examples/fleet_demo.cpp, `fleet_demo --role robot --id I`) publish Heart
 fleet.robot_<i>.heartbeat and Pose2D on fleet.robot_<i>.pose. This monitor subscribes to both
 for robots 1..N on a horus.Executor and prints the fleet every second. Where the topics travel
 is not in this code: shared memory on one host, or the fleet backend that HORUS_CONFIG
-(examples/fleet.yaml) or HORUS_BACKEND chooses when the robots are on other hosts.
+(examples/fleet.yaml) or HORUS_BACKEND chooses when the robots are on other hosts; then a
+horus.Fleet reports the hosts that join, are lost and rejoin.
 
     PYTHONPATH=build/default/python python3 examples/python/monitor.py --robots 3 --duration 10
 """
@@ -68,6 +69,15 @@ def main():
             seq = r.heartbeat.sequence if r.heartbeat is not None else "-"
             print(f"{r.name:<9} {'yes' if r.alive(now) else 'no':>5} {seq:>6} {cells} {hz:8.1f} {topic.dropped_count():>6}",
                   flush=True)
+
+    fleet = None
+    if scope == "fleet":  # the poses cross hosts: say when a host joins, is lost or rejoins
+        fleet = horus.Fleet()
+
+        def on_host(event):  # runs on the fleet's own thread
+            if event.kind != "changed":
+                print(f"fleet: host {event.host.name} {event.kind}", flush=True)
+        fleet.on_change(on_host)
 
     ex.every(args.interval, table)
     signal.signal(signal.SIGINT, lambda *_: ex.stop())

@@ -11,6 +11,8 @@ backend, HORUS_BACKEND or the configuration file), the 81 standard messages as c
 from the C++ reflection, images and clouds as NumPy arrays over the shared-memory pool.
 """
 
+import sys
+
 from . import _aio, _messages
 from ._executor import Executor
 from ._errors import (ConfigError, ConfigMismatchError, CorruptError, Error, InvalidArgumentError,
@@ -18,6 +20,10 @@ from ._errors import (ConfigError, ConfigMismatchError, CorruptError, Error, Inv
                       TimeoutError, TypeMismatchError)
 from ._horus import (Fleet, FleetEvent, FleetHost, FleetProcess, FleetTopic, Loan, Topic,
                      Trigger, WaitSet, __version__, config, message_types, msg, record)
+
+# `from horus.msg import Pose2D`, `import horus.record`: the compiled submodules as modules.
+for _name, _module in (("msg", msg), ("config", config), ("record", record)):
+    sys.modules[f"{__name__}.{_name}"] = _module
 
 _messages.install(message_types())
 Topic.recv_async = _aio.recv_async

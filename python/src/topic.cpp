@@ -3,16 +3,12 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <atomic>
+#include <algorithm>
 #include <map>
 #include <memory>
-#include <mutex>
-#include <optional>
 #include <string>
 
 #include "fields.hpp"
-#include "horus/config.hpp"
-#include "horus/transport_registry.hpp"
 #include "loan.hpp"
 #include "topic_options.hpp"
 #include "typed.hpp"

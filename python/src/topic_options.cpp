@@ -89,16 +89,19 @@ TopicOptions topic_options(const pybind11::kwargs& kw) {
     }
   }
   if (scope) {
-    const Backend b = o.backend.value_or(Backend::SharedMemory);
+    auto clash = [&](const char* fits) {
+      throw pybind11::value_error(fmt::format("scope '{}' does not go with backend '{}': {}", *scope,
+                                              to_string(*o.backend), fits));
+    };
     if (*scope == "process") {
-      if (o.backend && *o.backend != Backend::InProcess) bad("scope", *scope + "' with backend '" + std::string(to_string(b)), "a backend of that scope");
+      if (o.backend && *o.backend != Backend::InProcess) clash("a process topic's backend is inproc");
       o.backend = Backend::InProcess;
     } else if (*scope == "host") {
-      if (o.backend && *o.backend != Backend::SharedMemory) bad("scope", *scope + "' with backend '" + std::string(to_string(b)), "a backend of that scope");
+      if (o.backend && *o.backend != Backend::SharedMemory) clash("a host topic's backend is shm");
       o.backend = Backend::SharedMemory;
     } else if (*scope == "fleet") {
       if (!o.backend) o.backend = fleet_backend();
-      else if (!is_network(*o.backend)) bad("scope", *scope + "' with backend '" + std::string(to_string(b)), "a network backend");
+      else if (!is_network(*o.backend)) clash("a fleet topic's backend is a network one (cyclonedds, fastdds, lcm)");
     } else {
       bad("scope", *scope, "'process', 'host' or 'fleet'");
     }

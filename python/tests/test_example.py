@@ -59,3 +59,5 @@ def test_the_python_monitor_sees_robots_on_other_namespace_hosts():
         last = rows(out.stdout, robot)[-1]
         assert last[0] == "yes" and last[2] > 5, out.stdout
     assert "0 silent" in out.stdout
+    for host in ("robot1", "robot2"):  # horus.Fleet's events, from the fleet's thread
+        assert f"fleet: host {host} joined" in out.stdout, out.stdout

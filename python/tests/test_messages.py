@@ -20,6 +20,9 @@ def test_there_are_81_standard_messages_each_default_constructible_with_the_cpp_
         for f in cls.fields:
             getattr(m, f)
     assert horus.msg.Pose2D.fields == ("x", "y", "theta", "timestamp_ns")
+    from horus.msg import Pose2D  # the submodules import as modules
+    import horus.record as record
+    assert Pose2D is horus.msg.Pose2D and record.Recorder is horus.record.Recorder
     assert horus.msg.Pose2D.type_hash != horus.msg.CmdVel.type_hash
 
 

@@ -98,6 +98,17 @@ def test_bad_names_options_and_timeouts_raise_naming_what_was_wrong(unique):
     with pytest.raises(ValueError, match="recv_for.timeout.: seconds, a finite number of 0 or more"):
         horus.Topic(unique, Pose).recv_for(-1)
     assert horus.Topic(unique, "Pose2D").type is Pose  # a type by name
+    with pytest.raises(ValueError, match="scope 'process' does not go with backend 'cyclonedds'"):
+        horus.Topic(unique + ".x", Pose, scope="process", backend="cyclonedds")
+
+
+def test_a_fleet_scope_without_a_backend_names_where_to_choose_one(unique, monkeypatch):
+    monkeypatch.delenv("HORUS_BACKEND", raising=False)
+    monkeypatch.delenv("HORUS_CONFIG", raising=False)
+    with pytest.raises(horus.ConfigError, match="scope 'fleet' needs a network backend: pass backend="):
+        horus.Topic(unique, Pose, scope="fleet")
+    monkeypatch.setenv("HORUS_BACKEND", "cyclonedds")
+    assert horus.Topic(unique, Pose, scope="fleet").backend == "cyclonedds"
 
 
 def test_in_process_topics_and_iteration(unique):
