@@ -32,6 +32,7 @@ class Executor:
         self._waitset.attach(self._wake)
         self._lock = threading.Lock()  # the subscriptions and timers
         self._spinning = threading.Lock()  # one spinning thread at a time
+        self._spinner = None  # the thread that spins now
         self._subscriptions = {}
         self._timers = {}
         self._next_id = 1
@@ -91,7 +92,7 @@ class Executor:
         """Runs callbacks until stop() (or for `duration` seconds). A stop() before spin()
         makes it return at once; each spin that returns for a stop clears it."""
         end = None if duration is None else time.monotonic() + duration
-        with self._spinning:
+        with self._spin_guard():
             try:
                 while not self._stop.fired:
                     left = _SLICE if end is None else min(_SLICE, end - time.monotonic())
@@ -103,9 +104,28 @@ class Executor:
                     self._stop.reset()
 
     def spin_once(self, timeout=0.0):
-        """Waits up to `timeout` seconds for work, does what is ready; the callbacks run."""
-        with self._spinning:
+        """Waits up to `timeout` seconds for work, does what is ready; the callbacks run. A
+        stop() not yet consumed is (nothing runs, 0)."""
+        with self._spin_guard():
+            if self._stop.fired:
+                self._stop.reset()
+                return 0
             return self._spin_once(timeout)
+
+    def _spin_guard(self):
+        if self._spinner == threading.get_ident():
+            raise RuntimeError("Executor.spin: called from one of its own callbacks (it would wait for itself)")
+        executor = self
+
+        class Guard:
+            def __enter__(self):
+                executor._spinning.acquire()
+                executor._spinner = threading.get_ident()
+
+            def __exit__(self, *exc):
+                executor._spinner = None
+                executor._spinning.release()
+        return Guard()
 
     def _stop_wait(self):
         self._wake.fire()
@@ -121,16 +141,24 @@ class Executor:
         if self._wake.fired:
             self._wake.reset()
         with self._lock:
-            subs = [s for s in self._subscriptions.values() if s[0] in ready]
-        for topic, callback in subs:
+            subs = [(sid, s) for sid, s in self._subscriptions.items() if s[0] in ready]
+        for sid, (topic, callback) in subs:
             for _ in range(_BATCH):
-                msg = topic.recv()
+                # stop() returns after the callback running now; remove() (maybe by a callback) ends one
+                if self._stop.fired or sid not in self._subscriptions:
+                    return n
+                try:
+                    msg = topic.recv()
+                except ValueError:
+                    if topic.closed:  # removed by another thread meanwhile
+                        break
+                    raise
                 if msg is None:
                     break
                 n += 1
                 self.callbacks_run += 1
                 callback(msg)
-        return n + self._run_timers()
+        return n if self._stop.fired else n + self._run_timers()
 
     def _run_timers(self):
         n = 0
@@ -138,6 +166,8 @@ class Executor:
         with self._lock:
             due = [t for t in self._timers.values() if t[1] <= now]
         for t in due:
+            if self._stop.fired:
+                break
             period, nxt, callback = t
             late = int((now - nxt) // period)
             if late > 0:

@@ -6,6 +6,7 @@ import reprlib
 
 _repr = reprlib.Repr()
 _repr.maxlist = 8
+_repr.maxtuple = 8
 _repr.maxstring = 60
 
 
@@ -14,7 +15,7 @@ def _field_repr(v):
         return repr(v)
     if hasattr(v, "tolist") and getattr(v, "size", 0) > 8:
         return _repr.repr(v.tolist())
-    if isinstance(v, list):
+    if isinstance(v, tuple):
         return _repr.repr(v)
     return repr(v)
 
@@ -38,8 +39,8 @@ def _fill(obj, values, path):
         current = getattr(obj, key)
         if hasattr(current, "fields"):  # a nested message: a view into obj
             _fill(current, value, where)
-        elif isinstance(current, list) and current and hasattr(current[0], "fields"):
-            if not isinstance(value, list) or len(value) != len(current):
+        elif isinstance(current, tuple) and current and hasattr(current[0], "fields"):
+            if not isinstance(value, (list, tuple)) or len(value) != len(current):
                 raise ValueError(f"{where}: expected a list of {len(current)} dicts")
             for i, (element, v) in enumerate(zip(current, value)):
                 _fill(element, v, f"{where}[{i}]")

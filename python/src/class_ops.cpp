@@ -20,6 +20,9 @@ void* cpp_object(PyObject* obj, PyTypeObject* owner, const char* what) {
   if (PyObject_TypeCheck(obj, owner) == 0)
     throw py::type_error(fmt::format("{}: expected a {}, got {}", what, owner->tp_name, Py_TYPE(obj)->tp_name));
   auto* inst = reinterpret_cast<py::detail::instance*>(obj);
+  if (!inst->simple_layout)  // a Python class deriving from two message classes: whose object?
+    throw py::type_error(fmt::format("{}: a class deriving from several horus message classes is not supported ({})",
+                                     what, Py_TYPE(obj)->tp_name));
   void* p = inst->get_value_and_holder().value_ptr();
   if (p == nullptr) throw py::type_error(fmt::format("{}: the {} was not initialized (__init__ not called)", what, owner->tp_name));
   return p;
@@ -43,8 +46,16 @@ bool guarded(F&& f) {
     e.restore();
   } catch (const py::builtin_exception& e) {
     e.set_error();
+  } catch (const Exception& e) {
+    try {
+      raise(e.error());
+    } catch (py::error_already_set& set) {
+      set.restore();
+    }
   } catch (const std::exception& e) {
     PyErr_SetString(PyExc_RuntimeError, e.what());
+  } catch (...) {
+    PyErr_SetString(PyExc_RuntimeError, "horus: an unknown C++ exception");
   }
   return false;
 }

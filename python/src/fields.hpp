@@ -79,22 +79,26 @@ V number_from(py::handle h, std::string_view path) {
   }
 }
 
-/// The NumPy array of `n` V at `data`: a view kept valid by `base`, or a copy without one.
+/// The NumPy array of `n` V at `data`: a view kept valid by `base`, or a copy without one;
+/// read-only unless `writable` (a copy always is: writing it would change nothing).
 template <class V>
 py::array numpy_of(const V* data, std::size_t n, py::handle base, bool writable) {
-  if (!base) return py::array_t<V>(static_cast<py::ssize_t>(n), data);
-  py::array_t<V> a(static_cast<py::ssize_t>(n), data, base);
-  if (!writable) a.attr("setflags")(py::arg("write") = false);
+  py::array_t<V> a = base ? py::array_t<V>(static_cast<py::ssize_t>(n), data, base)
+                          : py::array_t<V>(static_cast<py::ssize_t>(n), data);
+  if (!writable || !base) a.attr("setflags")(py::arg("write") = false);
   return a;
 }
 
 template <class V>
-py::object to_py(V& v, py::handle owner);
+py::object to_py(V& v, py::handle owner, bool writable = true);
 template <class V>
 void from_py(py::handle h, V& v, const std::string& path);
 
+/// A field's value: nested messages are views of the owner and fixed arrays of numbers NumPy
+/// views (read-only, and nested messages copies, when not `writable`: large data's metadata);
+/// vectors are read-only NumPy copies and other arrays tuples (assign the whole field).
 template <class V>
-py::object to_py(V& v, py::handle owner) {
+py::object to_py(V& v, py::handle owner, bool writable) {
   using namespace horus::reflect;
   if constexpr (std::is_same_v<V, bool> || is_number<V>) {
     return py::cast(v);
@@ -103,17 +107,18 @@ py::object to_py(V& v, py::handle owner) {
   } else if constexpr (ReflectedEnum<V>) {
     return py::cast(v);
   } else if constexpr (reflect::detail::is_char_array<V>::value) {
-    const auto s = fixed_str_view(v);
-    return py::str(s.data(), s.size());
+    const auto s = fixed_str_view(v);  // bytes from another program: invalid UTF-8 shows as U+FFFD
+    return py::reinterpret_steal<py::str>(PyUnicode_DecodeUTF8(s.data(), static_cast<py::ssize_t>(s.size()), "replace"));
   } else if constexpr (Reflected<V>) {
+    if (!writable) return py::cast(V(v));
     return py::cast(&v, py::return_value_policy::reference_internal, owner);
   } else if constexpr (is_array<V>::value) {
     using E = typename is_array<V>::element;
     if constexpr (is_number<E>) {
-      return numpy_of<E>(v.data(), v.size(), owner, true);
+      return numpy_of<E>(v.data(), v.size(), owner, writable);
     } else {
-      py::list out;
-      for (auto& e : v) out.append(to_py(e, owner));
+      py::tuple out(v.size());
+      for (std::size_t i = 0; i < v.size(); ++i) out[i] = to_py(v[i], owner, writable);
       return out;
     }
   } else if constexpr (is_vector<V>::value) {
@@ -167,13 +172,15 @@ void from_py(py::handle h, V& v, const std::string& path) {
     if (!py::isinstance<py::sequence>(h) && !py::isinstance<py::array>(h)) type_error(path, "a sequence", h);
     const py::sequence seq = py::isinstance<py::array>(h) ? py::sequence(h.attr("tolist")()) : h.cast<py::sequence>();
     const std::size_t n = py::len(seq);
+    V out{};  // filled whole, then assigned: a bad element leaves the field as it was
     if constexpr (is_array<V>::value) {
-      if (n != v.size())
-        value_error(path + ": " + std::to_string(n) + " elements given; the field has exactly " + std::to_string(v.size()));
+      if (n != out.size())
+        value_error(path + ": " + std::to_string(n) + " elements given; the field has exactly " + std::to_string(out.size()));
     } else {
-      v.resize(n);
+      out.resize(n);
     }
-    for (std::size_t i = 0; i < n; ++i) from_py(seq[i], v[i], path + "[" + std::to_string(i) + "]");
+    for (std::size_t i = 0; i < n; ++i) from_py(seq[i], out[i], path + "[" + std::to_string(i) + "]");
+    v = std::move(out);
   } else {
     static_assert(sizeof(V) == 0, "a field type the Python binding does not know");
   }

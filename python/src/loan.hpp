@@ -1,12 +1,18 @@
 // horus.Loan: a pool slot lent by Topic.loan() for a large-data message, filled in place
 // through Loan.data (a writable NumPy view of the slot) and published by Topic.send(loan),
 // which copies nothing. After the send the slot belongs to the subscribers: the arrays taken
-// from Loan.data turn read-only (writing raises), and the loan is empty.
+// from Loan.data turn read-only (writing raises), and the loan is empty. The loan keeps the
+// handle that lent it open, so the memory stays mapped while such an array lives (reading it
+// never crashes, even after Topic.close()),
+// but what it shows after the send is whatever the pool puts in the slot next; views made
+// from those arrays before the send (a[0], slices) cannot be revoked by NumPy: do not write
+// through them after sending.
 #pragma once
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <algorithm>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -41,7 +47,9 @@ struct LoanOf final : LoanBase {
 
 class PyLoan {
  public:
-  explicit PyLoan(std::unique_ptr<LoanBase> l) : loan_(std::move(l)) {}
+  /// `handle`: the topic handle that lent it, kept open (its pool mapped) while the loan lives.
+  PyLoan(std::unique_ptr<LoanBase> l, std::shared_ptr<const void> handle)
+      : loan_(std::move(l)), handle_(std::move(handle)) {}
   LoanBase* get() const noexcept { return loan_.get(); }
   /// Gives the loan to a send: the arrays handed out turn read-only. The LoanBase stays alive
   /// while views of the (moved-from, empty) message exist.
@@ -58,6 +66,7 @@ class PyLoan {
   py::array data(py::handle self) {
     check();
     py::array a = loan_->data(self);
+    std::erase_if(arrays_, [](const py::weakref& w) { return w().is_none(); });
     arrays_.emplace_back(a);
     return a;
   }
@@ -72,6 +81,7 @@ class PyLoan {
   }
   std::shared_ptr<LoanBase> loan_;
   std::shared_ptr<LoanBase> sent_;  // keeps the moved-from message alive for views taken before
+  std::shared_ptr<const void> handle_;  // keeps the pool mapped while arrays (this loan is their base) live
   std::vector<py::weakref> arrays_;
 };
 

@@ -32,6 +32,13 @@ void ok_or_raise(Result<void> r) {
   if (!r) raise(r.error());
 }
 
+// f() with the GIL released (its result is turned into Python, or raised, after the GIL is back).
+template <class F>
+auto without_gil(F&& f) {
+  py::gil_scoped_release free;
+  return f();
+}
+
 // A Fleet is destroyed without the GIL: its thread may be waiting for it to run a callback.
 struct FleetDeleter {
   void operator()(Fleet* f) const {
@@ -166,6 +173,9 @@ void bind_tools(py::module_& m) {
             held->get()(e);
           } catch (py::error_already_set& err) {
             err.discard_as_unraisable("horus.Fleet.on_change callback");
+          } catch (const std::exception& err) {  // a conversion's: nothing may escape into the fleet's thread
+            PyErr_SetString(PyExc_RuntimeError, err.what());
+            PyErr_WriteUnraisable(nullptr);
           }
         });
       }, py::arg("callback"), "Calls callback(event) on the fleet's thread when a host joins, is lost, rejoins or changes")
@@ -204,10 +214,10 @@ void bind_tools(py::module_& m) {
         d["topics"] = topics;
         return d;
       })
-      .def("flush", [](Recorder& r) { ok_or_raise(r.flush()); }, py::call_guard<py::gil_scoped_release>())
-      .def("close", [](Recorder& r) { ok_or_raise(r.close()); }, py::call_guard<py::gil_scoped_release>())
+      .def("flush", [](Recorder& r) { ok_or_raise(without_gil([&] { return r.flush(); })); })
+      .def("close", [](Recorder& r) { ok_or_raise(without_gil([&] { return r.close(); })); })
       .def("__enter__", [](py::object self) { return self; })
-      .def("__exit__", [](Recorder& r, py::args) { ok_or_raise(r.close()); });
+      .def("__exit__", [](Recorder& r, py::args) { ok_or_raise(without_gil([&] { return r.close(); })); });
 
   py::class_<Player>(record, "Player", "Plays an MCAP file or an LCM log into topics")
       .def(py::init([](const std::string& path, bool recover) { return ok_or_raise(Player::open(path, recover)); }),

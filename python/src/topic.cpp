@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 
 #include "fields.hpp"
@@ -35,42 +36,85 @@ auto sliced(nanoseconds timeout, F&& once, Done&& done) -> decltype(once(timeout
 }
 constexpr auto kTrue = [](bool b) { return b; };
 
+// A topic handle shared by Python threads. One thread uses it at a time (Topic<T>'s rule): a
+// call takes the handle's lock, waiting for it with the GIL released, so a thread that waits in
+// recv_for (the GIL released) is never closed under, nor used by another thread meanwhile.
 class PyTopic {
  public:
-  PyTopic(const std::string& name, py::handle type, const py::kwargs& kw) : type_(&type_of(type)) {
-    topic_ = type_->open(name, topic_options(kw));
-  }
-  AnyTopic& t() {
-    if (!topic_) throw py::value_error("this topic was closed");
-    return *topic_;
-  }
-  const AnyTopic& t() const { return const_cast<PyTopic*>(this)->t(); }
+  PyTopic(const std::string& name, py::handle type, const py::kwargs& kw)
+      : type_(&type_of(type)), topic_(type_->open(name, topic_options(kw))) {}
   const MessageType& type() const { return *type_; }
-  void close() { topic_.reset(); }
+
+  /// f(AnyTopic&) with the handle locked; ValueError once the handle is closed.
+  template <class F>
+  decltype(auto) use(F&& f) {
+    return use_shared([&](const std::shared_ptr<AnyTopic>& t) -> decltype(auto) { return f(*t); });
+  }
+  /// The same with the handle's owner (what a loan keeps).
+  template <class F>
+  decltype(auto) use_shared(F&& f) {
+    std::unique_lock lock(mutex_, std::try_to_lock);
+    if (!lock.owns_lock()) {
+      py::gil_scoped_release free;
+      lock.lock();
+    }
+    if (!topic_) throw py::value_error("this topic was closed");
+    return f(topic_);
+  }
+  bool closed() {
+    return use_or([](AnyTopic&) { return false; }, true);
+  }
+  void close() {
+    std::shared_ptr<AnyTopic> gone;  // destroyed unlocked (its last loan may hold it longer)
+    {
+      std::unique_lock lock(mutex_, std::try_to_lock);
+      if (!lock.owns_lock()) {
+        py::gil_scoped_release free;
+        lock.lock();
+      }
+      gone = std::move(topic_);
+    }
+  }
   py::object recv_for(py::handle timeout) {
     const nanoseconds d = seconds(timeout, "recv_for(timeout)");
     py::object out = py::none();
     sliced(d, [&](nanoseconds part) {
-      out = t().recv_for(part);
+      out = use([&](AnyTopic& t) { return t.recv_for(part); });
       return !out.is_none();
     }, kTrue);
     return out;
   }
   bool wait_for(py::handle timeout) {
-    return sliced(seconds(timeout, "wait_for(timeout)"), [&](nanoseconds part) { return t().wait_for(part); }, kTrue);
+    return sliced(seconds(timeout, "wait_for(timeout)"),
+                  [&](nanoseconds part) { return use([&](AnyTopic& t) { return t.wait_for(part); }); }, kTrue);
   }
-  py::object loan(const py::args& args) { return t().loan(args); }
+  void send_blocking(py::handle msg, py::handle timeout) {
+    const nanoseconds d = seconds(timeout, "send_blocking(timeout)");
+    auto timed_out = sliced(d, [&](nanoseconds part) { return use([&](AnyTopic& t) { return t.send_blocking(msg, part); }); },
+                            [](const std::optional<Error>& e) { return !e; });
+    if (timed_out) raise(*timed_out);
+  }
 
  private:
+  template <class F, class R>
+  R use_or(F&& f, R if_closed) {
+    std::unique_lock lock(mutex_, std::try_to_lock);
+    if (!lock.owns_lock()) {
+      py::gil_scoped_release free;
+      lock.lock();
+    }
+    return topic_ ? f(*topic_) : if_closed;
+  }
   const MessageType* type_;
-  std::unique_ptr<AnyTopic> topic_;
+  std::mutex mutex_;
+  std::shared_ptr<AnyTopic> topic_;
 };
 
 class PyWaitSet {
  public:
   WaitSet::Id attach(py::object what) {
     WaitSet::Id id = 0;
-    if (py::isinstance<PyTopic>(what)) id = what.cast<PyTopic&>().t().attach(ws_);
+    if (py::isinstance<PyTopic>(what)) id = what.cast<PyTopic&>().use([&](AnyTopic& t) { return t.attach(ws_); });
     else if (py::isinstance<Trigger>(what)) id = ws_.attach(what.cast<const Trigger&>());
     else type_error("WaitSet.attach", "a horus.Topic or a horus.Trigger", what);
     attached_[id] = std::move(what);
@@ -113,39 +157,47 @@ void bind_topics(py::module_& m) {
 
   py::class_<PyTopic>(m, "Topic", "A typed topic: horus.Topic('odom', horus.msg.Odometry, capacity=..., scope=...)")
       .def(py::init<const std::string&, py::handle, const py::kwargs&>(), py::arg("name"), py::arg("type"))
-      .def("send", [](PyTopic& s, py::handle msg) { s.t().send(msg); }, py::arg("msg"),
+      .def("send", [](PyTopic& s, py::handle msg) { s.use([&](AnyTopic& t) { t.send(msg); }); }, py::arg("msg"),
            "Publishes; never blocks (a full ring overwrites its oldest message)")
-      .def("try_send", [](PyTopic& s, py::handle msg) { return s.t().try_send(msg); }, py::arg("msg"),
+      .def("try_send", [](PyTopic& s, py::handle msg) { return s.use([&](AnyTopic& t) { return t.try_send(msg); }); },
+           py::arg("msg"),
            "Publishes only if no subscriber would lose an unread message; False otherwise")
-      .def("send_blocking", [](PyTopic& s, py::handle msg, py::handle timeout) {
-        s.t().send_blocking(msg, seconds(timeout, "send_blocking(timeout)"));
-      }, py::arg("msg"), py::arg("timeout") = 1.0, "Publishes, waiting up to timeout seconds for space")
-      .def("recv", [](PyTopic& s) { return s.t().recv(); }, "The next message, or None")
-      .def("try_recv", [](PyTopic& s) { return s.t().recv(); })
+      .def("send_blocking", &PyTopic::send_blocking, py::arg("msg"), py::arg("timeout") = 1.0,
+           "Publishes, waiting up to timeout seconds (None: for ever) for space; raises horus.TimeoutError")
+      .def("recv", [](PyTopic& s) { return s.use([](AnyTopic& t) { return t.recv(); }); }, "The next message, or None")
+      .def("try_recv", [](PyTopic& s) { return s.use([](AnyTopic& t) { return t.recv(); }); })
       .def("recv_for", &PyTopic::recv_for, py::arg("timeout"),
            "The next message, waiting up to timeout seconds (None: forever) with the GIL released; None when none came")
-      .def("read_latest", [](PyTopic& s) { return s.t().read_latest(); }, "The newest message without consuming it")
+      .def("read_latest", [](PyTopic& s) { return s.use([](AnyTopic& t) { return t.read_latest(); }); }, "The newest message without consuming it")
       .def("wait_for", &PyTopic::wait_for, py::arg("timeout"))
-      .def("loan", &PyTopic::loan, py::keep_alive<0, 1>(),
+      .def("loan",
+           [](PyTopic& s, const py::args& args) {
+             return s.use_shared([&](const std::shared_ptr<AnyTopic>& t) { return t->loan(args, t); });
+           },
+           py::keep_alive<0, 1>(),
            "Large data: a pool slot for Type.describe(*args) (or a descriptor), filled through Loan.data")
-      .def("publish_only", [](PyTopic& s) { s.t().publish_only(); })
-      .def("has_message", [](PyTopic& s) { return s.t().has_message(); })
-      .def("pending_count", [](PyTopic& s) { return s.t().pending_count(); })
-      .def("dropped_count", [](const PyTopic& s) { return s.t().dropped_count(); })
-      .def("deadline_missed_count", [](const PyTopic& s) { return s.t().deadline_missed_count(); })
-      .def("expired_count", [](const PyTopic& s) { return s.t().expired_count(); })
-      .def("network_errors", [](const PyTopic& s) { return s.t().network_errors(); })
-      .def_property_readonly("pub_count", [](const PyTopic& s) { return s.t().pub_count(); })
-      .def_property_readonly("sub_count", [](const PyTopic& s) { return s.t().sub_count(); })
-      .def_property_readonly("is_bridge", [](const PyTopic& s) { return s.t().is_bridge(); })
-      .def_property_readonly("capacity", [](const PyTopic& s) { return s.t().capacity(); })
-      .def_property_readonly("max_message_size", [](const PyTopic& s) { return s.t().max_message_size(); })
-      .def_property_readonly("name", [](const PyTopic& s) { return std::string(s.t().name()); })
+      .def("publish_only", [](PyTopic& s) { s.use([](AnyTopic& t) { t.publish_only(); }); })
+      .def("has_message", [](PyTopic& s) { return s.use([](AnyTopic& t) { return t.has_message(); }); })
+      .def("pending_count", [](PyTopic& s) { return s.use([](AnyTopic& t) { return t.pending_count(); }); })
+      .def("dropped_count", [](PyTopic& s) { return s.use([](AnyTopic& t) { return t.dropped_count(); }); })
+      .def("deadline_missed_count", [](PyTopic& s) { return s.use([](AnyTopic& t) { return t.deadline_missed_count(); }); })
+      .def("expired_count", [](PyTopic& s) { return s.use([](AnyTopic& t) { return t.expired_count(); }); })
+      .def("network_errors", [](PyTopic& s) { return s.use([](AnyTopic& t) { return t.network_errors(); }); })
+      .def_property_readonly("pub_count", [](PyTopic& s) { return s.use([](AnyTopic& t) { return t.pub_count(); }); })
+      .def_property_readonly("sub_count", [](PyTopic& s) { return s.use([](AnyTopic& t) { return t.sub_count(); }); })
+      .def_property_readonly("is_bridge", [](PyTopic& s) { return s.use([](AnyTopic& t) { return t.is_bridge(); }); })
+      .def_property_readonly("capacity", [](PyTopic& s) { return s.use([](AnyTopic& t) { return t.capacity(); }); })
+      .def_property_readonly("max_message_size", [](PyTopic& s) { return s.use([](AnyTopic& t) { return t.max_message_size(); }); })
+      .def_property_readonly("name", [](PyTopic& s) { return s.use([](AnyTopic& t) { return std::string(t.name()); }); })
       .def_property_readonly("type", [](const PyTopic& s) { return s.type().cls; })
-      .def_property_readonly("backend", [](const PyTopic& s) { return std::string(to_string(s.t().backend())); })
-      .def_property_readonly("scope", [](const PyTopic& s) { return std::string(to_string(s.t().backend().scope())); })
-      .def("metrics", [](const PyTopic& s) {
-        const TopicMetrics x = s.t().metrics();
+      .def_property_readonly("backend",
+                             [](PyTopic& s) { return s.use([](AnyTopic& t) { return std::string(to_string(t.backend())); }); })
+      .def_property_readonly("scope", [](PyTopic& s) {
+        return s.use([](AnyTopic& t) { return std::string(to_string(t.backend().scope())); });
+      })
+      .def_property_readonly("closed", &PyTopic::closed)
+      .def("metrics", [](PyTopic& s) {
+        const TopicMetrics x = s.use([](AnyTopic& t) { return t.metrics(); });
         py::dict d;
         d["sent"] = x.messages_sent();
         d["received"] = x.messages_received();
@@ -161,9 +213,12 @@ void bind_topics(py::module_& m) {
       .def("__exit__", [](PyTopic& s, py::args) { s.close(); })
       .def("__iter__", [](py::object self) { return self; })
       .def("__next__", [](PyTopic& s) { return s.recv_for(py::none()); }, "Blocks until the next message")
-      .def("__repr__", [](const PyTopic& s) {
-        return fmt::format("horus.Topic('{}', horus.msg.{}, scope={}, backend={})", s.t().name(), s.type().short_name,
-                           to_string(s.t().backend().scope()), to_string(s.t().backend()));
+      .def("__repr__", [](PyTopic& s) {
+        if (s.closed()) return fmt::format("horus.Topic(horus.msg.{}, closed)", s.type().short_name);
+        return s.use([&](AnyTopic& t) {
+          return fmt::format("horus.Topic('{}', horus.msg.{}, scope={}, backend={})", t.name(), s.type().short_name,
+                             to_string(t.backend().scope()), to_string(t.backend()));
+        });
       });
 
   py::class_<Trigger>(m, "Trigger", "A condition a WaitSet waits on, fired from any thread")

@@ -33,7 +33,9 @@ class AnyTopic {
   virtual ~AnyTopic() = default;
   virtual void send(py::handle msg) = 0;
   virtual bool try_send(py::handle msg) = 0;
-  virtual void send_blocking(py::handle msg, std::chrono::nanoseconds timeout) = 0;
+  /// Waits up to `timeout` for space and sends (the GIL released meanwhile): nothing when sent,
+  /// the Errc::Timeout error when the ring stayed full; raises the other errors.
+  virtual std::optional<Error> send_blocking(py::handle msg, std::chrono::nanoseconds timeout) = 0;
   virtual py::object recv() = 0;
   virtual py::object recv_for(std::chrono::nanoseconds timeout) = 0;
   virtual py::object read_latest() = 0;
@@ -55,8 +57,8 @@ class AnyTopic {
   virtual void publish_only() = 0;
   virtual WaitSet::Id attach(WaitSet& ws) = 0;
   /// Large data: a slot of the pool lent for the message a descriptor object (args[0]) or
-  /// Type.describe's arguments describe.
-  virtual py::object loan(const py::args& args) = 0;
+  /// Type.describe's arguments describe; the loan keeps `self` (this handle) alive.
+  virtual py::object loan(const py::args& args, std::shared_ptr<AnyTopic> self) = 0;
 };
 
 /// Registered for each standard type when the module loads.

@@ -57,9 +57,9 @@ template <class T, std::size_t I>
 void* field_addr(void* object) {
   return &(static_cast<T*>(object)->*(reflect::get<I>(reflect::fields<T>()).ptr));
 }
-template <class V>
+template <class V, bool Writable>
 py::object get_erased(void* field, py::handle owner) {
-  return to_py(*static_cast<V*>(field), owner);
+  return to_py(*static_cast<V*>(field), owner, Writable);
 }
 template <class V>
 void set_erased(void* field, py::handle value, const std::string& path) {
@@ -91,7 +91,7 @@ constexpr FieldSpec field_spec() {
   if constexpr (std::is_same_v<V, ByteBuffer>) {
     spec.get = [](void*, py::handle owner) -> py::object { return data_view<T>(py::reinterpret_borrow<py::object>(owner)); };
   } else {
-    spec.get = &get_erased<V>;
+    spec.get = &get_erased<V, !kLarge<T>>;  // large data's metadata: read-only views and copies
     if constexpr (!kLarge<T>) spec.set = &set_erased<V>;
   }
   return spec;
@@ -125,14 +125,20 @@ class TopicOf final : public AnyTopic {
     topic_.send(message_from<T>(msg));
   }
   bool try_send(py::handle msg) override { return topic_.try_send(message_from<T>(msg)).has_value(); }
-  void send_blocking(py::handle msg, std::chrono::nanoseconds timeout) override {
-    const T& m = message_from<T>(msg);
+  std::optional<Error> send_blocking(py::handle msg, std::chrono::nanoseconds timeout) override {
+    // A copy (but of large data: its bytes are not resizable from Python) that no other Python
+    // thread can change while the GIL is released.
+    std::optional<T> copy;
+    if constexpr (!kLarge<T>) copy.emplace(message_from<T>(msg));
+    const T& m = copy ? *copy : message_from<T>(msg);
     Result<void> ok;
     {
       py::gil_scoped_release free;
       ok = topic_.send_blocking(m, timeout);
     }
-    if (!ok) raise(ok.error());
+    if (ok) return std::nullopt;
+    if (ok.error().code() != Errc::Timeout) raise(ok.error());
+    return std::move(ok.error());
   }
   py::object recv() override { return out(topic_.recv()); }
   py::object recv_for(std::chrono::nanoseconds timeout) override {
@@ -164,7 +170,7 @@ class TopicOf final : public AnyTopic {
   std::string_view name() const override { return topic_.name(); }
   void publish_only() override { topic_.publish_only(); }
   WaitSet::Id attach(WaitSet& ws) override { return ws.attach(topic_); }
-  py::object loan(const py::args& args) override {
+  py::object loan(const py::args& args, std::shared_ptr<AnyTopic> self) override {
     if constexpr (kLarge<T>) {
       using D = typename T::Descriptor;
       const bool given = args.size() == 1 && PyObject_TypeCheck(args[0].ptr(), class_of<D>()) != 0;
@@ -172,9 +178,10 @@ class TopicOf final : public AnyTopic {
                            : describe_from(static_cast<const T*>(nullptr), args);
       auto l = topic_.loan(desc);
       if (!l) raise(l.error());
-      return py::cast(PyLoan(std::make_unique<LoanOf<T>>(std::move(*l))));
+      return py::cast(PyLoan(std::make_unique<LoanOf<T>>(std::move(*l)), std::move(self)));
     } else {
       (void)args;
+      (void)self;
       throw py::type_error(fmt::format("loan: {} is not large data (only Image, DepthImage, PointCloud and Tensor "
                                        "topics lend pool slots)",
                                        short_name(type_name<T>())));

@@ -40,10 +40,10 @@ class Filler:
             elif hasattr(cur, "dtype"):  # fixed array (a writable view) or vector (a copy)
                 values = [self.number(cur.dtype.kind) for _ in range(cur.size if cur.flags.writeable else 3)]
                 setattr(m, name, [v % 2 == 1 for v in values] if cur.dtype.kind == "b" else values)
-            elif isinstance(cur, list) and cur and hasattr(cur[0], "fields"):
+            elif isinstance(cur, tuple) and cur and hasattr(cur[0], "fields"):
                 for element in cur:
                     self.fill(element)
-            elif isinstance(cur, list):
+            elif isinstance(cur, tuple):
                 setattr(m, name, [f"t{self.next()}" for _ in cur])
         return m
 
@@ -59,7 +59,8 @@ class Filler:
 def sample(cls):
     if cls.__name__ in LARGE:
         m = LARGE[cls.__name__]()
-        flat = m.data.reshape(-1).view("uint8") if m.data.flags.c_contiguous else None
+        assert m.data.flags.c_contiguous, f"{cls.__name__}: a new message's bytes are contiguous"
+        flat = m.data.reshape(-1).view("uint8")
         for i in range(flat.size):
             flat[i] = (i * 7 + 3) % 256
         if hasattr(m, "frame_id"):

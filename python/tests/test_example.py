@@ -42,7 +42,7 @@ def test_the_python_monitor_shows_cpp_robots_on_this_host(peer, unique):
     assert "poses on shm (host scope)" in out.stdout
     for robot in ("robot_1", "robot_2"):
         last = rows(out.stdout, robot)[-1]
-        assert last[0] == "yes" and 10 <= last[2] <= 30, out.stdout  # the robots send 20 poses a second
+        assert last[0] == "yes" and 5 <= last[2] <= 40, out.stdout  # the robots send 20 poses a second
     assert re.search(r"received \d+ poses from 2 robots; 0 silent", out.stdout)
 
 

@@ -183,7 +183,9 @@ def test_the_executor_runs_callbacks_and_timers_until_stopped(unique):
         for i in range(5):
             pub.send(Pose(x=float(i)))
             time.sleep(0.01)
-        time.sleep(0.1)
+        deadline = time.monotonic() + 5
+        while (len(got) < 5 or len(ticks) < 4) and time.monotonic() < deadline:
+            time.sleep(0.01)
         ex.stop()
     threading.Thread(target=publish_then_stop).start()
     ex.spin()
@@ -204,3 +206,58 @@ def test_an_exception_in_a_callback_ends_spin_and_is_raised(unique):
     horus.Topic(unique, Pose).send(Pose(x=1.0))
     with pytest.raises(RuntimeError, match="cannot handle 1.0"):
         ex.spin(duration=5.0)
+
+
+def test_stop_returns_after_the_running_callback_and_remove_ends_a_subscription_at_once(unique):
+    ex = horus.Executor()
+    pub = horus.Topic(unique, Pose)
+    got = []
+
+    def first(m):
+        got.append(m.x)
+        if len(got) == 1:
+            ex.stop()
+    ex.subscribe(unique, Pose, first)
+    for i in range(5):
+        pub.send(Pose(x=float(i)))
+    ex.spin(duration=5.0)
+    assert got == [0.0]  # the four others wait for the next spin
+    ex.stop()
+    assert ex.spin_once(1.0) == 0  # a stop not consumed yet: nothing runs, at once
+    assert ex.spin_once(0.0) == 4
+    once = []
+    sid = None
+
+    def one_shot(m):
+        once.append(m.x)
+        ex.remove(sid)
+    sid = ex.subscribe(unique + ".once", Pose, one_shot)
+    p2 = horus.Topic(unique + ".once", Pose)
+    for i in range(3):
+        p2.send(Pose(x=float(i)))
+    ex.spin_once(1.0)
+    assert once == [0.0]
+    ex.subscribe(unique + ".again", Pose, lambda m: ex.spin())
+    horus.Topic(unique + ".again", Pose).send(Pose())
+    with pytest.raises(RuntimeError, match="called from one of its own callbacks"):
+        ex.spin_once(1.0)
+
+
+def test_closing_a_topic_another_thread_waits_on_is_safe(unique):
+    sub = horus.Topic(unique, Pose)
+    outcome = []
+
+    def wait():
+        try:
+            outcome.append(sub.recv_for(2.0))
+        except ValueError as e:
+            outcome.append(str(e))
+    t = threading.Thread(target=wait)
+    t.start()
+    time.sleep(0.05)
+    sub.close()  # waits for the receiving thread's slice, then closes
+    t.join(5)
+    assert outcome in ([None], ["this topic was closed"])
+    assert sub.closed and "closed" in repr(sub)
+    with pytest.raises(ValueError, match="this topic was closed"):
+        sub.recv()
