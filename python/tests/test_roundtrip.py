@@ -25,7 +25,7 @@ def round_trip_all(peer, prefix, env, topic_options, deadline_s):
     while waiting and time.monotonic() < deadline:
         for t in waiting:
             t[2].send(t[1])
-        time.sleep(0.05)
+        waiting[0][4] = waiting[0][3].recv_for(0.05)  # the first echo, or 50 ms, then the others that came
         for t in waiting:
             t[4] = t[4] or t[3].recv()
         waiting = [t for t in waiting if t[4] is None]

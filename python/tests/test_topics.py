@@ -4,6 +4,7 @@ Executor, and errors that carry the C++ message and code."""
 
 import asyncio
 import signal
+import sys
 import threading
 import time
 
@@ -40,33 +41,42 @@ def test_try_send_and_send_blocking_wait_for_a_slow_subscriber(unique):
         pub.send_blocking(Pose(x=3.0), 0.05)
     assert e.value.code == "timeout"
 
+    start = threading.Event()
+
     def drain():
-        time.sleep(0.1)
+        start.wait(5)
         sub.recv()
-    threading.Thread(target=drain).start()
-    pub.send_blocking(Pose(x=3.0), 2.0)  # the GIL is released while it waits for the reader
+    switch = sys.getswitchinterval()
+    sys.setswitchinterval(10.0)  # the drainer runs only when send_blocking gives the GIL up
+    try:
+        threading.Thread(target=drain).start()
+        start.set()
+        pub.send_blocking(Pose(x=3.0), 2.0)  # the GIL is released while it waits for the reader
+    finally:
+        sys.setswitchinterval(switch)
     assert [sub.recv().x, sub.recv().x] == [2.0, 3.0]
 
 
 def test_recv_for_releases_the_gil_another_thread_runs_meanwhile(unique):
     sub = horus.Topic(unique, Pose)
     pub = horus.Topic(unique, Pose)
-    ticks = []
+    ticks = [0]
     done = threading.Event()
 
-    def spin():
+    def spin():  # counts as fast as the GIL lets it
         while not done.is_set():
-            ticks.append(1)
-            time.sleep(0.001)
+            ticks[0] += 1
     t = threading.Thread(target=spin)
     t.start()
     start = time.monotonic()
+    before = ticks[0]
     assert sub.recv_for(0.3) is None
+    during = ticks[0] - before
     waited = time.monotonic() - start
     done.set()
     t.join()
     assert waited >= 0.29
-    assert len(ticks) >= 50  # a thread that could not run while recv_for waited would tick about once
+    assert during >= 10000  # a thread that could not take the GIL while recv_for waited would not count
     threading.Timer(0.05, lambda: pub.send(Pose(x=5.0))).start()
     assert sub.recv_for(5.0).x == 5.0  # wakes when the message comes, not at the timeout
 
@@ -175,17 +185,19 @@ def test_a_waitset_returns_the_topics_and_triggers_that_are_ready(unique):
 def test_the_executor_runs_callbacks_and_timers_until_stopped(unique):
     ex = horus.Executor()
     got, ticks = [], []
-    ex.subscribe(unique, Pose, lambda m: got.append(m.x))
+    enough = threading.Event()
+
+    def check():
+        if len(got) >= 5 and len(ticks) >= 4:
+            enough.set()
+    ex.subscribe(unique, Pose, lambda m: (got.append(m.x), check()))
     pub = horus.Topic(unique, Pose)
-    ex.every(0.02, lambda: ticks.append(time.monotonic()))
+    ex.every(0.02, lambda: (ticks.append(time.monotonic()), check()))
 
     def publish_then_stop():
         for i in range(5):
             pub.send(Pose(x=float(i)))
-            time.sleep(0.01)
-        deadline = time.monotonic() + 5
-        while (len(got) < 5 or len(ticks) < 4) and time.monotonic() < deadline:
-            time.sleep(0.01)
+        enough.wait(5)
         ex.stop()
     threading.Thread(target=publish_then_stop).start()
     ex.spin()
@@ -246,15 +258,17 @@ def test_stop_returns_after_the_running_callback_and_remove_ends_a_subscription_
 def test_closing_a_topic_another_thread_waits_on_is_safe(unique):
     sub = horus.Topic(unique, Pose)
     outcome = []
+    waiting = threading.Event()
 
     def wait():
+        waiting.set()
         try:
             outcome.append(sub.recv_for(2.0))
         except ValueError as e:
             outcome.append(str(e))
     t = threading.Thread(target=wait)
     t.start()
-    time.sleep(0.05)
+    waiting.wait(5)
     sub.close()  # waits for the receiving thread's slice, then closes
     t.join(5)
     assert outcome in ([None], ["this topic was closed"])
