@@ -21,9 +21,7 @@ if [ -d build/default/python/horus ]; then
   [ -x /usr/bin/python3 ] && py=/usr/bin/python3
   (cd / && "$py" -c "import horus; print('python3: horus', horus.__version__, 'installed at', horus.__path__[0])")
 fi
-# One job more than CPUs: most of these tests wait (hosts in network namespaces, DDS discovery,
-# deadlines), not compute; on 2 vCPUs -j3 takes 4 min 47 s where -j2 took 6 min 31 s.
-ctest --preset default -j "$(( jobs + 1 ))"
+ctest --preset default -j "$jobs"
 
 if [ "${HORUS_TEST_TSAN:-1}" != "0" ]; then
   cmake --preset tsan

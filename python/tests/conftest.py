@@ -9,7 +9,10 @@ import pytest
 
 sys.path.insert(0, os.path.dirname(__file__))
 
-# Network tests stay on loopback, in a DDS domain of their own.
+# Shared memory of its own (tests of other programs run at the same time on this host: the
+# fleet layer's own topics must not meet theirs), the C++ peers inheriting it; network tests
+# stay on loopback, in a DDS domain of their own.
+os.environ.setdefault("HORUS_NAMESPACE", f"pytest{os.getpid()}")
 os.environ.setdefault("HORUS_DDS_LOCALHOST", "1")
 os.environ.setdefault("HORUS_DOMAIN_ID", str(100 + os.getpid() % 100))
 os.environ.setdefault("HORUS_LCM_URL", "udpm://239.255.76.67:7667?ttl=0")
