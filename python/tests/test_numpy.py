@@ -24,8 +24,8 @@ def mapping_of(address):
 
 
 def in_segment(address, topic):
-    """True when `address` is inside the shared-memory segment of `topic` (/dev/shm/horus.u<uid>.<topic>)."""
-    return re.search(rf"/dev/shm/horus\.u\d+\.{re.escape(topic)}$", mapping_of(address)) is not None
+    """True when `address` is inside the shared-memory segment of `topic` (/dev/shm/horus.<namespace>.<topic>)."""
+    return re.search(rf"/dev/shm/horus\.[^./]+\.{re.escape(topic)}$", mapping_of(address)) is not None
 
 
 def data_address(a):
