@@ -19,6 +19,8 @@
 //                                         (one-way latency, jitter, losses, throughput; JSON,
 //                                         CSV, a plot), and the local paths beside the true
 //                                         floor (bench_cmd.hpp)
+//   horus foxglove [--port P] [--topics P...]  the Foxglove WebSocket protocol and a status page
+//                                         of the fleet, on one port (foxglove/command.hpp)
 //   horus clean                           remove segments whose processes are all gone
 //   horus config check FILE               validate a configuration file (exit 1 naming the error)
 //   horus security keystore init | host create | permissions | governance | check
@@ -48,6 +50,7 @@
 #include "bench_cmd.hpp"
 #include "config_cmd.hpp"
 #include "fleet_cmd.hpp"
+#include "foxglove/command.hpp"
 #include "record_cmd.hpp"
 #include "security_cmd.hpp"
 #include "topic_cmd.hpp"
@@ -161,6 +164,10 @@ int main(int argc, char** argv) {
   record->add_option("--compression", rec.compression, "MCAP chunk compression: zstd (default), lz4 or none");
   record->add_option("--format", rec.format, "mcap (default) or lcm (an LCM event log, as lcm-logger writes)");
   record->add_option("--backend", rec.backend, "network backend of the fleet (default: the configuration's)");
+  record->add_flag("--foxglove", rec.foxglove,
+                   "also record, beside each topic Foxglove's panels draw (images, clouds, scans, poses, "
+                   "transforms), TOPIC/foxglove in Foxglove's own schema");
+  record->add_option("--frame", rec.frame, "with --foxglove: the frame of messages that name none (default world)");
   std::string record_file, recover_out;
   auto* record_info = record->add_subcommand("info", "topics, types, counts, duration and size of a recording");
   record_info->add_option("file", record_file, "an MCAP file or an LCM log")->required();
@@ -168,6 +175,20 @@ int main(int argc, char** argv) {
   auto* recover = record->add_subcommand("recover", "copy what a killed recorder left into a whole file");
   recover->add_option("file", record_file, "the MCAP file or LCM log")->required();
   recover->add_option("-o,--output", recover_out, "the new file (default: FILE.recovered.mcap)");
+
+  horus::tools::FoxgloveArgs fox;
+  auto* foxglove = app.add_subcommand(
+      "foxglove", "serve this host's and the fleet's topics to Foxglove (WebSocket) and a status page, on one port");
+  foxglove->add_option("--port", fox.port, "TCP port (default 8765; 0: any free one, printed)");
+  foxglove->add_option("--address", fox.address,
+                       "address to listen on (default 127.0.0.1; 0.0.0.0 serves every interface)");
+  foxglove->add_option("--topics", fox.topics, "topic patterns served (default: every topic but horus.fleet.*)");
+  foxglove->add_option("--frame", fox.frame, "the frame of converted messages that name none (default world)");
+  foxglove->add_flag("--no-publish", fox.no_publish, "refuse clients' messages (clientPublish)");
+  foxglove->add_option("--max-clients", fox.max_clients, "connections served at once (default 64)");
+  foxglove->add_option("--backend", fox.backend, "network backend of the fleet (default: the configuration's)");
+  foxglove->add_option("--duration", fox.duration_s, "stop after S seconds (default: until Ctrl-C)")
+      ->check(CLI::PositiveNumber);
 
   horus::tools::PlayArgs play_args;
   auto* play = app.add_subcommand("play", "publish a recording into horus topics with its timing");
@@ -270,6 +291,10 @@ int main(int argc, char** argv) {
     }
     rec.ns = *ns;
     return horus::tools::cmd_record(rec, g_stop);
+  }
+  if (*foxglove) {
+    fox.ns = *ns;
+    return horus::tools::cmd_foxglove(fox, g_stop);
   }
   if (*list) return horus::tools::cmd_list(*ns, json, verbose, lookup, local_only, all, g_stop);
   if (*info) return horus::tools::cmd_info(*ns, name, lookup, g_stop);

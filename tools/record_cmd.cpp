@@ -23,6 +23,7 @@
 #include "horus/record/mcap.hpp"
 #include "horus/record/player.hpp"
 #include "horus/record/recorder.hpp"
+#include "foxglove/schemas.hpp"
 #include "typed_reader.hpp"
 
 namespace horus::tools {
@@ -98,6 +99,11 @@ class Progress {
 }  // namespace
 
 int cmd_record(const RecordArgs& a, const std::atomic<bool>& stop) {
+  if (a.foxglove && a.format != "mcap") {
+    fmt::print(stderr, "horus record: --foxglove records Foxglove's schemas, which only MCAP holds (not --format {})\n",
+               a.format);
+    return 2;
+  }
   if (a.topics.empty() && !a.all) {
     fmt::print(stderr, "horus record: name the topics to record with --topics PATTERN (e.g. --topics 'robot.**') "
                        "or record every topic with --all\n");
@@ -168,6 +174,14 @@ int cmd_record(const RecordArgs& a, const std::atomic<bool>& stop) {
       return;
     }
     fmt::print("+ {} ({}, {})\n", name, type, scope);
+    if (const auto* fs = a.foxglove ? fox::foxglove_schema_of(type) : nullptr; fs != nullptr) {
+      TopicOptions to;
+      to.backend = backend;
+      auto converted = fox::open_foxglove_source(type, name, to, a.frame, error);
+      auto ok = converted ? recorder.add(std::move(converted)) : Result<void>(fail(Errc::InvalidArgument, error));
+      if (ok) fmt::print("+ {}{} ({}, {})\n", name, fox::kConvertedSuffix, fs->name, scope);
+      else fmt::print(stderr, "horus record: not recording '{}{}': {}\n", name, fox::kConvertedSuffix, ok.error().message());
+    }
     std::fflush(stdout);
   };
   const auto discover = [&] {

@@ -17,6 +17,8 @@ struct RecordArgs {
   std::string compression = "zstd";
   std::string format = "mcap";
   std::string backend;              // the fleet's transport (--backend), else the configuration's
+  bool foxglove = false;            // also TOPIC/foxglove in Foxglove's schema (foxglove/schemas.hpp)
+  std::string frame = "world";      // its frame when the message names none
 };
 int cmd_record(const RecordArgs& args, const std::atomic<bool>& stop);
 int cmd_record_info(const std::string& file, bool json);

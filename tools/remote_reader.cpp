@@ -70,6 +70,8 @@ class Reader final : public RemoteReader, public net::Listener {
       if (j) out.value = std::move(*j);
       else out.error = j.error();
     }
+    out.body = std::move(raw.body);
+    out.little_endian = raw.little_endian;
     return out;
   }
 

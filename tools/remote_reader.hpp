@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -21,6 +22,8 @@ class RemoteReader {
     nlohmann::json value;  // null when it did not decode (error says why)
     std::string error;
     std::size_t bytes = 0;  // the sample's body on the wire
+    std::vector<std::byte> body;  // that body (XCDR1 without its header, or LCM's encoding)
+    bool little_endian = true;
   };
   /// Opens `topic` on `transport` as `type_name` (hash, signature); an error names what failed.
   static std::unique_ptr<RemoteReader> open(const std::string& topic, const std::string& transport,

@@ -133,18 +133,21 @@ struct Recorder::Impl {
     std::uint16_t schema = 0;
     if (auto it = schema_ids.find(type.name); it != schema_ids.end()) {
       schema = it->second;
-    } else if (!type.signature.empty()) {
-      std::string idl;
-      if (auto dyn = wire::parse_signature(type.signature, type.hash); dyn) {
-        try {
-          idl = idlgen::omgidl_schema(*dyn);
-        } catch (const std::exception& ex) {
-          detail::log().warn("horus record: topic '{}' ({}) is recorded without a schema: {}", e.source->topic(),
-                             type.name, ex.what());
+    } else if (!type.signature.empty() || !type.schema.empty()) {
+      std::string idl = type.schema;
+      if (idl.empty()) {
+        if (auto dyn = wire::parse_signature(type.signature, type.hash); dyn) {
+          try {
+            idl = idlgen::omgidl_schema(*dyn);
+          } catch (const std::exception& ex) {
+            detail::log().warn("horus record: topic '{}' ({}) is recorded without a schema: {}", e.source->topic(),
+                               type.name, ex.what());
+          }
+        } else {
+          detail::log().warn(
+              "horus record: topic '{}' ({}) is recorded without a schema: its signature does not parse: {}",
+              e.source->topic(), type.name, dyn.error());
         }
-      } else {
-        detail::log().warn("horus record: topic '{}' ({}) is recorded without a schema: its signature does not parse: {}",
-                           e.source->topic(), type.name, dyn.error());
       }
       if (!idl.empty()) {
         auto id = mcap->add_schema(type.name, "omgidl", std::as_bytes(std::span(idl.data(), idl.size())));

@@ -59,6 +59,9 @@ struct RecordedType {
   std::string name;       // qualified: "horus::msg::Imu"
   std::uint64_t hash = 0; // horus::type_hash
   std::string signature;  // reflect::type_signature (empty: unknown; the channel then has no schema)
+  /// The OMG IDL of the type when it is not derived from the signature (Foxglove's own schemas,
+  /// `horus record --foxglove`): used as given.
+  std::string schema;
 };
 
 /// One topic a Recorder takes messages from. Recorder::add<T> makes one of a Topic<T>; a program
@@ -100,7 +103,7 @@ class TopicSource final : public RecordSource {
   explicit TopicSource(Topic<T> topic)
       : topic_(std::move(topic)),
         name_(topic_.name()),
-        type_{std::string(horus::type_name<T>()), horus::type_hash<T>, reflect::type_signature<T>()} {}
+        type_{std::string(horus::type_name<T>()), horus::type_hash<T>, reflect::type_signature<T>(), {}} {}
   const std::string& topic() const override { return name_; }
   const RecordedType& type() const override { return type_; }
   std::string scope() const override { return std::string(horus::to_string(topic_.scope())); }
