@@ -20,7 +20,8 @@ packages=(
   iproute2   # ip netns: the multi-host tests make hosts out of network namespaces
   nftables   # nft: the multi-host fault tests drop multicast and packets on namespace links
   libzstd-dev liblz4-dev zlib1g-dev   # MCAP recordings: zstd and lz4 chunks, CRC-32 (record/)
-  nodejs   # the independent MCAP readers of the recording tests (tests/interop/mcap_js)
+  nodejs   # the independent MCAP readers and Foxglove clients of the tests (tests/interop/*_js)
+  chromium   # horus foxglove's status page in a real browser (puppeteer-core drives it headless)
   gnuplot-nox   # horus bench ping --plot: the latency histogram and CDF as PNG
   pybind11-dev python3-dev python3-numpy python3-pytest   # the Python package horus (python/) and its tests
 )
@@ -50,13 +51,15 @@ else
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
 
-# The npm packages of the recording tests' MCAP readers, at the versions the lock file pins;
-# reinstalled only when the lock file changed.
-js="$(cd "$(dirname "$0")/.." && pwd)/tests/interop/mcap_js"
-stamp="$js/node_modules/.horus-lock-sha256"
-want="$(sha256sum "$js/package-lock.json" | cut -d' ' -f1)"
-if [ "$(cat "$stamp" 2>/dev/null)" != "$want" ]; then
-  echo "install-deps: npm ci in tests/interop/mcap_js"
-  (cd "$js" && npm ci --no-audit --no-fund --loglevel=error)
-  echo "$want" > "$stamp"
-fi
+# The npm packages of the tests' independent checkers (the MCAP readers, the Foxglove clients),
+# at the versions their lock files pin; reinstalled only when a lock file changed.
+root="$(cd "$(dirname "$0")/.." && pwd)"
+for js in "$root/tests/interop/mcap_js" "$root/tests/interop/foxglove_js"; do
+  stamp="$js/node_modules/.horus-lock-sha256"
+  want="$(sha256sum "$js/package-lock.json" | cut -d' ' -f1)"
+  if [ "$(cat "$stamp" 2>/dev/null)" != "$want" ]; then
+    echo "install-deps: npm ci in ${js#"$root"/}"
+    (cd "$js" && npm ci --no-audit --no-fund --loglevel=error)
+    echo "$want" > "$stamp"
+  fi
+done

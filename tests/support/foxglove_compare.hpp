@@ -1,6 +1,7 @@
-// What Foxglove's own decoder (@foxglove/omgidl-serialization, run by node in the recording and
-// `horus foxglove` tests) made of a message, compared field by field with horus::to_json's text
-// of what was sent, guided by the type's signature (horus/wire/dynamic.hpp).
+// What Foxglove's own decoder (@foxglove/omgidl-serialization, run by node in
+// the recording and `horus foxglove` tests) made of a message, compared field
+// by field with horus::to_json's text of what was sent, guided by the type's
+// signature (horus/wire/dynamic.hpp).
 #pragma once
 
 #include <cstdint>
@@ -22,25 +23,30 @@ inline std::string plain_key(std::string k) {
 
 inline std::string as_decimal(const json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); }
 
-// Text of a char array as Foxglove gives it (a string, or characters / codes), up to its first NUL.
+// Text of a char array as Foxglove gives it (a string, or characters / codes),
+// up to its first NUL.
 inline std::string char_text(const json& v) {
   std::string s;
-  if (v.is_string()) s = v.get<std::string>();
+  if (v.is_string())
+    s = v.get<std::string>();
   else if (v.is_array())
     for (const auto& c : v) s += c.is_string() ? c.get<std::string>() : std::string(1, static_cast<char>(c.get<int>()));
   return s.substr(0, s.find('\0'));
 }
 
-// Foxglove's decoding `got` against horus::to_json's `want`, guided by the type: IDL member
-// names (escaped with '_', renamed with a trailing '_'), enums as their numbers, 64-bit integers
-// as decimal text, char arrays as text. The first difference, or empty.
+// Foxglove's decoding `got` against horus::to_json's `want`, guided by the
+// type: IDL member names (escaped with '_', renamed with a trailing '_'), enums
+// as their numbers, 64-bit integers as decimal text, char arrays as text. The
+// first difference, or empty.
 inline std::string compare(const horus::wire::DynType& t, const json& want, const json& got, const std::string& path) {
   using K = horus::wire::DynType::Kind;
   const auto cut = [](const json& v) {
     auto text = v.dump();
     return text.size() > 200 ? text.substr(0, 200) + "..." : text;
   };
-  const auto differ = [&](const std::string& what) { return path + ": " + what + ": want " + cut(want) + ", got " + cut(got); };
+  const auto differ = [&](const std::string& what) {
+    return path + ": " + what + ": want " + cut(want) + ", got " + cut(got);
+  };
   switch (t.kind) {
     case K::Struct: {
       if (!got.is_object() || !want.is_object()) return differ("not an object");
@@ -55,12 +61,16 @@ inline std::string compare(const horus::wire::DynType& t, const json& want, cons
       }
       return {};
     }
-    case K::Bool: return got == want ? "" : differ("bool");
+    case K::Bool:
+      return got == want ? "" : differ("bool");
     case K::Char: {
-      const auto code = [](const json& v) { return v.is_string() ? (v.get<std::string>().empty() ? 0 : v.get<std::string>()[0]) : v.get<int>(); };
+      const auto code = [](const json& v) {
+        return v.is_string() ? (v.get<std::string>().empty() ? 0 : v.get<std::string>()[0]) : v.get<int>();
+      };
       return code(got) == code(want) ? "" : differ("char");
     }
-    case K::Int: return as_decimal(got) == as_decimal(want) ? "" : differ("integer");
+    case K::Int:
+      return as_decimal(got) == as_decimal(want) ? "" : differ("integer");
     case K::Float: {
       if (want.is_null() || got.is_null()) return want.is_null() && got.is_null() ? "" : differ("non-finite");
       const double a = want.get<double>(), b = got.get<double>();
@@ -72,19 +82,22 @@ inline std::string compare(const horus::wire::DynType& t, const json& want, cons
         const auto n = got.get<std::int64_t>();
         std::string name;
         for (std::size_t i = 0; i < t.enumerators.size(); ++i)
-          if ((t.idl_enum() ? static_cast<std::int64_t>(i) : t.enumerators[i].second) == n) name = t.enumerators[i].first;
+          if ((t.idl_enum() ? static_cast<std::int64_t>(i) : t.enumerators[i].second) == n)
+            name = t.enumerators[i].first;
         return name == want.get<std::string>() ? "" : differ("enum");
       }
       return as_decimal(got) == as_decimal(want) ? "" : differ("enum");
     }
-    case K::String: return got == want ? "" : differ("string");
+    case K::String:
+      return got == want ? "" : differ("string");
     case K::Array:
     case K::Sequence: {
       if (t.char_array()) return char_text(got) == want.get<std::string>() ? "" : differ("char array");
       if (!got.is_array() || !want.is_array()) return differ("not an array");
       if (got.size() != want.size()) return differ("another length");
       for (std::size_t i = 0; i < got.size(); ++i)
-        if (auto d = compare(t.children[0], want[i], got[i], path + "[" + std::to_string(i) + "]"); !d.empty()) return d;
+        if (auto d = compare(t.children[0], want[i], got[i], path + "[" + std::to_string(i) + "]"); !d.empty())
+          return d;
       return {};
     }
   }

@@ -16,6 +16,7 @@
 #include "../fleet_cmd.hpp"
 #include "../remote_reader.hpp"
 #include "../typed_reader.hpp"
+#include "catalogue.hpp"
 #include "horus/discovery/registry.hpp"
 #include "horus/fleet.hpp"
 #include "horus/idlgen/emit.hpp"
@@ -34,25 +35,9 @@ using Clock = std::chrono::steady_clock;
 
 std::uint64_t unix_ns() {
   return static_cast<std::uint64_t>(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count());
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+          .count());
 }
-
-// One channel as the scan found it.
-struct Desc {
-  ServerChannel adv;     // id filled when advertised
-  std::string horus_topic;
-  std::string type;      // horus type name
-  std::uint64_t hash = 0;
-  std::string signature;
-  std::string scope;
-  std::string via;       // the network backend to read it through (empty: shared memory)
-  bool converted = false;
-  bool remote_raw = false;  // not a standard type: read through its signature (RemoteReader)
-  bool operator==(const Desc& o) const {
-    return adv.topic == o.adv.topic && adv.schema_name == o.adv.schema_name && adv.schema == o.adv.schema &&
-           adv.encoding == o.adv.encoding && via == o.via;
-  }
-};
 
 // The one subscription that feeds a channel's clients.
 struct Active {
@@ -78,11 +63,9 @@ struct ClientState {
   Clock::time_point since = Clock::now();
 };
 
-std::string graph_id(const std::string& host, std::uint32_t pid) { return fmt::format("{}/pid {}", host, pid); }
-
 class HubImpl final : public Hub {
  public:
-  explicit HubImpl(HubOptions o) : o_(std::move(o)), scanner_(o_.ns), host_(fleet::host_name()) {}
+  explicit HubImpl(HubOptions o) : o_(std::move(o)), catalogue_(o_.patterns, o_.ns) {}
 
   bool start(std::string& error) {
     if (!o_.transport.empty()) {
@@ -154,7 +137,9 @@ class HubImpl final : public Hub {
     auto pub = st.published.find(data->channel);
     if (pub == st.published.end()) {
       tell(st, Level::Error,
-           fmt::format("client message data on channel {}: no such channel of yours (advertise it first)", data->channel));
+           fmt::format("client message data on channel {}: no such channel of "
+                       "yours (advertise it first)",
+                       data->channel));
       return;
     }
     auto& p = pub->second;
@@ -167,8 +152,8 @@ class HubImpl final : public Hub {
       why = j.is_discarded() ? std::string("not JSON") : p.writer->send_json(j);
     }
     if (!why.empty()) {
-      tell(st, Level::Error, fmt::format("a message on '{}' ({}) was not published: {}", p.channel.topic,
-                                         p.channel.schema_name, why));
+      tell(st, Level::Error,
+           fmt::format("a message on '{}' ({}) was not published: {}", p.channel.topic, p.channel.schema_name, why));
       return;
     }
     ++p.messages;
@@ -184,7 +169,8 @@ class HubImpl final : public Hub {
   }
 
  private:
-  // ---- client ops (the I/O thread) ----------------------------------------------------------
+  // ---- client ops (the I/O thread)
+  // ----------------------------------------------------------
   void reject(std::uint64_t id, std::uint16_t code, const std::string& why) {
     std::lock_guard lock(mu_);
     auto it = clients_.find(id);
@@ -205,7 +191,10 @@ class HubImpl final : public Hub {
       auto& st = it->second;
       for (const auto& item : s.subscriptions) {
         if (st.subscriptions.contains(item.id)) {
-          tell(st, Level::Error, fmt::format("subscribe: subscription id {} is in use (unsubscribe it first)", item.id));
+          tell(st, Level::Error,
+               fmt::format("subscribe: subscription id {} is in use "
+                           "(unsubscribe it first)",
+                           item.id));
           continue;
         }
         if (!channels_.contains(item.channel)) {
@@ -249,13 +238,18 @@ class HubImpl final : public Hub {
       for (std::string_view sep : {"::", ".", "/"})
         if (auto at = type.rfind(sep); at != std::string::npos) type = type.substr(at + sep.size());
       if (!o_.client_publish) {
-        error = "this server does not take client messages (horus foxglove --no-publish)";
+        error =
+            "this server does not take client messages (horus foxglove "
+            "--no-publish)";
       } else if (c.encoding != "cdr" && c.encoding != "json") {
         error = fmt::format("encoding '{}' is not supported (cdr or json)", c.encoding);
       } else if (auto ok = validate_topic_name(c.topic); !ok) {
         error = ok.error().message();
       } else if (standard_type(type).empty()) {
-        error = fmt::format("schema '{}' is not a standard horus message (e.g. horus::msg::CmdVel)", c.schema_name);
+        error = fmt::format(
+            "schema '{}' is not a standard horus message (e.g. "
+            "horus::msg::CmdVel)",
+            c.schema_name);
       } else if (c.encoding == "cdr") {
         std::uint64_t hash = 0;
         pub.sink = open_play_sink(type, c.topic, false, hash, error);
@@ -310,10 +304,13 @@ class HubImpl final : public Hub {
     std::lock_guard lock(mu_);
     if (auto it = clients_.find(id); it != clients_.end())
       tell(it->second, Level::Warning,
-           fmt::format("'{}' is not offered by this server (capabilities: clientPublish, time, connectionGraph)", u.op));
+           fmt::format("'{}' is not offered by this server (capabilities: "
+                       "clientPublish, time, connectionGraph)",
+                       u.op));
   }
 
-  // A client publisher's topic is closed by the pump thread (only it destroys topics).
+  // A client publisher's topic is closed by the pump thread (only it destroys
+  // topics).
   void retire(ClientState::Pub&& p) {
     graveyard_pubs_.push_back(std::move(p));
     wake_.fire();
@@ -332,7 +329,8 @@ class HubImpl final : public Hub {
     }
   }
 
-  // Opens the subscription that feeds channel `ch` (outside mu_: a network topic takes a while).
+  // Opens the subscription that feeds channel `ch` (outside mu_: a network
+  // topic takes a while).
   void open_channel(std::uint32_t ch) {
     Desc d;
     {
@@ -377,7 +375,8 @@ class HubImpl final : public Hub {
     wake_.fire();
   }
 
-  // ---- the pump thread -----------------------------------------------------------------------
+  // ---- the pump thread
+  // -----------------------------------------------------------------------
   void pump_loop() {
     std::unique_ptr<WaitSet> ws;
     std::vector<std::byte> buf;
@@ -406,7 +405,8 @@ class HubImpl final : public Hub {
     }
   }
 
-  // Takes what channel `id` has (at most 64 messages a turn) to its subscribers. Holds mu_.
+  // Takes what channel `id` has (at most 64 messages a turn) to its
+  // subscribers. Holds mu_.
   void drain(std::uint32_t id, Active& a, std::vector<std::byte>& buf) {
     for (int n = 0; n < 64; ++n) {
       if (a.source) {
@@ -438,7 +438,8 @@ class HubImpl final : public Hub {
     (void)id;
   }
 
-  // ---- the scan thread -----------------------------------------------------------------------
+  // ---- the scan thread
+  // -----------------------------------------------------------------------
   void scan_loop() {
     auto next_scan = Clock::now() + std::chrono::milliseconds(500);
     while (true) {
@@ -455,179 +456,10 @@ class HubImpl final : public Hub {
     }
   }
 
-  bool wanted(const std::string& name) const {
-    if (o_.patterns.empty()) return !name.starts_with("horus.fleet.");
-    return std::any_of(o_.patterns.begin(), o_.patterns.end(),
-                       [&](const auto& p) { return topic_pattern_matches(p, name); });
-  }
-
-  // The channels of one topic: as it is, and converted when Foxglove draws its type.
-  void add_channels(std::map<std::string, Desc>& out, Desc d) {
-    if (!standard_type(d.type).empty()) {
-      d.remote_raw = false;
-    } else if (!d.via.empty() && !d.signature.empty()) {
-      d.remote_raw = true;
-    } else {
-      unserved_.insert({d.horus_topic, d.type + (d.via.empty() ? " is not a standard message and the topic stays on "
-                                                                 "this host (only fleet topics are read through "
-                                                                 "their signature)"
-                                                               : " announced no signature")});
-      return;
-    }
-    const auto* info = d.via.empty() ? nullptr : net::find_transport(d.via);
-    const bool lcm_raw = d.remote_raw && info != nullptr && info->format == net::WireFormat::Lcm;
-    d.adv.topic = d.horus_topic;
-    d.adv.schema_name = d.type;
-    if (lcm_raw) {  // LCM's bytes are not CDR: served as JSON through the signature
-      d.adv.encoding = "json";
-      d.adv.schema_encoding = "jsonschema";
-      d.adv.schema = json{{"title", d.type}, {"type", "object"}}.dump();
-    } else {
-      d.adv.encoding = "cdr";
-      d.adv.schema_encoding = "omgidl";
-      auto& idl = idl_cache_[d.type + "|" + d.signature];
-      if (idl.empty()) {
-        if (auto dyn = wire::parse_signature(d.signature, d.hash); dyn) {
-          try {
-            idl = idlgen::omgidl_schema(*dyn);
-          } catch (const std::exception& e) {
-            unserved_.insert({d.horus_topic, std::string("no OMG IDL for its type: ") + e.what()});
-            return;
-          }
-        } else {
-          unserved_.insert({d.horus_topic, "its type signature does not parse: " + dyn.error()});
-          return;
-        }
-      }
-      d.adv.schema = idl;
-    }
-    out[d.adv.topic] = d;
-    if (const auto* fs = foxglove_schema_of(d.type); fs != nullptr && !d.remote_raw) {
-      Desc c = d;
-      c.converted = true;
-      c.adv.topic = d.horus_topic + std::string(kConvertedSuffix);
-      c.adv.schema_name = std::string(fs->name);
-      c.adv.schema = std::string(fs->idl);
-      c.adv.encoding = "cdr";
-      c.adv.schema_encoding = "omgidl";
-      out[c.adv.topic] = std::move(c);
-    }
-  }
-
   void scan() {
-    const auto me = static_cast<std::uint32_t>(::getpid());
-    std::map<std::string, Desc> want;
-    Graph graph;
-    json topics = json::array();
-    std::map<std::string, std::pair<std::uint64_t, Clock::time_point>> counts;
-    const auto now = Clock::now();
-    std::set<std::string> local_names;
-    for (const auto& t : scanner_.scan()) {
-      std::vector<std::string> pubs, subs;
-      bool others = false;
-      for (const auto& p : t.processes) {
-        if (!p.alive || static_cast<std::uint32_t>(p.pid) == me) continue;
-        others = true;
-        if (p.publishers) pubs.push_back(graph_id(host_, static_cast<std::uint32_t>(p.pid)));
-        if (p.subscribers) subs.push_back(graph_id(host_, static_cast<std::uint32_t>(p.pid)));
-      }
-      if (!others || !wanted(t.topic)) continue;
-      local_names.insert(t.topic);
-      if (!pubs.empty()) graph.published.push_back({t.topic, pubs});
-      if (!subs.empty()) graph.subscribed.push_back({t.topic, subs});
-      Desc d;
-      d.horus_topic = t.topic;
-      d.type = t.type_name;
-      d.hash = t.type_hash;
-      d.signature = t.signature;
-      d.scope = t.scope;
-      add_channels(want, std::move(d));
-      // rate: the sent count since the last scan that is at least 0.9 s old
-      double rate = -1;
-      if (auto it = last_counts_.find(t.topic); it != last_counts_.end()) {
-        const double dt = std::chrono::duration<double>(now - it->second.second).count();
-        if (dt >= 0.9) {
-          rate = static_cast<double>(t.messages_sent - std::min(t.messages_sent, it->second.first)) / dt;
-          counts[t.topic] = {t.messages_sent, now};
-          rates_[t.topic] = rate;
-        } else {
-          counts[t.topic] = it->second;
-          rate = rates_.contains(t.topic) ? rates_[t.topic] : -1;
-        }
-      } else {
-        counts[t.topic] = {t.messages_sent, now};
-      }
-      topics.push_back({{"name", t.topic},
-                        {"type", t.type_name},
-                        {"scope", t.scope},
-                        {"hosts", {host_}},
-                        {"publishers", t.publishers},
-                        {"subscribers", t.subscribers},
-                        {"rate_hz", rate},
-                        {"message_bytes", t.message_size},
-                        {"bandwidth_bps", rate < 0 ? -1.0 : rate * t.message_size},
-                        {"dropped", t.dropped}});
-    }
-    last_counts_ = std::move(counts);
-
-    json hosts = json::array();
-    if (fleet_) {
-      std::map<std::string, json> remote_topics;
-      for (const auto& h : fleet_->hosts()) {
-        json hj{{"name", h.name},
-                {"state", h.self ? "this host" : std::string(to_string(h.state))},
-                {"self", h.self},
-                {"age_ms", h.heartbeat_age.count()},
-                {"rtt_us", h.rtt ? json(h.rtt->count()) : json(nullptr)},
-                {"clock_offset_us", h.clock_offset ? json(h.clock_offset->count()) : json(nullptr)},
-                {"loss", h.loss},
-                {"topics", h.topics.size()},
-                {"processes", h.processes.size()}};
-        hosts.push_back(hj);
-        if (h.self || h.state == HostState::Lost) continue;
-        for (const auto& t : h.topics) {
-          if (t.scope != "fleet" || !wanted(t.name)) continue;
-          if (t.publishers) graph.published.push_back({t.name, {h.name}});
-          if (t.subscribers) graph.subscribed.push_back({t.name, {h.name}});
-          auto& rt = remote_topics[t.name];
-          if (rt.is_null())
-            rt = {{"name", t.name}, {"type", t.type_name}, {"scope", "fleet"}, {"hosts", json::array()},
-                  {"publishers", 0}, {"subscribers", 0}, {"rate_hz", -1.0}, {"message_bytes", t.message_size},
-                  {"bandwidth_bps", -1.0}, {"dropped", 0}};
-          rt["hosts"].push_back(h.name);
-          rt["publishers"] = rt["publishers"].get<std::uint32_t>() + t.publishers;
-          rt["subscribers"] = rt["subscribers"].get<std::uint32_t>() + t.subscribers;
-          if (t.rate_hz >= 0 && t.publishers > 0) {
-            rt["rate_hz"] = std::max(rt["rate_hz"].get<double>(), 0.0) + t.rate_hz;
-            rt["bandwidth_bps"] = rt["rate_hz"].get<double>() * t.message_size;
-          }
-          if (local_names.contains(t.name) || want.contains(t.name)) continue;
-          Desc d;
-          d.horus_topic = t.name;
-          d.type = t.type_name;
-          d.hash = t.type_hash;
-          d.signature = t.signature;
-          d.scope = "fleet";
-          d.via = t.transport;
-          add_channels(want, std::move(d));
-        }
-      }
-      for (auto& [name, rt] : remote_topics) {
-        bool merged = false;
-        for (auto& lt : topics)
-          if (lt["name"] == name) {
-            for (const auto& h : rt["hosts"]) lt["hosts"].push_back(h);
-            merged = true;
-          }
-        if (!merged) topics.push_back(std::move(rt));
-      }
-    } else {
-      hosts.push_back({{"name", host_}, {"state", "this host"}, {"self", true}, {"age_ms", 0}, {"rtt_us", nullptr},
-                       {"clock_offset_us", nullptr}, {"loss", -1}, {"topics", topics.size()}, {"processes", nullptr}});
-    }
-    std::sort(graph.published.begin(), graph.published.end(), [](auto& a, auto& b) { return a.name < b.name; });
-    std::sort(graph.subscribed.begin(), graph.subscribed.end(), [](auto& a, auto& b) { return a.name < b.name; });
-
+    Scan s = catalogue_.scan(fleet_.get());
+    auto& want = s.channels;
+    auto& graph = s.graph;
     std::lock_guard lock(mu_);
     // unadvertise what went (or changed), advertise what came
     std::vector<std::uint32_t> gone;
@@ -669,8 +501,13 @@ class HubImpl final : public Hub {
     // the status page's figures
     json channels = json::array();
     for (const auto& [id, d] : channels_) {
-      json c{{"id", id}, {"topic", d.adv.topic}, {"schema", d.adv.schema_name}, {"encoding", d.adv.encoding},
-             {"subscribers", 0}, {"messages", 0}, {"bytes", 0}};
+      json c{{"id", id},
+             {"topic", d.adv.topic},
+             {"schema", d.adv.schema_name},
+             {"encoding", d.adv.encoding},
+             {"subscribers", 0},
+             {"messages", 0},
+             {"bytes", 0}};
       if (auto a = active_.find(id); a != active_.end()) {
         c["subscribers"] = a->second.subscribers.size();
         c["messages"] = a->second.messages;
@@ -680,42 +517,38 @@ class HubImpl final : public Hub {
     }
     json clients = json::array();
     for (const auto& [id, st] : clients_) {
-      const auto s = st.client->stats();
+      const auto cs = st.client->stats();
       std::uint64_t published = 0;
       for (const auto& [cid, p] : st.published) published += p.messages;
       clients.push_back({{"id", id},
                          {"peer", st.peer},
                          {"subscriptions", st.subscriptions.size()},
-                         {"sent", s.sent},
-                         {"dropped", s.dropped},
-                         {"queued_bytes", s.queued_bytes},
+                         {"sent", cs.sent},
+                         {"dropped", cs.dropped},
+                         {"queued_bytes", cs.queued_bytes},
                          {"published", published},
                          {"connected_s", std::chrono::duration<double>(Clock::now() - st.since).count()}});
     }
-    json unserved = json::array();
-    for (const auto& [topic, why] : unserved_) unserved.push_back({{"topic", topic}, {"why", why}});
-    std::sort(topics.begin(), topics.end(), [](const json& a, const json& b) { return a["name"] < b["name"]; });
-    json all{{"server", {{"name", o_.name}, {"host", host_}, {"transport", o_.transport}, {"namespace", o_.ns},
-                         {"unix_ms", unix_ns() / 1'000'000}}},
-             {"hosts", hosts},
-             {"topics", topics},
+    json all{{"server",
+              {{"name", o_.name},
+               {"host", s.host},
+               {"transport", o_.transport},
+               {"namespace", o_.ns},
+               {"unix_ms", unix_ns() / 1'000'000}}},
+             {"hosts", s.hosts},
+             {"topics", s.topics},
              {"channels", channels},
              {"clients", clients},
-             {"unserved", unserved}};
+             {"unserved", s.unserved}};
     std::lock_guard slock(status_mu_);
     status_ = all.dump(-1, ' ', false, json::error_handler_t::replace);
   }
 
   HubOptions o_;
-  discovery::Scanner scanner_;  // the scan thread's
-  std::string host_;
+  Catalogue catalogue_;  // the scan thread's
   std::string session_ = std::to_string(unix_ns());
   std::unique_ptr<Fleet> fleet_;
   std::set<std::string, std::less<>> transports_;  // Backend keeps a view of the name
-  std::map<std::string, std::string> idl_cache_;   // the scan thread's
-  std::map<std::string, std::pair<std::uint64_t, Clock::time_point>> last_counts_;
-  std::map<std::string, double> rates_;
-  std::set<std::pair<std::string, std::string>> unserved_;
 
   mutable std::mutex mu_;  // what follows
   std::condition_variable cv_;

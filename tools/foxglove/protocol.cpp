@@ -14,7 +14,8 @@ using json = nlohmann::json;
 using Fail = std::unexpected<std::string>;
 
 constexpr std::string_view kOps =
-    "subscribe, unsubscribe, advertise, unadvertise, subscribeConnectionGraph, unsubscribeConnectionGraph";
+    "subscribe, unsubscribe, advertise, unadvertise, subscribeConnectionGraph, "
+    "unsubscribeConnectionGraph";
 
 std::string shown(const json& v) {
   std::string s = v.dump();
@@ -22,11 +23,13 @@ std::string shown(const json& v) {
   return s;
 }
 
-// A field of `obj` that must be an unsigned 32-bit integer; `where` names it in the error.
+// A field of `obj` that must be an unsigned 32-bit integer; `where` names it in
+// the error.
 std::expected<std::uint32_t, std::string> u32(const json& obj, const char* key, const std::string& where) {
   auto it = obj.find(key);
   if (it == obj.end()) return Fail(fmt::format("{}.{} is missing (an unsigned 32-bit integer)", where, key));
-  if (!it->is_number_integer() || (it->is_number_integer() && !it->is_number_unsigned() && it->get<std::int64_t>() < 0) ||
+  if (!it->is_number_integer() ||
+      (it->is_number_integer() && !it->is_number_unsigned() && it->get<std::int64_t>() < 0) ||
       it->get<std::uint64_t>() > 0xffffffffULL)
     return Fail(fmt::format("{}.{} must be an unsigned 32-bit integer, not {}", where, key, shown(*it)));
   return static_cast<std::uint32_t>(it->get<std::uint64_t>());
@@ -116,8 +119,10 @@ void put_le(std::byte* p, std::uint64_t v, int n) {
 std::expected<ClientOp, std::string> parse_client_text(std::string_view text) {
   json j = json::parse(text, nullptr, false);
   if (j.is_discarded())
-    return Fail(fmt::format("a text frame must be a JSON object with an \"op\"; this one ({} bytes) is not JSON",
-                            text.size()));
+    return Fail(
+        fmt::format("a text frame must be a JSON object with an "
+                    "\"op\"; this one ({} bytes) is not JSON",
+                    text.size()));
   if (!j.is_object()) return Fail(fmt::format("a text frame must be a JSON object with an \"op\", not {}", shown(j)));
   auto op_it = j.find("op");
   if (op_it == j.end() || !op_it->is_string())
@@ -139,7 +144,7 @@ std::expected<ClientOp, std::string> parse_client_text(std::string_view text) {
   if (op == "unsubscribeConnectionGraph") return UnsubscribeGraph{};
   static constexpr std::array<std::string_view, 8> kOthers = {
       "getParameters", "setParameters", "subscribeParameterUpdates", "unsubscribeParameterUpdates",
-      "callService", "fetchAsset", "subscribeParameterUpdate", "unsubscribeParameterUpdate"};
+      "callService",   "fetchAsset",    "subscribeParameterUpdate",  "unsubscribeParameterUpdate"};
   if (std::find(kOthers.begin(), kOthers.end(), op) != kOthers.end()) return Unsupported{op};
   return Fail(fmt::format("unknown op {} (expected one of {})", shown(*op_it), kOps));
 }
@@ -211,12 +216,8 @@ std::optional<std::string> graph_update(const Graph& before, const Graph& now) {
   for (const auto& name : gone)
     if (!present.contains(name)) removed.push_back(name);
   if (pub.empty() && sub.empty() && removed.empty()) return std::nullopt;
-  return json{{"op", "connectionGraphUpdate"},
-              {"publishedTopics", pub},
-              {"subscribedTopics", sub},
-              {"advertisedServices", json::array()},
-              {"removedTopics", removed},
-              {"removedServices", json::array()}}
+  return json{{"op", "connectionGraphUpdate"},       {"publishedTopics", pub},   {"subscribedTopics", sub},
+              {"advertisedServices", json::array()}, {"removedTopics", removed}, {"removedServices", json::array()}}
       .dump(-1, ' ', false, json::error_handler_t::replace);
 }
 

@@ -15,12 +15,15 @@
 namespace horus::tools::fox {
 namespace {
 
-// ---- the schemas (OMG IDL, as @foxglove/schemas defines them) --------------------------------
+// ---- the schemas (OMG IDL, as @foxglove/schemas defines them)
+// --------------------------------
 constexpr std::string_view kTime = "  struct Time {\n    uint32 sec;\n    uint32 nsec;\n  };\n";
 constexpr std::string_view kVecQuatPose =
     "  struct Vector3 {\n    double x;\n    double y;\n    double z;\n  };\n"
-    "  struct Quaternion {\n    double x;\n    double y;\n    double z;\n    @default(1.0) double w;\n  };\n"
-    "  struct Pose {\n    Vector3 position;\n    Quaternion orientation;\n  };\n";
+    "  struct Quaternion {\n    double x;\n    double y;\n    double z;\n    "
+    "@default(1.0) double w;\n  };\n"
+    "  struct Pose {\n    Vector3 position;\n    Quaternion orientation;\n  "
+    "};\n";
 
 std::string module(std::initializer_list<std::string_view> parts) {
   std::string s = "module foxglove {\n";
@@ -30,7 +33,8 @@ std::string module(std::initializer_list<std::string_view> parts) {
 
 const std::string& idl_raw_image() {
   static const std::string s = module({kTime,
-                                       "  struct RawImage {\n    Time timestamp;\n    string frame_id;\n    uint32 width;\n"
+                                       "  struct RawImage {\n    Time timestamp;\n    string "
+                                       "frame_id;\n    uint32 width;\n"
                                        "    uint32 height;\n    string encoding;\n    uint32 step;\n"
                                        "    sequence<uint8> data;\n  };\n"});
   return s;
@@ -42,36 +46,42 @@ const std::string& idl_compressed_image() {
   return s;
 }
 const std::string& idl_point_cloud() {
-  static const std::string s =
-      module({kTime, kVecQuatPose,
-              "  enum NumericType {\n    UNKNOWN,\n    UINT8,\n    INT8,\n    UINT16,\n    INT16,\n    UINT32,\n"
-              "    INT32,\n    FLOAT32,\n    FLOAT64\n  };\n"
-              "  struct PackedElementField {\n    string name;\n    uint32 offset;\n    NumericType type;\n  };\n"
-              "  struct PointCloud {\n    Time timestamp;\n    string frame_id;\n    Pose pose;\n    uint32 point_stride;\n"
-              "    sequence<PackedElementField> fields;\n    sequence<uint8> data;\n  };\n"});
+  static const std::string s = module({kTime, kVecQuatPose,
+                                       "  enum NumericType {\n    UNKNOWN,\n    UINT8,\n    INT8,\n    "
+                                       "UINT16,\n    INT16,\n    UINT32,\n"
+                                       "    INT32,\n    FLOAT32,\n    FLOAT64\n  };\n"
+                                       "  struct PackedElementField {\n    string name;\n    uint32 "
+                                       "offset;\n    NumericType type;\n  };\n"
+                                       "  struct PointCloud {\n    Time timestamp;\n    string "
+                                       "frame_id;\n    Pose pose;\n    uint32 point_stride;\n"
+                                       "    sequence<PackedElementField> fields;\n    sequence<uint8> "
+                                       "data;\n  };\n"});
   return s;
 }
 const std::string& idl_laser_scan() {
-  static const std::string s =
-      module({kTime, kVecQuatPose,
-              "  struct LaserScan {\n    Time timestamp;\n    string frame_id;\n    Pose pose;\n    double start_angle;\n"
-              "    double end_angle;\n    sequence<double> ranges;\n    sequence<double> intensities;\n  };\n"});
+  static const std::string s = module({kTime, kVecQuatPose,
+                                       "  struct LaserScan {\n    Time timestamp;\n    string "
+                                       "frame_id;\n    Pose pose;\n    double start_angle;\n"
+                                       "    double end_angle;\n    sequence<double> ranges;\n    "
+                                       "sequence<double> intensities;\n  };\n"});
   return s;
 }
 const std::string& idl_pose_in_frame() {
-  static const std::string s = module(
-      {kTime, kVecQuatPose, "  struct PoseInFrame {\n    Time timestamp;\n    string frame_id;\n    Pose pose;\n  };\n"});
+  static const std::string s = module({kTime, kVecQuatPose,
+                                       "  struct PoseInFrame {\n    Time timestamp;\n    string "
+                                       "frame_id;\n    Pose pose;\n  };\n"});
   return s;
 }
 const std::string& idl_frame_transform() {
-  static const std::string s =
-      module({kTime, kVecQuatPose,
-              "  struct FrameTransform {\n    Time timestamp;\n    string parent_frame_id;\n    string child_frame_id;\n"
-              "    Vector3 translation;\n    Quaternion rotation;\n  };\n"});
+  static const std::string s = module({kTime, kVecQuatPose,
+                                       "  struct FrameTransform {\n    Time timestamp;\n    string "
+                                       "parent_frame_id;\n    string child_frame_id;\n"
+                                       "    Vector3 translation;\n    Quaternion rotation;\n  };\n"});
   return s;
 }
 
-// ---- XCDR1 little-endian, with its encapsulation header --------------------------------------
+// ---- XCDR1 little-endian, with its encapsulation header
+// --------------------------------------
 class Cdr {
  public:
   explicit Cdr(std::vector<std::byte>& out) : out_(out) {
@@ -95,7 +105,8 @@ class Cdr {
     const auto* p = reinterpret_cast<const std::byte*>(b.data());
     out_.insert(out_.end(), p, p + b.size());
   }
-  // A byte sequence of n bytes written by `fill` in place (no intermediate copy).
+  // A byte sequence of n bytes written by `fill` in place (no intermediate
+  // copy).
   std::span<std::uint8_t> bytes_in_place(std::size_t n) {
     u32(static_cast<std::uint32_t>(n));
     const std::size_t at = out_.size();
@@ -112,7 +123,8 @@ class Cdr {
   void put(V v) {
     while ((out_.size() - 4) % sizeof(V) != 0) out_.push_back(std::byte{0});
     std::array<std::byte, sizeof(V)> b;
-    std::memcpy(b.data(), &v, sizeof(V));  // x86-64 and aarch64: little-endian already
+    std::memcpy(b.data(), &v,
+                sizeof(V));  // x86-64 and aarch64: little-endian already
     out_.insert(out_.end(), b.begin(), b.end());
   }
   std::vector<std::byte>& out_;
@@ -121,28 +133,39 @@ class Cdr {
 std::uint64_t stamp_or_now(std::uint64_t ns) {
   if (ns != 0) return ns;
   return static_cast<std::uint64_t>(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch()).count());
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+          .count());
 }
 
-std::array<double, 4> yaw_quaternion(double theta) {
-  return {0.0, 0.0, std::sin(theta / 2), std::cos(theta / 2)};
-}
+std::array<double, 4> yaw_quaternion(double theta) { return {0.0, 0.0, std::sin(theta / 2), std::cos(theta / 2)}; }
 
-// ---- the conversions ----------------------------------------------------------------------
+// ---- the conversions
+// ----------------------------------------------------------------------
 std::string_view raw_encoding(msg::ImageEncoding e) {
   using E = msg::ImageEncoding;
   switch (e) {
-    case E::Mono8: return "mono8";
-    case E::Mono16: return "mono16";
-    case E::Rgb8: return "rgb8";
-    case E::Bgr8: return "bgr8";
-    case E::Rgba8: return "rgba8";
-    case E::Bgra8: return "bgra8";
-    case E::Yuv422: return "yuv422";
-    case E::Mono32F: return "32FC1";
-    case E::Rgb32F: return "rgb8";  // converted
-    case E::BayerRggb8: return "bayer_rggb8";
-    case E::Depth16: return "16UC1";
+    case E::Mono8:
+      return "mono8";
+    case E::Mono16:
+      return "mono16";
+    case E::Rgb8:
+      return "rgb8";
+    case E::Bgr8:
+      return "bgr8";
+    case E::Rgba8:
+      return "rgba8";
+    case E::Bgra8:
+      return "bgra8";
+    case E::Yuv422:
+      return "yuv422";
+    case E::Mono32F:
+      return "32FC1";
+    case E::Rgb32F:
+      return "rgb8";  // converted
+    case E::BayerRggb8:
+      return "bayer_rggb8";
+    case E::Depth16:
+      return "16UC1";
   }
   return "";
 }
@@ -154,7 +177,8 @@ void convert(const msg::Image& m, const std::string&, const std::string&, std::v
   c.u32(m.width());
   c.u32(m.height());
   c.str(raw_encoding(m.encoding()));
-  if (m.encoding() == msg::ImageEncoding::Rgb32F) {  // Foxglove draws no float RGB: 8 bits a channel
+  if (m.encoding() == msg::ImageEncoding::Rgb32F) {  // Foxglove draws no float
+                                                     // RGB: 8 bits a channel
     c.u32(m.width() * 3);
     auto dst = c.bytes_in_place(std::size_t{m.width()} * 3 * m.height());
     const auto src = m.data();
@@ -193,15 +217,24 @@ void convert(const msg::CompressedImage& m, const std::string&, const std::strin
 std::uint32_t numeric_type(msg::TensorDtype d) {
   using D = msg::TensorDtype;
   switch (d) {
-    case D::U8: return 1;
-    case D::I8: return 2;
-    case D::U16: return 3;
-    case D::I16: return 4;
-    case D::U32: return 5;
-    case D::I32: return 6;
-    case D::F32: return 7;
-    case D::F64: return 8;
-    default: return 0;  // UNKNOWN: F16, BF16, 64-bit integers, Bool have no Foxglove type
+    case D::U8:
+      return 1;
+    case D::I8:
+      return 2;
+    case D::U16:
+      return 3;
+    case D::I16:
+      return 4;
+    case D::U32:
+      return 5;
+    case D::I32:
+      return 6;
+    case D::F32:
+      return 7;
+    case D::F64:
+      return 8;
+    default:
+      return 0;  // UNKNOWN: F16, BF16, 64-bit integers, Bool have no Foxglove type
   }
 }
 
@@ -276,7 +309,8 @@ void convert(const msg::TransformStamped& m, const std::string& topic, const std
   for (double v : m.rotation) c.f64(v);
 }
 
-// ---- the source ---------------------------------------------------------------------------
+// ---- the source
+// ---------------------------------------------------------------------------
 template <class T>
 class ConvertedSource final : public RecordSource {
  public:

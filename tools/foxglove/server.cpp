@@ -1,5 +1,5 @@
-// Boost.Beast (Debian's libboost-dev) carries the WebSocket and HTTP framing; this file is the
-// only one of the build that includes it.
+// Boost.Beast (Debian's libboost-dev) carries the WebSocket and HTTP framing;
+// this file is the only one of the build that includes it.
 #include "server.hpp"
 
 #include <atomic>
@@ -28,7 +28,7 @@ namespace websocket = beast::websocket;
 using tcp = asio::ip::tcp;
 using Steady = std::chrono::steady_clock;
 
-constexpr std::size_t kMaxQueuedFrames = 8192;              // data frames a client may have queued
+constexpr std::size_t kMaxQueuedFrames = 8192;                // data frames a client may have queued
 constexpr std::size_t kMaxQueuedText = std::size_t{8} << 20;  // JSON bytes queued before it is closed
 
 struct Shared {
@@ -82,7 +82,8 @@ class WsSession final : public Client, public std::enable_shared_from_this<WsSes
     std::lock_guard lock(mu_);
     if (dead_) return;
     const std::size_t size = payload->size() + 13;
-    // Over the bound: the oldest data frames go (not the one being written), newest kept.
+    // Over the bound: the oldest data frames go (not the one being written),
+    // newest kept.
     while ((data_bytes_ + size > shared_.options.queue_bytes || data_frames_ >= kMaxQueuedFrames) && data_frames_ > 0) {
       auto it = std::find_if(queue_.begin(), queue_.end(), [](const Frame& f) { return f.payload != nullptr; });
       if (it == queue_.end()) break;
@@ -93,10 +94,10 @@ class WsSession final : public Client, public std::enable_shared_from_this<WsSes
     }
     if (dropped_ > warned_ && Steady::now() - last_warning_ > std::chrono::seconds(2)) {
       Frame w;
-      w.text = status(Level::Warning,
-                      fmt::format("{} messages dropped so far: this client reads slower than its subscriptions "
-                                  "publish (the newest are kept)",
-                                  dropped_));
+      w.text = status(Level::Warning, fmt::format("{} messages dropped so far: this client "
+                                                  "reads slower than its subscriptions "
+                                                  "publish (the newest are kept)",
+                                                  dropped_));
       text_bytes_ += w.text.size();
       queue_.push_back(std::move(w));
       warned_ = dropped_;
@@ -152,8 +153,9 @@ class WsSession final : public Client, public std::enable_shared_from_this<WsSes
     asio::post(ws_.get_executor(), [self = shared_from_this()] { self->write(); });
   }
 
-  // Reads a message in parts, so that one larger than kMaxClientFrame is refused after the limit,
-  // not buffered: the connection is then closed with 1009 (the close drains the rest).
+  // Reads a message in parts, so that one larger than kMaxClientFrame is
+  // refused after the limit, not buffered: the connection is then closed with
+  // 1009 (the close drains the rest).
   void read() {
     ws_.async_read_some(in_, 256 * 1024, [self = shared_from_this()](beast::error_code ec, std::size_t) {
       if (ec) {
@@ -162,9 +164,11 @@ class WsSession final : public Client, public std::enable_shared_from_this<WsSes
       }
       if (self->in_.size() > kMaxClientFrame) {
         self->in_.clear();
-        self->close(1009, close_reason(fmt::format("a message of more than {} MiB (the most a client may send)",
+        self->close(1009, close_reason(fmt::format("a message of more than {} MiB "
+                                                   "(the most a client may send)",
                                                    kMaxClientFrame >> 20)));
-        return;  // no more reads: the close reads until the client's close frame
+        return;  // no more reads: the close reads until the client's close
+                 // frame
       }
       if (!self->ws_.is_message_done()) {
         self->read();
@@ -181,7 +185,8 @@ class WsSession final : public Client, public std::enable_shared_from_this<WsSes
     });
   }
 
-  // The I/O thread: writes the next frame (time first), or the close when all is written.
+  // The I/O thread: writes the next frame (time first), or the close when all
+  // is written.
   void write() {
     std::unique_lock lock(mu_);
     scheduled_ = false;
@@ -232,7 +237,7 @@ class WsSession final : public Client, public std::enable_shared_from_this<WsSes
       lock.unlock();
       ws_.binary(true);
       const std::array<asio::const_buffer, 2> bufs{asio::buffer(current_.header),
-                                                  asio::buffer(current_.payload->data(), current_.payload->size())};
+                                                   asio::buffer(current_.payload->data(), current_.payload->size())};
       ws_.async_write(bufs, std::move(done));
     } else {
       text_bytes_ -= current_.text.size();
@@ -308,14 +313,16 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
       }
       if (!ok) {
         respond(req, http::status::bad_request, "text/plain",
-                fmt::format("a WebSocket here speaks subprotocol {} (Sec-WebSocket-Protocol offered: '{}')\n",
+                fmt::format("a WebSocket here speaks subprotocol {} "
+                            "(Sec-WebSocket-Protocol offered: '{}')\n",
                             kSubprotocol, offered),
                 false);
         return;
       }
       if (shared_.clients.load() >= shared_.options.max_clients) {
         respond(req, http::status::service_unavailable, "text/plain",
-                fmt::format("{} clients are connected, the most this server takes (--max-clients)\n",
+                fmt::format("{} clients are connected, the most this server "
+                            "takes (--max-clients)\n",
                             shared_.options.max_clients),
                 false);
         return;
@@ -336,7 +343,8 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
       respond(req, http::status::ok, "application/json", shared_.hub.status_json(), req.keep_alive());
     else
       respond(req, http::status::not_found, "text/plain",
-              fmt::format("{} is not here: / is the status page, /status.json its figures, and a WebSocket with "
+              fmt::format("{} is not here: / is the status page, /status.json "
+                          "its figures, and a WebSocket with "
                           "subprotocol {} is the Foxglove connection\n",
                           target, kSubprotocol),
               req.keep_alive());
