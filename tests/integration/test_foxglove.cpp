@@ -1,15 +1,11 @@
-// horus foxglove against Foxglove's own client libraries
-// (tests/interop/foxglove_js, npm):
-// @foxglove/ws-protocol connects, lists the channels and subscribes;
-// @foxglove/omgidl-serialization decodes every standard type with the
-// advertised schema, compared field by field with what was sent, and the
-// converted channels with @foxglove/schemas' own IDL; a CmdVel a client
-// publishes reaches a horus subscriber; the connection graph names the
-// publishing process; a client that stops reading loses frames (counted, it is
-// told) while the publisher goes on at its rate; bad input is closed with a
-// code and a reason and the server stays up; the status page answers. Between
-// namespace hosts: a fleet topic of another host is served, and the status page
-// in Debian's chromium (puppeteer-core) lists both hosts, with a screenshot.
+// horus foxglove against Foxglove's own client libraries (tests/interop/foxglove_js, npm): @foxglove/ws-protocol
+// connects, lists the channels and subscribes; @foxglove/omgidl-serialization decodes every standard type with the
+// advertised schema, compared field by field with what was sent, and the converted channels with @foxglove/schemas' own
+// IDL; a CmdVel a client publishes reaches a horus subscriber; the connection graph names the publishing process; a
+// client that stops reading loses frames (counted, it is told) while the publisher goes on at its rate; bad input is
+// closed with a code and a reason and the server stays up; the status page answers. Between namespace hosts: a fleet
+// topic of another host is served, and the status page in Debian's chromium (puppeteer-core) lists both hosts, with a
+// screenshot.
 #include <gtest/gtest.h>
 
 #include <arpa/inet.h>
@@ -51,8 +47,7 @@ std::string node_path() {
   return {};
 }
 
-// Skips unless node and the npm packages are installed (scripts/install-deps.sh
-// does both).
+// Skips unless node and the npm packages are installed (scripts/install-deps.sh does both).
 #define REQUIRE_FOXGLOVE_CLIENTS()                                                  \
   do {                                                                              \
     if (node_path().empty())                                                        \
@@ -95,8 +90,7 @@ class Server {
   int port_ = 0;
 };
 
-// The node client (client.mjs) with `args`; its output, and its exit status in
-// `rc`.
+// The node client (client.mjs) with `args`; its output, and its exit status in `rc`.
 std::string client(const std::vector<std::string>& args, int& rc, std::chrono::seconds timeout = 60s) {
   std::vector<std::string> full = {node_path(), FOXGLOVE_JS_DIR "/client.mjs"};
   full.insert(full.end(), args.begin(), args.end());
@@ -194,8 +188,7 @@ TEST(Foxglove, FoxglovesClientDecodesEveryStandardTypeAndEachConvertedChannelDra
     EXPECT_EQ(got[topic]["schema"], dyn->name);
     EXPECT_EQ(horus_test::compare(*dyn, json::parse(type->sample_json()), got[topic]["value"], topic), "");
   }
-  // The converted channels: decoded with Foxglove's own IDL (client.mjs
-  // --foxglove-idl).
+  // The converted channels: decoded with Foxglove's own IDL (client.mjs --foxglove-idl).
   const auto sample = [&](const std::string& type) {
     return json::parse(by_topic.at(prefix + "." + type)->sample_json());
   };
@@ -273,6 +266,18 @@ TEST(Foxglove, ACmdVelAClientPublishesReachesAHorusSubscriber) {
   std::size_t n = 1;
   while (teleop->recv_for(200ms)) ++n;
   EXPECT_GE(n, 15u) << "20 were published";
+  // The same as JSON (what Foxglove's Publish panel sends to a server that takes json).
+  const auto json_out = client({"publish-json", server.url(), prefix + ".teleop", "horus::msg::CmdVel",
+                                R"({"stamp_nanos": 43, "linear": 0.75, "angular": 0.5})", "5"},
+                               rc);
+  EXPECT_EQ(rc, 0) << json_out;
+  auto j = teleop->recv_for(2s);
+  ASSERT_TRUE(j.has_value()) << json_out;
+  EXPECT_EQ(j->stamp_nanos, 43u);
+  EXPECT_EQ(j->linear, 0.75f);
+  // A type that is no standard message is refused, naming it.
+  const auto bad = client({"publish-json", server.url(), prefix + ".x", "my::Thing", "{}", "1"}, rc);
+  EXPECT_NE(bad.find("'my::Thing' is not a standard horus message"), std::string::npos) << bad;
 }
 
 TEST(Foxglove, TheConnectionGraphNamesThisProcessAsThePublisher) {
@@ -298,8 +303,7 @@ TEST(Foxglove, ASlowClientLosesItsOldestFramesAndIsToldWhileThePublisherKeepsIts
   std::atomic<bool> stop{false};
   std::atomic<std::uint64_t> sent{0};
   std::atomic<std::int64_t> worst_us{0};
-  std::thread pub([&] {  // 640x480 RGB at 200 Hz: about 180 MB/s, more than a
-                         // paused client takes
+  std::thread pub([&] {  // 640x480 RGB at 200 Hz: about 180 MB/s, more than a paused client takes
     auto next = std::chrono::steady_clock::now();
     while (!stop) {
       const auto t0 = std::chrono::steady_clock::now();
@@ -331,12 +335,10 @@ TEST(Foxglove, ASlowClientLosesItsOldestFramesAndIsToldWhileThePublisherKeepsIts
   bool told = false;
   for (const auto& w : resumed["warnings"]) told = told || w.get<std::string>().find("dropped") != std::string::npos;
   EXPECT_TRUE(told) << "the client is told that it lost messages: " << out;
-  // The publisher never waited on the client: its rate held (200 Hz, some slack
-  // for a loaded CI).
+  // The publisher never waited on the client: its rate held (200 Hz, some slack for a loaded CI).
   EXPECT_LT(worst_us.load(), 200'000) << "a send took " << worst_us.load() << " us";
   EXPECT_GT(static_cast<double>(sent.load()) / seconds, 120.0) << sent.load() << " in " << seconds << " s";
-  // The server's memory stayed bounded (64 MiB of queue per client, plus the
-  // program).
+  // The server's memory stayed bounded (64 MiB of queue per client, plus the program).
   std::ifstream st("/proc/" + std::to_string(server.process().pid()) + "/status");
   for (std::string line; std::getline(st, line);) {
     if (line.starts_with("VmHWM:")) {
@@ -399,6 +401,49 @@ TEST(Foxglove, TheStatusPageAndItsFiguresAreServedAndAnUnknownPathIsNamed) {
   EXPECT_NE(why.find("/status.json"), std::string::npos) << why;
 }
 
+// horus record --foxglove: beside the topic, TOPIC/foxglove in Foxglove's schema, which Foxglove's MCAP reader
+// (tests/interop/mcap_js) decodes.
+TEST(Foxglove, RecordWithFoxgloveAddsTheConvertedChannelsBesideTheTopics) {
+  if (node_path().empty() || ::access(MCAP_JS_DIR "/node_modules/@mcap/core", F_OK) != 0)
+    GTEST_SKIP() << "node or the npm packages of " MCAP_JS_DIR " are not installed (scripts/install-deps.sh)";
+  const std::string prefix = horus_test::unique_name("fxrec");
+  auto pose = horus::Topic<horus::msg::Pose2D>::open(prefix + ".pose");
+  ASSERT_TRUE(pose) << pose.error().message();
+  const std::string file = "/tmp/" + prefix + ".mcap";
+  auto rec = horus_test::start_logged(
+      {HORUS_CLI, "record", "-o", file, "--topics", prefix + ".**", "--foxglove", "--frame", "map", "--duration", "3"},
+      file + ".log");
+  ASSERT_TRUE(rec.wait_for_output("+ " + prefix + ".pose/foxglove (foxglove::PoseInFrame", 10s)) << rec.output();
+  for (int i = 0; i < 10; ++i) {
+    pose->send(horus::msg::Pose2D::make(1.5, -2.0, 0.0));
+    std::this_thread::sleep_for(50ms);
+  }
+  ASSERT_EQ(rec.wait(30s), 0) << rec.output();
+  std::string out;
+  ASSERT_EQ(horus_test::run_command(node_path() + " " MCAP_JS_DIR "/read_mcap.mjs " + file, out), 0) << out;
+  std::size_t plain = 0, converted = 0;
+  for (const auto& j : json_lines(out)) {
+    if (!j.contains("topic")) continue;
+    if (j["topic"] == prefix + ".pose") ++plain;
+    if (j["topic"] != prefix + ".pose/foxglove") continue;
+    ++converted;
+    EXPECT_EQ(j["schema"], "foxglove::PoseInFrame");
+    EXPECT_EQ(j["value"]["frame_id"], "map");
+    EXPECT_EQ(j["value"]["pose"]["position"]["x"], 1.5);
+    EXPECT_EQ(j["value"]["pose"]["position"]["y"], -2.0);
+    EXPECT_EQ(j["value"]["pose"]["orientation"]["w"], 1.0);
+  }
+  EXPECT_EQ(plain, 10u) << out.substr(0, 2000);
+  EXPECT_EQ(converted, 10u) << out.substr(0, 2000);
+  std::remove(file.c_str());
+  // LCM logs cannot hold Foxglove's schemas: refused, naming why.
+  EXPECT_EQ(
+      horus_test::run_command(std::string(HORUS_CLI) + " record -o /tmp/x.lcmlog --format lcm --foxglove --all", out),
+      2)
+      << out;
+  EXPECT_NE(out.find("only MCAP holds"), std::string::npos) << out;
+}
+
 TEST(Foxglove, ABadPortOrPatternIsRefusedNamingIt) {
   std::string out;
   EXPECT_EQ(horus_test::run_command(std::string(HORUS_CLI) + " foxglove --port 70000", out), 2) << out;
@@ -411,8 +456,7 @@ TEST(Foxglove, ABadPortOrPatternIsRefusedNamingIt) {
   EXPECT_NE(out.find("--address 'nowhere' is not an IP address"), std::string::npos) << out;
 }
 
-// Two namespace hosts on Cyclone DDS: host 1 publishes a fleet topic; host 2
-// serves Foxglove.
+// Two namespace hosts on Cyclone DDS: host 1 publishes a fleet topic; host 2 serves Foxglove.
 TEST(FoxgloveFleet, AFleetTopicOfAnotherHostIsServedAndTheStatusPageListsBothHosts) {
   REQUIRE_FOXGLOVE_CLIENTS();
   if (!horus::backend_available(horus::Backend::CycloneDds)) GTEST_SKIP() << "this build has no cyclonedds backend";

@@ -1,6 +1,5 @@
-// What Foxglove's own decoder (@foxglove/omgidl-serialization, run by node in
-// the recording and `horus foxglove` tests) made of a message, compared field
-// by field with horus::to_json's text of what was sent, guided by the type's
+// What Foxglove's own decoder (@foxglove/omgidl-serialization, run by node in the recording and `horus foxglove` tests)
+// made of a message, compared field by field with horus::to_json's text of what was sent, guided by the type's
 // signature (horus/wire/dynamic.hpp).
 #pragma once
 
@@ -23,8 +22,7 @@ inline std::string plain_key(std::string k) {
 
 inline std::string as_decimal(const json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); }
 
-// Text of a char array as Foxglove gives it (a string, or characters / codes),
-// up to its first NUL.
+// Text of a char array as Foxglove gives it (a string, or characters / codes), up to its first NUL.
 inline std::string char_text(const json& v) {
   std::string s;
   if (v.is_string())
@@ -34,10 +32,9 @@ inline std::string char_text(const json& v) {
   return s.substr(0, s.find('\0'));
 }
 
-// Foxglove's decoding `got` against horus::to_json's `want`, guided by the
-// type: IDL member names (escaped with '_', renamed with a trailing '_'), enums
-// as their numbers, 64-bit integers as decimal text, char arrays as text. The
-// first difference, or empty.
+// Foxglove's decoding `got` against horus::to_json's `want`, guided by the type: IDL member names (escaped with '_',
+// renamed with a trailing '_'), enums as their numbers, 64-bit integers as decimal text, char arrays as text. The first
+// difference, or empty.
 inline std::string compare(const horus::wire::DynType& t, const json& want, const json& got, const std::string& path) {
   using K = horus::wire::DynType::Kind;
   const auto cut = [](const json& v) {

@@ -30,8 +30,7 @@ bool Catalogue::wanted(const std::string& name) const {
   return std::any_of(patterns_.begin(), patterns_.end(), [&](const auto& p) { return topic_pattern_matches(p, name); });
 }
 
-// The channels of one topic: as it is, and converted when Foxglove draws its
-// type.
+// The channels of one topic: as it is, and converted when Foxglove draws its type.
 void Catalogue::add_channels(std::map<std::string, Desc>& out, Desc d) {
   if (!standard_type(d.type).empty()) {
     d.remote_raw = false;
@@ -48,8 +47,7 @@ void Catalogue::add_channels(std::map<std::string, Desc>& out, Desc d) {
   const bool lcm_raw = d.remote_raw && info != nullptr && info->format == net::WireFormat::Lcm;
   d.adv.topic = d.horus_topic;
   d.adv.schema_name = d.type;
-  if (lcm_raw) {  // LCM's bytes are not CDR: served as JSON through the
-                  // signature
+  if (lcm_raw) {  // LCM's bytes are not CDR: served as JSON through the signature
     d.adv.encoding = "json";
     d.adv.schema_encoding = "jsonschema";
     d.adv.schema = json{{"title", d.type}, {"type", "object"}}.dump();

@@ -1,10 +1,7 @@
-// What `horus foxglove` finds to serve (hub.cpp asks every 500 ms): this host's
-// topics (the local registry) and the fleet's (what other hosts announce),
-// filtered by the patterns; for each the channels it makes (the topic in its
-// own schema, and beside a type Foxglove draws the converted TOPIC/foxglove),
-// the connection graph, and the status page's figures of hosts and topics
-// (rates from the sent counts between scans, or what the owning host
-// announced).
+// What `horus foxglove` finds to serve (hub.cpp asks every 500 ms): this host's topics (the local registry) and the
+// fleet's (what other hosts announce), filtered by the patterns; for each the channels it makes (the topic in its own
+// schema, and beside a type Foxglove draws the converted TOPIC/foxglove), the connection graph, and the status page's
+// figures of hosts and topics (rates from the sent counts between scans, or what the owning host announced).
 #pragma once
 
 #include <chrono>
@@ -51,8 +48,7 @@ struct Scan {
 class Catalogue {
  public:
   Catalogue(std::vector<std::string> patterns, const std::string& ns);
-  /// What there is now (`fleet`: the fleet layer, or null on this host alone).
-  /// One thread calls it.
+  /// What there is now (`fleet`: the fleet layer, or null on this host alone). One thread calls it.
   Scan scan(Fleet* fleet);
 
  private:

@@ -1,5 +1,4 @@
-// horus foxglove (command.cpp): the Foxglove WebSocket server and the status
-// page, over hub.hpp and server.hpp.
+// horus foxglove (command.cpp): the Foxglove WebSocket server and the status page, over hub.hpp and server.hpp.
 #pragma once
 
 #include <atomic>

@@ -1,9 +1,6 @@
 #include "hub.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
-#include <atomic>
 #include <condition_variable>
 #include <map>
 #include <mutex>
@@ -17,13 +14,9 @@
 #include "../remote_reader.hpp"
 #include "../typed_reader.hpp"
 #include "catalogue.hpp"
-#include "horus/discovery/registry.hpp"
 #include "horus/fleet.hpp"
-#include "horus/idlgen/emit.hpp"
 #include "horus/names.hpp"
-#include "horus/transport_registry.hpp"
 #include "horus/waitset.hpp"
-#include "horus/wire/dynamic.hpp"
 #include "protocol.hpp"
 #include "schemas.hpp"
 
@@ -169,8 +162,7 @@ class HubImpl final : public Hub {
   }
 
  private:
-  // ---- client ops (the I/O thread)
-  // ----------------------------------------------------------
+  // ---- client ops (the I/O thread) ----------------------------------------------------------
   void reject(std::uint64_t id, std::uint16_t code, const std::string& why) {
     std::lock_guard lock(mu_);
     auto it = clients_.find(id);
@@ -235,8 +227,11 @@ class HubImpl final : public Hub {
       ClientState::Pub pub;
       std::string error;
       std::string type = c.schema_name;
-      for (std::string_view sep : {"::", ".", "/"})
-        if (auto at = type.rfind(sep); at != std::string::npos) type = type.substr(at + sep.size());
+      // horus::msg::CmdVel, horus.msg.CmdVel, horus/msg/CmdVel or CmdVel; another package's name
+      // (geometry_msgs/msg/Twist) is not taken for a horus type of the same short name.
+      for (std::string_view prefix : {"horus::msg::", "horus.msg.", "horus/msg/"})
+        if (type.starts_with(prefix)) type.erase(0, prefix.size());
+      if (type.find_first_of(":./") != std::string::npos) type.clear();
       if (!o_.client_publish) {
         error =
             "this server does not take client messages (horus foxglove "
@@ -309,8 +304,7 @@ class HubImpl final : public Hub {
                        u.op));
   }
 
-  // A client publisher's topic is closed by the pump thread (only it destroys
-  // topics).
+  // A client publisher's topic is closed by the pump thread (only it destroys topics).
   void retire(ClientState::Pub&& p) {
     graveyard_pubs_.push_back(std::move(p));
     wake_.fire();
@@ -329,8 +323,7 @@ class HubImpl final : public Hub {
     }
   }
 
-  // Opens the subscription that feeds channel `ch` (outside mu_: a network
-  // topic takes a while).
+  // Opens the subscription that feeds channel `ch` (outside mu_: a network topic takes a while).
   void open_channel(std::uint32_t ch) {
     Desc d;
     {
@@ -375,8 +368,7 @@ class HubImpl final : public Hub {
     wake_.fire();
   }
 
-  // ---- the pump thread
-  // -----------------------------------------------------------------------
+  // ---- the pump thread -----------------------------------------------------------------------
   void pump_loop() {
     std::unique_ptr<WaitSet> ws;
     std::vector<std::byte> buf;
@@ -405,8 +397,7 @@ class HubImpl final : public Hub {
     }
   }
 
-  // Takes what channel `id` has (at most 64 messages a turn) to its
-  // subscribers. Holds mu_.
+  // Takes what channel `id` has (at most 64 messages a turn) to its subscribers. Holds mu_.
   void drain(std::uint32_t id, Active& a, std::vector<std::byte>& buf) {
     for (int n = 0; n < 64; ++n) {
       if (a.source) {
@@ -438,8 +429,7 @@ class HubImpl final : public Hub {
     (void)id;
   }
 
-  // ---- the scan thread
-  // -----------------------------------------------------------------------
+  // ---- the scan thread -----------------------------------------------------------------------
   void scan_loop() {
     auto next_scan = Clock::now() + std::chrono::milliseconds(500);
     while (true) {

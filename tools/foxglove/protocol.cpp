@@ -23,8 +23,7 @@ std::string shown(const json& v) {
   return s;
 }
 
-// A field of `obj` that must be an unsigned 32-bit integer; `where` names it in
-// the error.
+// A field of `obj` that must be an unsigned 32-bit integer; `where` names it in the error.
 std::expected<std::uint32_t, std::string> u32(const json& obj, const char* key, const std::string& where) {
   auto it = obj.find(key);
   if (it == obj.end()) return Fail(fmt::format("{}.{} is missing (an unsigned 32-bit integer)", where, key));

@@ -1,15 +1,12 @@
-// The Foxglove WebSocket protocol (subprotocol "foxglove.websocket.v1"), as
-// bytes and JSON only: what a client may send, parsed and checked (a bad frame
-// gets an error naming what was wrong and what was expected), and what the
-// server sends, built. No socket here: server.cpp carries the frames, hub.cpp
-// acts on them; this file is what fuzz/fuzz_foxglove.cpp feeds garbage to.
+// The Foxglove WebSocket protocol (subprotocol "foxglove.websocket.v1"), as bytes and JSON only: what a client may
+// send, parsed and checked (a bad frame gets an error naming what was wrong and what was expected), and what the server
+// sends, built. No socket here: server.cpp carries the frames, hub.cpp acts on them; this file is what
+// fuzz/fuzz_foxglove.cpp feeds garbage to.
 //
-// Client → server (JSON): subscribe, unsubscribe, advertise (clientPublish),
-// unadvertise, subscribeConnectionGraph, unsubscribeConnectionGraph. Binary:
-// 0x01 client message data (uint32 channel id, payload). Server → client
-// (JSON): serverInfo, status, advertise, unadvertise, connectionGraphUpdate;
-// binary: 0x01 message data (uint32 subscription id, uint64 receive time in ns,
-// payload), 0x02 time (uint64 ns). Integers little-endian.
+// Client → server (JSON): subscribe, unsubscribe, advertise (clientPublish), unadvertise, subscribeConnectionGraph,
+// unsubscribeConnectionGraph. Binary: 0x01 client message data (uint32 channel id, payload). Server → client (JSON):
+// serverInfo, status, advertise, unadvertise, connectionGraphUpdate; binary: 0x01 message data (uint32 subscription id,
+// uint64 receive time in ns, payload), 0x02 time (uint64 ns). Integers little-endian.
 #pragma once
 
 #include <array>
@@ -26,12 +23,11 @@
 namespace horus::tools::fox {
 
 inline constexpr std::string_view kSubprotocol = "foxglove.websocket.v1";
-/// The largest frame a client may send (a client message of an image fits); a
-/// larger one closes the connection with 1009 (message too big).
+/// The largest frame a client may send (a client message of an image fits); a larger one closes the connection with
+/// 1009 (message too big).
 inline constexpr std::size_t kMaxClientFrame = std::size_t{16} << 20;
 
-// ---- what a client sends
-// ------------------------------------------------------------------
+// ---- what a client sends ------------------------------------------------------------------
 struct Subscribe {
   struct Item {
     std::uint32_t id = 0;
@@ -58,18 +54,17 @@ struct ClientUnadvertise {
 };
 struct SubscribeGraph {};
 struct UnsubscribeGraph {};
-/// An op of the protocol this server does not offer (parameters, services,
-/// assets): the client is told so in a status message; the connection stays.
+/// An op of the protocol this server does not offer (parameters, services, assets): the client is told so in a status
+/// message; the connection stays.
 struct Unsupported {
   std::string op;
 };
 using ClientOp = std::variant<Subscribe, Unsubscribe, ClientAdvertise, ClientUnadvertise, SubscribeGraph,
                               UnsubscribeGraph, Unsupported>;
 
-/// A text frame. Errors: not JSON, not an object, no "op", an op that names
-/// nothing of the protocol, a field missing or of the wrong type (named with
-/// its path, e.g. "subscribe: subscriptions[1].channelId must be an unsigned
-/// 32-bit integer").
+/// A text frame. Errors: not JSON, not an object, no "op", an op that names nothing of the protocol, a field missing or
+/// of the wrong type (named with its path, e.g. "subscribe: subscriptions[1].channelId must be an unsigned 32-bit
+/// integer").
 std::expected<ClientOp, std::string> parse_client_text(std::string_view text);
 
 /// A binary frame: client message data. `payload` views `frame`.
@@ -77,12 +72,10 @@ struct ClientData {
   std::uint32_t channel = 0;
   std::span<const std::byte> payload;
 };
-/// Errors: empty, an opcode other than 0x01 (0x02, a service call, is named as
-/// unsupported), shorter than its header.
+/// Errors: empty, an opcode other than 0x01 (0x02, a service call, is named as unsupported), shorter than its header.
 std::expected<ClientData, std::string> parse_client_binary(std::span<const std::byte> frame);
 
-// ---- what the server sends
-// ----------------------------------------------------------------
+// ---- what the server sends ----------------------------------------------------------------
 struct ServerChannel {
   std::uint32_t id = 0;
   std::string topic;
@@ -98,8 +91,7 @@ std::string unadvertise(std::span<const std::uint32_t> ids);
 enum class Level : std::uint8_t { Info = 0, Warning = 1, Error = 2 };
 std::string status(Level level, std::string_view message);
 
-/// The connection graph: who publishes and subscribes each topic
-/// ("host/process[pid]").
+/// The connection graph: who publishes and subscribes each topic ("host/process[pid]").
 struct GraphTopic {
   std::string name;
   std::vector<std::string> ids;
@@ -109,8 +101,7 @@ struct Graph {
   std::vector<GraphTopic> published;
   std::vector<GraphTopic> subscribed;
 };
-/// The update from `before` to `now` (the whole graph when `before` is empty);
-/// nothing when they are equal.
+/// The update from `before` to `now` (the whole graph when `before` is empty); nothing when they are equal.
 std::optional<std::string> graph_update(const Graph& before, const Graph& now);
 
 /// The 13-byte header of a message data frame; the payload follows it.

@@ -15,8 +15,7 @@
 namespace horus::tools::fox {
 namespace {
 
-// ---- the schemas (OMG IDL, as @foxglove/schemas defines them)
-// --------------------------------
+// ---- the schemas (OMG IDL, as @foxglove/schemas defines them) --------------------------------
 constexpr std::string_view kTime = "  struct Time {\n    uint32 sec;\n    uint32 nsec;\n  };\n";
 constexpr std::string_view kVecQuatPose =
     "  struct Vector3 {\n    double x;\n    double y;\n    double z;\n  };\n"
@@ -80,8 +79,7 @@ const std::string& idl_frame_transform() {
   return s;
 }
 
-// ---- XCDR1 little-endian, with its encapsulation header
-// --------------------------------------
+// ---- XCDR1 little-endian, with its encapsulation header --------------------------------------
 class Cdr {
  public:
   explicit Cdr(std::vector<std::byte>& out) : out_(out) {
@@ -105,8 +103,7 @@ class Cdr {
     const auto* p = reinterpret_cast<const std::byte*>(b.data());
     out_.insert(out_.end(), p, p + b.size());
   }
-  // A byte sequence of n bytes written by `fill` in place (no intermediate
-  // copy).
+  // A byte sequence of n bytes written by `fill` in place (no intermediate copy).
   std::span<std::uint8_t> bytes_in_place(std::size_t n) {
     u32(static_cast<std::uint32_t>(n));
     const std::size_t at = out_.size();
@@ -123,8 +120,7 @@ class Cdr {
   void put(V v) {
     while ((out_.size() - 4) % sizeof(V) != 0) out_.push_back(std::byte{0});
     std::array<std::byte, sizeof(V)> b;
-    std::memcpy(b.data(), &v,
-                sizeof(V));  // x86-64 and aarch64: little-endian already
+    std::memcpy(b.data(), &v, sizeof(V));  // x86-64 and aarch64: little-endian already
     out_.insert(out_.end(), b.begin(), b.end());
   }
   std::vector<std::byte>& out_;
@@ -139,8 +135,7 @@ std::uint64_t stamp_or_now(std::uint64_t ns) {
 
 std::array<double, 4> yaw_quaternion(double theta) { return {0.0, 0.0, std::sin(theta / 2), std::cos(theta / 2)}; }
 
-// ---- the conversions
-// ----------------------------------------------------------------------
+// ---- the conversions ----------------------------------------------------------------------
 std::string_view raw_encoding(msg::ImageEncoding e) {
   using E = msg::ImageEncoding;
   switch (e) {
@@ -177,8 +172,7 @@ void convert(const msg::Image& m, const std::string&, const std::string&, std::v
   c.u32(m.width());
   c.u32(m.height());
   c.str(raw_encoding(m.encoding()));
-  if (m.encoding() == msg::ImageEncoding::Rgb32F) {  // Foxglove draws no float
-                                                     // RGB: 8 bits a channel
+  if (m.encoding() == msg::ImageEncoding::Rgb32F) {  // Foxglove draws no float RGB: 8 bits a channel
     c.u32(m.width() * 3);
     auto dst = c.bytes_in_place(std::size_t{m.width()} * 3 * m.height());
     const auto src = m.data();
@@ -309,8 +303,7 @@ void convert(const msg::TransformStamped& m, const std::string& topic, const std
   for (double v : m.rotation) c.f64(v);
 }
 
-// ---- the source
-// ---------------------------------------------------------------------------
+// ---- the source ---------------------------------------------------------------------------
 template <class T>
 class ConvertedSource final : public RecordSource {
  public:

@@ -1,5 +1,5 @@
-// Boost.Beast (Debian's libboost-dev) carries the WebSocket and HTTP framing;
-// this file is the only one of the build that includes it.
+// Boost.Beast (Debian's libboost-dev) carries the WebSocket and HTTP framing; this file is the only one of the build
+// that includes it.
 #include "server.hpp"
 
 #include <atomic>
@@ -82,8 +82,7 @@ class WsSession final : public Client, public std::enable_shared_from_this<WsSes
     std::lock_guard lock(mu_);
     if (dead_) return;
     const std::size_t size = payload->size() + 13;
-    // Over the bound: the oldest data frames go (not the one being written),
-    // newest kept.
+    // Over the bound: the oldest data frames go (not the one being written), newest kept.
     while ((data_bytes_ + size > shared_.options.queue_bytes || data_frames_ >= kMaxQueuedFrames) && data_frames_ > 0) {
       auto it = std::find_if(queue_.begin(), queue_.end(), [](const Frame& f) { return f.payload != nullptr; });
       if (it == queue_.end()) break;
@@ -153,9 +152,8 @@ class WsSession final : public Client, public std::enable_shared_from_this<WsSes
     asio::post(ws_.get_executor(), [self = shared_from_this()] { self->write(); });
   }
 
-  // Reads a message in parts, so that one larger than kMaxClientFrame is
-  // refused after the limit, not buffered: the connection is then closed with
-  // 1009 (the close drains the rest).
+  // Reads a message in parts, so that one larger than kMaxClientFrame is refused after the limit, not buffered: the
+  // connection is then closed with 1009 (the close drains the rest).
   void read() {
     ws_.async_read_some(in_, 256 * 1024, [self = shared_from_this()](beast::error_code ec, std::size_t) {
       if (ec) {
@@ -167,8 +165,7 @@ class WsSession final : public Client, public std::enable_shared_from_this<WsSes
         self->close(1009, close_reason(fmt::format("a message of more than {} MiB "
                                                    "(the most a client may send)",
                                                    kMaxClientFrame >> 20)));
-        return;  // no more reads: the close reads until the client's close
-                 // frame
+        return;  // no more reads: the close reads until the client's close frame
       }
       if (!self->ws_.is_message_done()) {
         self->read();
@@ -185,8 +182,7 @@ class WsSession final : public Client, public std::enable_shared_from_this<WsSes
     });
   }
 
-  // The I/O thread: writes the next frame (time first), or the close when all
-  // is written.
+  // The I/O thread: writes the next frame (time first), or the close when all is written.
   void write() {
     std::unique_lock lock(mu_);
     scheduled_ = false;

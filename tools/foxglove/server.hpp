@@ -1,9 +1,7 @@
-// The sockets of `horus foxglove`: one port for the Foxglove WebSocket protocol
-// (a request that upgrades with subprotocol foxglove.websocket.v1) and the
-// status page (GET / and /status.json), on Boost.Beast over one I/O thread.
-// Each connection is a hub Client with a bounded queue: a client that reads
-// slower than its topics publish loses its oldest data frames (counted; newest
-// kept), never slows the hub or a publisher.
+// The sockets of `horus foxglove`: one port for the Foxglove WebSocket protocol (a request that upgrades with
+// subprotocol foxglove.websocket.v1) and the status page (GET / and /status.json), on Boost.Beast over one I/O thread.
+// Each connection is a hub Client with a bounded queue: a client that reads slower than its topics publish loses its
+// oldest data frames (counted; newest kept), never slows the hub or a publisher.
 #pragma once
 
 #include <cstddef>
@@ -24,8 +22,7 @@ struct ServerOptions {
 
 class Server {
  public:
-  /// Listens and serves on a thread of its own; null with `error` naming the
-  /// address and why.
+  /// Listens and serves on a thread of its own; null with `error` naming the address and why.
   static std::unique_ptr<Server> start(Hub& hub, const ServerOptions& options, std::string& error);
   virtual ~Server() = default;  // closes every connection
   virtual std::uint16_t port() const = 0;

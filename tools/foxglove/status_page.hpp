@@ -1,7 +1,6 @@
-// The status page `horus foxglove` serves at / : one self-contained HTML
-// document (its style and script inline, nothing fetched from elsewhere) that
-// reads /status.json every second and shows the fleet's hosts, the topics with
-// rate and bandwidth, and the Foxglove clients.
+// The status page `horus foxglove` serves at / : one self-contained HTML document (its style and script inline, nothing
+// fetched from elsewhere) that reads /status.json every second and shows the fleet's hosts, the topics with rate and
+// bandwidth, and the Foxglove clients.
 #pragma once
 
 #include <string_view>

@@ -7,6 +7,7 @@
 //   node client.mjs decode URL TOPIC...        decode one message of each topic; --foxglove-idl:
 //                                              foxglove::* channels decoded with @foxglove/schemas' IDL
 //   node client.mjs publish URL LIKE TO JSON N clientPublish N messages on TO, encoded with LIKE's schema
+//   node client.mjs publish-json URL TO SCHEMA JSON N   clientPublish N JSON messages (encoding json)
 //   node client.mjs graph URL TOPIC TEXT       wait for a connection graph naming TOPIC's publisher TEXT
 //   node client.mjs slow URL TOPIC SECONDS     subscribe, read nothing for SECONDS, then count a second
 //   node client.mjs bad URL                    garbage frames, unknown ops, a huge frame: the closes
@@ -164,6 +165,24 @@ async function publish(url, like, to, json, count) {
   });
 }
 
+async function publishJson(url, to, schemaName, json, count) {
+  const client = connect(url);
+  const timer = deadline(30, () => "no serverInfo");
+  client.on("status", (s) => out({ status: s }));
+  client.on("serverInfo", async (info) => {
+    clearTimeout(timer);
+    if (!info.supportedEncodings.includes("json")) fail("the server does not take json client messages");
+    const id = client.advertise({ topic: to, encoding: "json", schemaName });
+    const bytes = new TextEncoder().encode(json);
+    for (let i = 0; i < count; ++i) {
+      client.sendMessage(id, bytes);
+      await new Promise((r) => setTimeout(r, 50));
+    }
+    out({ published: count, topic: to, schema: schemaName, encoding: "json" });
+    setTimeout(() => { client.close(); process.exit(0); }, 300);
+  });
+}
+
 async function graph(url, topic, text) {
   const client = connect(url);
   const timer = deadline(30, () => `no connection graph with ${topic} published by '${text}'`);
@@ -308,6 +327,7 @@ if (!url) fail("usage: node client.mjs decode|publish|graph|slow|bad|latency|bro
 try {
   if (cmd === "decode") await decode(url, args.filter((a) => a !== "--foxglove-idl"), args.includes("--foxglove-idl"));
   else if (cmd === "publish") await publish(url, args[0], args[1], args[2], Number(args[3] ?? 10));
+  else if (cmd === "publish-json") await publishJson(url, args[0], args[1], args[2], Number(args[3] ?? 10));
   else if (cmd === "graph") await graph(url, args[0], args[1]);
   else if (cmd === "slow") await slow(url, args[0], Number(args[1] ?? 3));
   else if (cmd === "bad") await bad(url);
