@@ -8,6 +8,8 @@ A publisher (horus-fox-bench-peer pub) sends a Pose2D stream (1 kHz) and a 1080p
   baseline: a plain horus subscriber in another process (horus-fox-bench-peer sub);
   foxglove: Foxglove's own client (@foxglove/ws-protocol over `ws`, tests/interop/foxglove_js)
   subscribed through `horus foxglove`, timed when its frame arrives (before decoding);
+  C++ client: a minimal client on Boost.Beast (horus-fox-bench-peer ws), timed the same way:
+  what the server adds apart from Node.js and the client library;
 - the server's CPU (% of one core, from /proc/PID/stat) with 0, 1 and N clients (default 10)
   subscribed to the Pose2D channel, then N clients to the camera, and the frames they got.
 
@@ -79,6 +81,9 @@ def one_round(args, peer, cli, r):
             j = last_json(out, '"frame"')
             res[topic + "_fox"] = j["frame"]
             res[topic + "_take"] = j["server_take"]
+            cpp = subprocess.run([peer, "ws", port.group(1), prefix, topic, str(args.seconds)], capture_output=True,
+                                 text=True, timeout=args.seconds + 30)
+            res[topic + "_cpp"] = json.loads(cpp.stdout)
         c0, t0 = cpu_seconds(server.pid), time.monotonic()
         time.sleep(2)
         res["cpu_idle"] = 100.0 * (cpu_seconds(server.pid) - c0) / (time.monotonic() - t0)
@@ -120,15 +125,18 @@ def main():
     rows = [("Pose2D 1 kHz: horus subscriber (baseline)", "pose_base"),
             ("Pose2D 1 kHz: Foxglove client via horus foxglove", "pose_fox"),
             ("  of which: to the server's take", "pose_take"),
+            ("Pose2D 1 kHz: C++ client via horus foxglove", "pose_cpp"),
             ("1080p RGB 30 Hz: horus subscriber (baseline)", "camera_base"),
             ("1080p RGB 30 Hz: Foxglove client via horus foxglove", "camera_fox"),
-            ("  of which: to the server's take", "camera_take")]
+            ("  of which: to the server's take", "camera_take"),
+            ("1080p RGB 30 Hz: C++ client via horus foxglove", "camera_cpp")]
     for name, key in rows:
         print(f"{name:<52} " + " ".join(f"{spread([x[key][p] for x in rounds]):>20}"
                                          for p in ("p50_us", "p99_us", "p999_us")))
     for topic in ("pose", "camera"):
-        added = [x[topic + "_fox"]["p50_us"] - x[topic + "_base"]["p50_us"] for x in rounds]
-        print(f"added by horus foxglove, p50, {topic}: {spread(added)} us")
+        for client, key in (("Foxglove's client (Node.js)", "_fox"), ("C++ client", "_cpp")):
+            added = [x[topic + key]["p50_us"] - x[topic + "_base"]["p50_us"] for x in rounds]
+            print(f"added over the horus subscriber, p50, {topic}, {client}: {spread(added)} us")
     print()
     print(f"server CPU, % of one core ({args.cpu_seconds:.0f} s each; median (range)); frames the clients got")
     for name, key, frames in (("idle (no client)", "cpu_idle", None), ("1 client, Pose2D 1 kHz", "cpu_pose_1",

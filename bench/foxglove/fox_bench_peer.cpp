@@ -3,8 +3,13 @@
 // a plain horus subscriber of one of them, the baseline, which prints the latency from that
 // stamp to its receive (p50/p99/p99.9) as the Foxglove client does to its frame.
 //
+// And a minimal C++ Foxglove client (Boost.Beast), to tell what the server adds from what
+// Node.js and Foxglove's client library add: it subscribes to one channel and times each frame
+// on arrival, as client.mjs's latency command does.
+//
 //   horus-fox-bench-peer pub PREFIX [POSE_HZ] [IMAGE_HZ] [SECONDS]
 //   horus-fox-bench-peer sub PREFIX pose|camera SECONDS
+//   horus-fox-bench-peer ws PORT PREFIX pose|camera SECONDS
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -14,8 +19,16 @@
 #include <type_traits>
 #include <vector>
 
+#include <boost/asio/connect.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/websocket.hpp>
+#include <nlohmann/json.hpp>
+
 #include "horus/msg/all.hpp"
 #include "horus/topic.hpp"
+#include "horus/transport/encapsulation.hpp"
+#include "horus/wire/xcdr1.hpp"
 
 namespace {
 
@@ -68,6 +81,68 @@ int pub(const std::string& prefix, double pose_hz, double image_hz, double secon
   return 0;
 }
 
+void print_percentiles(std::vector<double>& us) {
+  std::sort(us.begin(), us.end());
+  const auto pct = [&](double p) {
+    return us.empty() ? 0.0
+                      : us[std::min(us.size() - 1, static_cast<std::size_t>(p / 100 * static_cast<double>(us.size())))];
+  };
+  std::printf("{\"n\": %zu, \"p50_us\": %.1f, \"p99_us\": %.1f, \"p999_us\": %.1f, \"max_us\": %.1f}\n", us.size(),
+              pct(50), pct(99), pct(99.9), us.empty() ? 0.0 : us.back());
+}
+
+// A Foxglove client in C++: subscribes to `topic` and times each message data frame on arrival.
+template <class T>
+int ws_client(const std::string& port, const std::string& topic, double seconds) {
+  namespace beast = boost::beast;
+  namespace asio = boost::asio;
+  asio::io_context ioc;
+  asio::ip::tcp::resolver resolver(ioc);
+  beast::websocket::stream<asio::ip::tcp::socket> ws(ioc);
+  asio::connect(ws.next_layer(), resolver.resolve("127.0.0.1", port));
+  ws.next_layer().set_option(asio::ip::tcp::no_delay(true));
+  ws.set_option(beast::websocket::stream_base::decorator([](beast::websocket::request_type& req) {
+    req.set(beast::http::field::sec_websocket_protocol, "foxglove.websocket.v1");
+  }));
+  ws.handshake("127.0.0.1", "/");
+  std::vector<double> us;
+  bool subscribed = false;
+  const auto end = Clock::now() + std::chrono::duration<double>(seconds);
+  beast::flat_buffer buf;
+  while (Clock::now() < end || !subscribed) {
+    buf.clear();
+    ws.read(buf);
+    const std::uint64_t now = unix_ns();
+    const auto data = buf.cdata();
+    const auto* p = static_cast<const std::byte*>(data.data());
+    if (ws.got_text()) {
+      auto j = nlohmann::json::parse(std::string_view(static_cast<const char*>(data.data()), data.size()));
+      if (j["op"] == "advertise" && !subscribed)
+        for (const auto& c : j["channels"])
+          if (c["topic"] == topic) {
+            nlohmann::json sub{{"op", "subscribe"}, {"subscriptions", {{{"id", 1}, {"channelId", c["id"]}}}}};
+            ws.text(true);
+            ws.write(asio::buffer(sub.dump()));
+            subscribed = true;
+          }
+      continue;
+    }
+    if (data.size() < 13 || p[0] != std::byte{1}) continue;
+    auto sample = horus::net::encapsulation::parse(std::span<const std::byte>(p + 13, data.size() - 13));
+    const auto* s = std::get_if<horus::net::Sample>(&sample);
+    if (s == nullptr) continue;
+    auto m = horus::cdr::decode<T>(s->body, s->little_endian);
+    if (!m) continue;
+    std::uint64_t stamp = 0;
+    if constexpr (std::is_same_v<T, horus::msg::Image>) stamp = m->timestamp_ns();
+    else stamp = m->timestamp_ns;
+    if (stamp != 0 && now > stamp) us.push_back(static_cast<double>(now - stamp) / 1e3);
+  }
+  ws.close(beast::websocket::close_code::normal);
+  print_percentiles(us);
+  return 0;
+}
+
 template <class T>
 int sub(const std::string& topic, double seconds) {
   auto t = horus::Topic<T>::open(topic);
@@ -88,13 +163,7 @@ int sub(const std::string& topic, double seconds) {
       stamp = m->timestamp_ns;
     if (stamp != 0 && now > stamp) us.push_back(static_cast<double>(now - stamp) / 1e3);
   }
-  std::sort(us.begin(), us.end());
-  const auto pct = [&](double p) {
-    return us.empty() ? 0.0
-                      : us[std::min(us.size() - 1, static_cast<std::size_t>(p / 100 * static_cast<double>(us.size())))];
-  };
-  std::printf("{\"n\": %zu, \"p50_us\": %.1f, \"p99_us\": %.1f, \"p999_us\": %.1f, \"max_us\": %.1f}\n", us.size(),
-              pct(50), pct(99), pct(99.9), us.empty() ? 0.0 : us.back());
+  print_percentiles(us);
   return 0;
 }
 
@@ -109,8 +178,14 @@ int main(int argc, char** argv) {
     const double s = std::atof(a[3].c_str());
     return a[2] == "pose" ? sub<horus::msg::Pose2D>(a[1] + ".pose", s) : sub<horus::msg::Image>(a[1] + ".camera", s);
   }
+  if (a.size() == 5 && a[0] == "ws" && (a[3] == "pose" || a[3] == "camera")) {
+    const double s = std::atof(a[4].c_str());
+    return a[3] == "pose" ? ws_client<horus::msg::Pose2D>(a[1], a[2] + ".pose", s)
+                          : ws_client<horus::msg::Image>(a[1], a[2] + ".camera", s);
+  }
   std::fprintf(stderr,
                "usage: horus-fox-bench-peer pub PREFIX [POSE_HZ] [IMAGE_HZ] [SECONDS]\n"
-               "       horus-fox-bench-peer sub PREFIX pose|camera SECONDS\n");
+               "       horus-fox-bench-peer sub PREFIX pose|camera SECONDS\n"
+               "       horus-fox-bench-peer ws PORT PREFIX pose|camera SECONDS\n");
   return 2;
 }

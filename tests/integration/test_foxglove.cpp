@@ -294,6 +294,27 @@ TEST(Foxglove, TheConnectionGraphNamesThisProcessAsThePublisher) {
   EXPECT_EQ(rc, 0) << out << server.output();
 }
 
+TEST(Foxglove, ATopicIsAdvertisedWhenItAppearsAndUnadvertisedWhenItsLastProcessEnds) {
+  REQUIRE_FOXGLOVE_CLIENTS();
+  const std::string prefix = horus_test::unique_name("fxwatch");
+  Server server(prefix + ".**");
+  ASSERT_GT(server.port(), 0) << server.output();
+  auto watcher = horus_test::start_logged({node_path(), FOXGLOVE_JS_DIR "/client.mjs", "watch", server.url(),
+                                           prefix + ".appears"},
+                                          "/tmp/" + prefix + ".watch.log");
+  // A publisher that comes, sends for a while and ends (it waits up to 2 s for a subscriber first).
+  std::string out;
+  EXPECT_EQ(horus_test::run_command(std::string(HORUS_CLI) + " topic pub " + prefix +
+                                        ".appears Pose2D '{\"x\": 1}' -r 20 -n 20",
+                                    out),
+            0)
+      << out;
+  ASSERT_EQ(watcher.wait(40s), 0) << watcher.output() << server.output();
+  const auto lines = json_lines(watcher.output());
+  ASSERT_EQ(lines.size(), 2u) << watcher.output();
+  EXPECT_EQ(lines[0]["advertised"], lines[1]["unadvertised"]);
+}
+
 TEST(Foxglove, ASlowClientLosesItsOldestFramesAndIsToldWhileThePublisherKeepsItsRate) {
   REQUIRE_FOXGLOVE_CLIENTS();
   const std::string prefix = horus_test::unique_name("fxslow");
@@ -469,6 +490,9 @@ TEST(FoxgloveFleet, AFleetTopicOfAnotherHostIsServedAndTheStatusPageListsBothHos
                        {HORUS_CLI, "topic", "pub", "robot1.pose", "Pose2D", R"({"x": 3, "y": 4, "theta": 1})", "-r",
                         "20", "-n", "100000"},
                        env);
+  // A type the CLI was not built with (watch::Battery: a string, an enum, an array of structs, a
+  // sequence, a char array): served through the signature host 1 announces.
+  auto user = lan.spawn(0, {FLEET_WATCH, "60", "--user-type", "robot1.battery"}, env);
   auto server = lan.spawn(1, {HORUS_CLI, "foxglove", "--port", "8765", "--duration", "120"}, env);
   ASSERT_TRUE(server.wait_for_output("status page", 20s)) << server.output();
   const auto node = [&](std::vector<std::string> args, std::chrono::seconds timeout) {
@@ -477,13 +501,26 @@ TEST(FoxgloveFleet, AFleetTopicOfAnotherHostIsServedAndTheStatusPageListsBothHos
     const int rc = p.wait(timeout);
     return std::make_pair(rc, p.output());
   };
-  const auto [rc, out] = node({"decode", "ws://127.0.0.1:8765", "robot1.pose", "robot1.pose/foxglove"}, 60s);
+  const auto [rc, out] =
+      node({"decode", "ws://127.0.0.1:8765", "robot1.pose", "robot1.pose/foxglove", "robot1.battery"}, 60s);
   ASSERT_EQ(rc, 0) << out << "\nserver:\n" << server.output() << "\npub:\n" << pub.output();
-  for (const auto& j : json_lines(out))
+  std::size_t checked = 0;
+  for (const auto& j : json_lines(out)) {
     if (j.contains("topic") && j["topic"] == "robot1.pose") {
       EXPECT_EQ(j["value"]["x"], 3);
       EXPECT_EQ(j["value"]["y"], 4);
+      ++checked;
     }
+    if (j.contains("topic") && j["topic"] == "robot1.battery") {
+      EXPECT_EQ(j["schema"], "watch::Battery");
+      EXPECT_TRUE(j["value"]["label"].get<std::string>().starts_with("pack-")) << j.dump();
+      EXPECT_EQ(j["value"]["cells"][1]["temp_dc"], -12) << j.dump();
+      EXPECT_EQ(j["value"]["history"], json({100, 99, 65535})) << j.dump();
+      EXPECT_EQ(j["value"]["charge"], 0.875) << j.dump();
+      ++checked;
+    }
+  }
+  EXPECT_EQ(checked, 2u) << out;
   const auto [grc, gout] = node({"graph", "ws://127.0.0.1:8765", "robot1.pose", lan.host(0)}, 60s);
   EXPECT_EQ(grc, 0) << gout;
   if (::access("/usr/bin/chromium", X_OK) != 0) {

@@ -55,6 +55,7 @@ class WsSession final : public Client, public std::enable_shared_from_this<WsSes
       res.set(http::field::server, "horus foxglove");
     }));
     ws_.read_message_max(0);  // read() enforces kMaxClientFrame as the parts arrive
+    ws_.auto_fragment(false);  // a message is one frame, written in one gather (not 4 KiB frames)
     ws_.async_accept(req, [self = shared_from_this()](beast::error_code ec) {
       if (ec) return;
       self->id_ = self->shared_.hub.add_client(self, self->peer_);

@@ -8,6 +8,7 @@
 //                                              foxglove::* channels decoded with @foxglove/schemas' IDL
 //   node client.mjs publish URL LIKE TO JSON N clientPublish N messages on TO, encoded with LIKE's schema
 //   node client.mjs publish-json URL TO SCHEMA JSON N   clientPublish N JSON messages (encoding json)
+//   node client.mjs watch URL TOPIC           wait for TOPIC to be advertised, then unadvertised
 //   node client.mjs graph URL TOPIC TEXT       wait for a connection graph naming TOPIC's publisher TEXT
 //   node client.mjs slow URL TOPIC SECONDS     subscribe, read nothing for SECONDS, then count a second
 //   node client.mjs bad URL                    garbage frames, unknown ops, a huge frame: the closes
@@ -183,6 +184,26 @@ async function publishJson(url, to, schemaName, json, count) {
   });
 }
 
+async function watch(url, topic) {
+  const client = connect(url);
+  let id = null;
+  const timer = deadline(40, () => (id === null ? `${topic} was never advertised` : `${topic} (${id}) was never unadvertised`));
+  client.on("advertise", (list) => {
+    const ch = list.find((c) => c.topic === topic);
+    if (ch && id === null) {
+      id = ch.id;
+      out({ advertised: id, topic });
+    }
+  });
+  client.on("unadvertise", (ids) => {
+    if (id === null || !ids.includes(id)) return;
+    clearTimeout(timer);
+    out({ unadvertised: id, topic });
+    client.close();
+    process.exit(0);
+  });
+}
+
 async function graph(url, topic, text) {
   const client = connect(url);
   const timer = deadline(30, () => `no connection graph with ${topic} published by '${text}'`);
@@ -329,6 +350,7 @@ try {
   else if (cmd === "publish") await publish(url, args[0], args[1], args[2], Number(args[3] ?? 10));
   else if (cmd === "publish-json") await publishJson(url, args[0], args[1], args[2], Number(args[3] ?? 10));
   else if (cmd === "graph") await graph(url, args[0], args[1]);
+  else if (cmd === "watch") await watch(url, args[0]);
   else if (cmd === "slow") await slow(url, args[0], Number(args[1] ?? 3));
   else if (cmd === "bad") await bad(url);
   else if (cmd === "latency") await latency(url, args[0], Number(args[1] ?? 5));
