@@ -6,10 +6,40 @@
 # files and LCM logs, and every fuzz target's corpus and regression inputs) under
 # AddressSanitizer + UBSan. HORUS_TEST_TSAN=0 / HORUS_TEST_ASAN=0 skip
 # those passes.
+#
+# The default tests mostly wait (on processes, namespace hosts, networks): the sanitizer builds
+# run meanwhile at the lowest CPU priority (nice 19), on the CPU the tests leave idle, their
+# output in build/sanitizer-builds.log; their tests run after the default ones.
 set -euo pipefail
+self="$(cd "$(dirname "$0")" && pwd)/$(basename "$0")"
 cd "$(dirname "$0")/.."
-scripts/install-deps.sh
+tsan=${HORUS_TEST_TSAN:-1}
+asan=${HORUS_TEST_ASAN:-1}
+tsan_targets=(test_ring_protocol test_topic_concurrency test_wait test_topic_serialized test_pool test_lcm_transport)
+# The fuzz targets' corpora and regression inputs, replayed once each (fuzz/README.md).
+replay=()
+for t in $(sed -n 's/^set(HORUS_FUZZ_TARGETS \(.*\))$/\1/p' fuzz/CMakeLists.txt) lcm; do replay+=("fuzz_${t}_replay"); done
+asan_targets=(test_codec test_cdr test_lcm_codec test_topic_serialized test_pool test_mcap test_ring "${replay[@]}")
+
 jobs=$(nproc)
+sanitizer_builds() {
+  if [ "$tsan" != "0" ]; then
+    cmake --preset tsan
+    cmake --build --preset tsan -j "$jobs" --target "${tsan_targets[@]}"
+  fi
+  if [ "$asan" != "0" ]; then
+    cmake --preset asan
+    cmake --build --preset asan -j "$jobs" --target "${asan_targets[@]}"
+  fi
+}
+# `test.sh --sanitizer-builds`: only the TSan and ASan builds of the targets above (what the
+# test command runs in the background, in a process group of its own).
+if [ "${1:-}" = "--sanitizer-builds" ]; then
+  sanitizer_builds
+  exit 0
+fi
+
+scripts/install-deps.sh
 
 cmake --preset default
 cmake --build --preset default -j "$jobs"
@@ -21,12 +51,31 @@ if [ -d build/default/python/horus ]; then
   [ -x /usr/bin/python3 ] && py=/usr/bin/python3
   (cd / && "$py" -c "import horus; print('python3: horus', horus.__version__, 'installed at', horus.__path__[0])")
 fi
+
+mkdir -p build
+log=build/sanitizer-builds.log
+san_pid=""
+if [ "$tsan" != "0" ] || [ "$asan" != "0" ]; then
+  setsid -w nice -n 19 "$self" --sanitizer-builds > "$log" 2>&1 < /dev/null &
+  san_pid=$!
+  # A failed or interrupted run takes the whole group (cmake, ninja, the compilers) down with it.
+  trap 'if [ -n "$san_pid" ]; then kill -TERM -- "-$san_pid" 2>/dev/null || true; fi' EXIT
+fi
+
 ctest --preset default -j "$jobs"
 
-if [ "${HORUS_TEST_TSAN:-1}" != "0" ]; then
-  cmake --preset tsan
-  cmake --build --preset tsan -j "$jobs" --target test_ring_protocol test_topic_concurrency test_wait test_topic_serialized test_pool \
-    test_lcm_transport
+if [ -n "$san_pid" ]; then
+  if ! wait "$san_pid"; then
+    san_pid=""
+    echo "test.sh: the sanitizer builds failed:" >&2
+    tail -n 60 "$log" >&2
+    exit 1
+  fi
+  san_pid=""
+  echo "test.sh: the sanitizer builds ran beside the tests ($log)"
+fi
+
+if [ "$tsan" != "0" ]; then
   # TSan needs the classic address-space layout; kernels with more mmap randomness break it.
   run=()
   if command -v setarch >/dev/null; then run=(setarch "$(uname -m)" -R); fi
@@ -34,13 +83,7 @@ if [ "${HORUS_TEST_TSAN:-1}" != "0" ]; then
   "${run[@]}" ctest --preset tsan -R '^Lcm(Memq|File|Udpm)\.'
 fi
 
-if [ "${HORUS_TEST_ASAN:-1}" != "0" ]; then
-  cmake --preset asan
-  # The fuzz targets' corpora and regression inputs, replayed once each (fuzz/README.md).
-  replay=()
-  for t in $(sed -n 's/^set(HORUS_FUZZ_TARGETS \(.*\))$/\1/p' fuzz/CMakeLists.txt) lcm; do replay+=("fuzz_${t}_replay"); done
-  cmake --build --preset asan -j "$jobs" --target test_codec test_cdr test_lcm_codec test_topic_serialized test_pool \
-    test_mcap test_ring "${replay[@]}"
+if [ "$asan" != "0" ]; then
   ctest --preset asan -R '^(Codec|Cdr|LcmCodec|LcmEmitter|SerializedTopic|Pool|Backends/PoolTopic|Mcap|McapDamage|All/McapCompression|LcmLog|RingLayout)\.'
   ctest --preset asan -L '^fuzz$'
 fi

@@ -299,14 +299,13 @@ TEST(Foxglove, ATopicIsAdvertisedWhenItAppearsAndUnadvertisedWhenItsLastProcessE
   const std::string prefix = horus_test::unique_name("fxwatch");
   Server server(prefix + ".**");
   ASSERT_GT(server.port(), 0) << server.output();
-  auto watcher = horus_test::start_logged({node_path(), FOXGLOVE_JS_DIR "/client.mjs", "watch", server.url(),
-                                           prefix + ".appears"},
-                                          "/tmp/" + prefix + ".watch.log");
+  auto watcher =
+      horus_test::start_logged({node_path(), FOXGLOVE_JS_DIR "/client.mjs", "watch", server.url(), prefix + ".appears"},
+                               "/tmp/" + prefix + ".watch.log");
   // A publisher that comes, sends for a while and ends (it waits up to 2 s for a subscriber first).
   std::string out;
-  EXPECT_EQ(horus_test::run_command(std::string(HORUS_CLI) + " topic pub " + prefix +
-                                        ".appears Pose2D '{\"x\": 1}' -r 20 -n 20",
-                                    out),
+  EXPECT_EQ(horus_test::run_command(
+                std::string(HORUS_CLI) + " topic pub " + prefix + ".appears Pose2D '{\"x\": 1}' -r 20 -n 20", out),
             0)
       << out;
   ASSERT_EQ(watcher.wait(40s), 0) << watcher.output() << server.output();
@@ -524,9 +523,7 @@ TEST(FoxgloveFleet, AFleetTopicOfAnotherHostIsServedAndTheStatusPageListsBothHos
   const auto [grc, gout] = node({"graph", "ws://127.0.0.1:8765", "robot1.pose", lan.host(0)}, 60s);
   EXPECT_EQ(grc, 0) << gout;
   if (::access("/usr/bin/chromium", X_OK) != 0) {
-    std::printf(
-        "chromium is not installed (scripts/install-deps.sh installs "
-        "it): the status page is not shown\n");
+    std::printf("chromium is not installed (scripts/install-deps.sh installs it): the status page is not shown\n");
     return;
   }
   const std::string png = std::filesystem::current_path().string() + "/foxglove-status.png";

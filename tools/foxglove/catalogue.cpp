@@ -37,10 +37,10 @@ void Catalogue::add_channels(std::map<std::string, Desc>& out, Desc d) {
   } else if (!d.via.empty() && !d.signature.empty()) {
     d.remote_raw = true;
   } else {
-    unserved_.insert({d.horus_topic, d.type + (d.via.empty() ? " is not a standard message and the topic stays on "
-                                                               "this host (only fleet topics are read through "
-                                                               "their signature)"
-                                                             : " announced no signature")});
+    unserved_.insert(
+        {d.horus_topic, d.type + (d.via.empty() ? " is not a standard message and the topic stays on this host (only "
+                                                  "fleet topics are read through their signature)"
+                                                : " announced no signature")});
     return;
   }
   const auto* info = d.via.empty() ? nullptr : net::find_transport(d.via);

@@ -21,10 +21,7 @@ int cmd_foxglove(const FoxgloveArgs& a, const std::atomic<bool>& stop) {
       return 2;
     }
   if (a.port < 0 || a.port > 65535) {
-    fmt::print(stderr,
-               "horus foxglove: --port {} is not a TCP port (0 to 65535; 0: "
-               "any free one)\n",
-               a.port);
+    fmt::print(stderr, "horus foxglove: --port {} is not a TCP port (0 to 65535; 0: any free one)\n", a.port);
     return 2;
   }
   if (a.max_clients < 1) {
@@ -54,10 +51,8 @@ int cmd_foxglove(const FoxgloveArgs& a, const std::atomic<bool>& stop) {
     return 1;
   }
   const std::string shown = a.address == "0.0.0.0" ? fleet::host_name() : a.address;
-  fmt::print(
-      "horus foxglove: ws://{}:{} (Foxglove: Open connection, Foxglove "
-      "WebSocket); status page http://{}:{}/\n",
-      shown, server->port(), shown, server->port());
+  fmt::print("horus foxglove: ws://{}:{} (Foxglove: Open connection, Foxglove WebSocket); status page http://{}:{}/\n",
+             shown, server->port(), shown, server->port());
   fmt::print("serving {} channels of {}{}; Ctrl-C stops\n", hub->channel_count(),
              ho.transport.empty() ? std::string("this host") : "this host and the fleet (" + ho.transport + ")",
              a.no_publish ? "; clients may not publish" : "");

@@ -130,8 +130,7 @@ class HubImpl final : public Hub {
     auto pub = st.published.find(data->channel);
     if (pub == st.published.end()) {
       tell(st, Level::Error,
-           fmt::format("client message data on channel {}: no such channel of "
-                       "yours (advertise it first)",
+           fmt::format("client message data on channel {}: no such channel of yours (advertise it first)",
                        data->channel));
       return;
     }
@@ -184,9 +183,7 @@ class HubImpl final : public Hub {
       for (const auto& item : s.subscriptions) {
         if (st.subscriptions.contains(item.id)) {
           tell(st, Level::Error,
-               fmt::format("subscribe: subscription id {} is in use "
-                           "(unsubscribe it first)",
-                           item.id));
+               fmt::format("subscribe: subscription id {} is in use (unsubscribe it first)", item.id));
           continue;
         }
         if (!channels_.contains(item.channel)) {
@@ -233,18 +230,13 @@ class HubImpl final : public Hub {
         if (type.starts_with(prefix)) type.erase(0, prefix.size());
       if (type.find_first_of(":./") != std::string::npos) type.clear();
       if (!o_.client_publish) {
-        error =
-            "this server does not take client messages (horus foxglove "
-            "--no-publish)";
+        error = "this server does not take client messages (horus foxglove --no-publish)";
       } else if (c.encoding != "cdr" && c.encoding != "json") {
         error = fmt::format("encoding '{}' is not supported (cdr or json)", c.encoding);
       } else if (auto ok = validate_topic_name(c.topic); !ok) {
         error = ok.error().message();
       } else if (standard_type(type).empty()) {
-        error = fmt::format(
-            "schema '{}' is not a standard horus message (e.g. "
-            "horus::msg::CmdVel)",
-            c.schema_name);
+        error = fmt::format("schema '{}' is not a standard horus message (e.g. horus::msg::CmdVel)", c.schema_name);
       } else if (c.encoding == "cdr") {
         std::uint64_t hash = 0;
         pub.sink = open_play_sink(type, c.topic, false, hash, error);
@@ -298,10 +290,9 @@ class HubImpl final : public Hub {
   void handle(std::uint64_t id, Unsupported& u) {
     std::lock_guard lock(mu_);
     if (auto it = clients_.find(id); it != clients_.end())
-      tell(it->second, Level::Warning,
-           fmt::format("'{}' is not offered by this server (capabilities: "
-                       "clientPublish, time, connectionGraph)",
-                       u.op));
+      tell(
+          it->second, Level::Warning,
+          fmt::format("'{}' is not offered by this server (capabilities: clientPublish, time, connectionGraph)", u.op));
   }
 
   // A client publisher's topic is closed by the pump thread (only it destroys topics).

@@ -14,8 +14,7 @@ using json = nlohmann::json;
 using Fail = std::unexpected<std::string>;
 
 constexpr std::string_view kOps =
-    "subscribe, unsubscribe, advertise, unadvertise, subscribeConnectionGraph, "
-    "unsubscribeConnectionGraph";
+    "subscribe, unsubscribe, advertise, unadvertise, subscribeConnectionGraph, unsubscribeConnectionGraph";
 
 std::string shown(const json& v) {
   std::string s = v.dump();
@@ -119,9 +118,7 @@ std::expected<ClientOp, std::string> parse_client_text(std::string_view text) {
   json j = json::parse(text, nullptr, false);
   if (j.is_discarded())
     return Fail(
-        fmt::format("a text frame must be a JSON object with an "
-                    "\"op\"; this one ({} bytes) is not JSON",
-                    text.size()));
+        fmt::format("a text frame must be a JSON object with an \"op\"; this one ({} bytes) is not JSON", text.size()));
   if (!j.is_object()) return Fail(fmt::format("a text frame must be a JSON object with an \"op\", not {}", shown(j)));
   auto op_it = j.find("op");
   if (op_it == j.end() || !op_it->is_string())

@@ -16,14 +16,29 @@ namespace horus::tools::fox {
 namespace {
 
 // ---- the schemas (OMG IDL, as @foxglove/schemas defines them) --------------------------------
-constexpr std::string_view kTime = "  struct Time {\n    uint32 sec;\n    uint32 nsec;\n  };\n";
-constexpr std::string_view kVecQuatPose =
-    "  struct Vector3 {\n    double x;\n    double y;\n    double z;\n  };\n"
-    "  struct Quaternion {\n    double x;\n    double y;\n    double z;\n    "
-    "@default(1.0) double w;\n  };\n"
-    "  struct Pose {\n    Vector3 position;\n    Quaternion orientation;\n  "
-    "};\n";
+constexpr std::string_view kTime = R"IDL(  struct Time {
+    uint32 sec;
+    uint32 nsec;
+  };
+)IDL";
+constexpr std::string_view kPose = R"IDL(  struct Vector3 {
+    double x;
+    double y;
+    double z;
+  };
+  struct Quaternion {
+    double x;
+    double y;
+    double z;
+    @default(1.0) double w;
+  };
+  struct Pose {
+    Vector3 position;
+    Quaternion orientation;
+  };
+)IDL";
 
+// `module foxglove { <parts> };`
 std::string module(std::initializer_list<std::string_view> parts) {
   std::string s = "module foxglove {\n";
   for (auto p : parts) s += p;
@@ -31,51 +46,87 @@ std::string module(std::initializer_list<std::string_view> parts) {
 }
 
 const std::string& idl_raw_image() {
-  static const std::string s = module({kTime,
-                                       "  struct RawImage {\n    Time timestamp;\n    string "
-                                       "frame_id;\n    uint32 width;\n"
-                                       "    uint32 height;\n    string encoding;\n    uint32 step;\n"
-                                       "    sequence<uint8> data;\n  };\n"});
+  static const std::string s = module({kTime, R"IDL(  struct RawImage {
+    Time timestamp;
+    string frame_id;
+    uint32 width;
+    uint32 height;
+    string encoding;
+    uint32 step;
+    sequence<uint8> data;
+  };
+)IDL"});
   return s;
 }
 const std::string& idl_compressed_image() {
-  static const std::string s = module({kTime,
-                                       "  struct CompressedImage {\n    Time timestamp;\n    string frame_id;\n"
-                                       "    sequence<uint8> data;\n    string format;\n  };\n"});
+  static const std::string s = module({kTime, R"IDL(  struct CompressedImage {
+    Time timestamp;
+    string frame_id;
+    sequence<uint8> data;
+    string format;
+  };
+)IDL"});
   return s;
 }
 const std::string& idl_point_cloud() {
-  static const std::string s = module({kTime, kVecQuatPose,
-                                       "  enum NumericType {\n    UNKNOWN,\n    UINT8,\n    INT8,\n    "
-                                       "UINT16,\n    INT16,\n    UINT32,\n"
-                                       "    INT32,\n    FLOAT32,\n    FLOAT64\n  };\n"
-                                       "  struct PackedElementField {\n    string name;\n    uint32 "
-                                       "offset;\n    NumericType type;\n  };\n"
-                                       "  struct PointCloud {\n    Time timestamp;\n    string "
-                                       "frame_id;\n    Pose pose;\n    uint32 point_stride;\n"
-                                       "    sequence<PackedElementField> fields;\n    sequence<uint8> "
-                                       "data;\n  };\n"});
+  static const std::string s = module({kTime, kPose, R"IDL(  enum NumericType {
+    UNKNOWN,
+    UINT8,
+    INT8,
+    UINT16,
+    INT16,
+    UINT32,
+    INT32,
+    FLOAT32,
+    FLOAT64
+  };
+  struct PackedElementField {
+    string name;
+    uint32 offset;
+    NumericType type;
+  };
+  struct PointCloud {
+    Time timestamp;
+    string frame_id;
+    Pose pose;
+    uint32 point_stride;
+    sequence<PackedElementField> fields;
+    sequence<uint8> data;
+  };
+)IDL"});
   return s;
 }
 const std::string& idl_laser_scan() {
-  static const std::string s = module({kTime, kVecQuatPose,
-                                       "  struct LaserScan {\n    Time timestamp;\n    string "
-                                       "frame_id;\n    Pose pose;\n    double start_angle;\n"
-                                       "    double end_angle;\n    sequence<double> ranges;\n    "
-                                       "sequence<double> intensities;\n  };\n"});
+  static const std::string s = module({kTime, kPose, R"IDL(  struct LaserScan {
+    Time timestamp;
+    string frame_id;
+    Pose pose;
+    double start_angle;
+    double end_angle;
+    sequence<double> ranges;
+    sequence<double> intensities;
+  };
+)IDL"});
   return s;
 }
 const std::string& idl_pose_in_frame() {
-  static const std::string s = module({kTime, kVecQuatPose,
-                                       "  struct PoseInFrame {\n    Time timestamp;\n    string "
-                                       "frame_id;\n    Pose pose;\n  };\n"});
+  static const std::string s = module({kTime, kPose, R"IDL(  struct PoseInFrame {
+    Time timestamp;
+    string frame_id;
+    Pose pose;
+  };
+)IDL"});
   return s;
 }
 const std::string& idl_frame_transform() {
-  static const std::string s = module({kTime, kVecQuatPose,
-                                       "  struct FrameTransform {\n    Time timestamp;\n    string "
-                                       "parent_frame_id;\n    string child_frame_id;\n"
-                                       "    Vector3 translation;\n    Quaternion rotation;\n  };\n"});
+  static const std::string s = module({kTime, kPose, R"IDL(  struct FrameTransform {
+    Time timestamp;
+    string parent_frame_id;
+    string child_frame_id;
+    Vector3 translation;
+    Quaternion rotation;
+  };
+)IDL"});
   return s;
 }
 

@@ -54,7 +54,7 @@ class WsSession final : public Client, public std::enable_shared_from_this<WsSes
       res.set(http::field::sec_websocket_protocol, std::string(kSubprotocol));
       res.set(http::field::server, "horus foxglove");
     }));
-    ws_.read_message_max(0);  // read() enforces kMaxClientFrame as the parts arrive
+    ws_.read_message_max(0);   // read() enforces kMaxClientFrame as the parts arrive
     ws_.auto_fragment(false);  // a message is one frame, written in one gather (not 4 KiB frames)
     ws_.async_accept(req, [self = shared_from_this()](beast::error_code ec) {
       if (ec) return;
@@ -94,9 +94,8 @@ class WsSession final : public Client, public std::enable_shared_from_this<WsSes
     }
     if (dropped_ > warned_ && Steady::now() - last_warning_ > std::chrono::seconds(2)) {
       Frame w;
-      w.text = status(Level::Warning, fmt::format("{} messages dropped so far: this client "
-                                                  "reads slower than its subscriptions "
-                                                  "publish (the newest are kept)",
+      w.text = status(Level::Warning, fmt::format("{} messages dropped so far: this client reads slower than its "
+                                                  "subscriptions publish (the newest are kept)",
                                                   dropped_));
       text_bytes_ += w.text.size();
       queue_.push_back(std::move(w));
@@ -163,8 +162,7 @@ class WsSession final : public Client, public std::enable_shared_from_this<WsSes
       }
       if (self->in_.size() > kMaxClientFrame) {
         self->in_.clear();
-        self->close(1009, close_reason(fmt::format("a message of more than {} MiB "
-                                                   "(the most a client may send)",
+        self->close(1009, close_reason(fmt::format("a message of more than {} MiB (the most a client may send)",
                                                    kMaxClientFrame >> 20)));
         return;  // no more reads: the close reads until the client's close frame
       }
@@ -310,16 +308,14 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
       }
       if (!ok) {
         respond(req, http::status::bad_request, "text/plain",
-                fmt::format("a WebSocket here speaks subprotocol {} "
-                            "(Sec-WebSocket-Protocol offered: '{}')\n",
+                fmt::format("a WebSocket here speaks subprotocol {} (Sec-WebSocket-Protocol offered: '{}')\n",
                             kSubprotocol, offered),
                 false);
         return;
       }
       if (shared_.clients.load() >= shared_.options.max_clients) {
         respond(req, http::status::service_unavailable, "text/plain",
-                fmt::format("{} clients are connected, the most this server "
-                            "takes (--max-clients)\n",
+                fmt::format("{} clients are connected, the most this server takes (--max-clients)\n",
                             shared_.options.max_clients),
                 false);
         return;
@@ -340,8 +336,7 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
       respond(req, http::status::ok, "application/json", shared_.hub.status_json(), req.keep_alive());
     else
       respond(req, http::status::not_found, "text/plain",
-              fmt::format("{} is not here: / is the status page, /status.json "
-                          "its figures, and a WebSocket with "
+              fmt::format("{} is not here: / is the status page, /status.json its figures, and a WebSocket with "
                           "subprotocol {} is the Foxglove connection\n",
                           target, kSubprotocol),
               req.keep_alive());
