@@ -19,7 +19,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -76,9 +75,11 @@ class Server {
       : proc_(horus_test::start_logged({HORUS_CLI, "foxglove", "--port", "0", "--topics", pattern, "--duration", "120"},
                                        "/tmp/" + horus_test::unique_name("fox") + ".log")) {
     if (!proc_.wait_for_output("status page", 20s)) return;
-    std::smatch m;
+    // "ws://127.0.0.1:PORT (...": the port after the address
     const auto out = proc_.output();
-    if (std::regex_search(out, m, std::regex("ws://[^:]+:([0-9]+)"))) port_ = std::stoi(m[1]);
+    const auto at = out.find("ws://");
+    const auto colon = at == std::string::npos ? std::string::npos : out.find(':', at + 5);
+    if (colon != std::string::npos) port_ = std::atoi(out.c_str() + colon + 1);
   }
   int port() const { return port_; }
   std::string url() const { return "ws://127.0.0.1:" + std::to_string(port_); }
@@ -358,13 +359,16 @@ TEST(Foxglove, ASlowClientLosesItsOldestFramesAndIsToldWhileThePublisherKeepsIts
   // The publisher never waited on the client: its rate held (200 Hz, some slack for a loaded CI).
   EXPECT_LT(worst_us.load(), 200'000) << "a send took " << worst_us.load() << " us";
   EXPECT_GT(static_cast<double>(sent.load()) / seconds, 120.0) << sent.load() << " in " << seconds << " s";
-  // The server's memory stayed bounded (64 MiB of queue per client, plus the program).
+  // The server's memory stayed bounded (64 MiB of queue per client, plus the program); not under
+  // a sanitizer, whose shadow memory and quarantine are most of the figure.
+#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
   std::ifstream st("/proc/" + std::to_string(server.process().pid()) + "/status");
   for (std::string line; std::getline(st, line);) {
     if (line.starts_with("VmHWM:")) {
       EXPECT_LT(std::stol(line.substr(6)), 400L * 1024) << line;
     }
   }
+#endif
   EXPECT_NE(status_line.find("200"), std::string::npos) << status_line;
 }
 
