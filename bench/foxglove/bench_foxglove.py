@@ -46,16 +46,18 @@ def last_json(text, key):
 
 
 def server_cpu(server, url, topic, clients, seconds):
-    """Server CPU (% of a core) while `clients` Foxglove clients take `topic` for `seconds`."""
-    procs = [node(["latency", url, topic, str(seconds + 2)]) for _ in range(clients)]
-    time.sleep(1.5)  # connected and subscribed
-    c0, t0 = cpu_seconds(server.pid), time.monotonic()
-    time.sleep(seconds)
-    c1, t1 = cpu_seconds(server.pid), time.monotonic()
-    frames = 0
+    """Server CPU (% of a core) while `clients` Foxglove clients take `topic` for `seconds`: from
+    when the last one says it subscribed to when the first one ends."""
+    procs = [node(["latency", url, topic, str(seconds)]) for _ in range(clients)]
     for p in procs:
-        out = p.communicate(timeout=seconds + 60)[0]
-        frames += last_json(out, '"frame"')["frame"]["n"]
+        line = p.stdout.readline()  # {"subscribed": ...}, or the error that ended it
+        if '"subscribed"' not in line:
+            raise RuntimeError(f"a client did not subscribe to {topic}: {line}{p.communicate()[0]}")
+    c0, t0 = cpu_seconds(server.pid), time.monotonic()
+    outs = [procs[0].communicate(timeout=seconds + 60)[0]]
+    c1, t1 = cpu_seconds(server.pid), time.monotonic()
+    outs += [p.communicate(timeout=seconds + 60)[0] for p in procs[1:]]
+    frames = sum(last_json(out, '"frame"')["frame"]["n"] for out in outs)
     return 100.0 * (c1 - c0) / (t1 - t0), frames
 
 
@@ -70,12 +72,16 @@ def one_round(args, peer, cli, r):
         if not port:
             raise RuntimeError(f"horus foxglove said: {line}")
         url = f"ws://127.0.0.1:{port.group(1)}"
-        time.sleep(1.0)  # the scan finds the topics
         res = {}
+        # The baselines first: the server has no client meanwhile (its idle CPU).
+        c0, t0 = cpu_seconds(server.pid), time.monotonic()
         for topic in ("pose", "camera"):
             base = subprocess.run([peer, "sub", prefix, topic, str(args.seconds)], capture_output=True, text=True,
                                   timeout=args.seconds + 30)
             res[topic + "_base"] = json.loads(base.stdout)
+        res["cpu_idle"] = 100.0 * (cpu_seconds(server.pid) - c0) / (time.monotonic() - t0)
+        # The clients wait for the channel's advertise themselves (the scan finds the topics).
+        for topic in ("pose", "camera"):
             fox = node(["latency", url, f"{prefix}.{topic}", str(args.seconds)])
             out = fox.communicate(timeout=args.seconds + 60)[0]
             j = last_json(out, '"frame"')
@@ -84,9 +90,6 @@ def one_round(args, peer, cli, r):
             cpp = subprocess.run([peer, "ws", port.group(1), prefix, topic, str(args.seconds)], capture_output=True,
                                  text=True, timeout=args.seconds + 30)
             res[topic + "_cpp"] = json.loads(cpp.stdout)
-        c0, t0 = cpu_seconds(server.pid), time.monotonic()
-        time.sleep(2)
-        res["cpu_idle"] = 100.0 * (cpu_seconds(server.pid) - c0) / (time.monotonic() - t0)
         res["cpu_pose_1"], res["frames_pose_1"] = server_cpu(server, url, f"{prefix}.pose", 1, args.cpu_seconds)
         res["cpu_pose_n"], res["frames_pose_n"] = server_cpu(server, url, f"{prefix}.pose", args.clients,
                                                              args.cpu_seconds)
@@ -138,7 +141,8 @@ def main():
             added = [x[topic + key]["p50_us"] - x[topic + "_base"]["p50_us"] for x in rounds]
             print(f"added over the horus subscriber, p50, {topic}, {client}: {spread(added)} us")
     print()
-    print(f"server CPU, % of one core ({args.cpu_seconds:.0f} s each; median (range)); frames the clients got")
+    print(f"server CPU, % of one core (idle: over the baselines; clients: {args.cpu_seconds:.0f} s each; "
+          "median (range)); frames the clients got")
     for name, key, frames in (("idle (no client)", "cpu_idle", None), ("1 client, Pose2D 1 kHz", "cpu_pose_1",
                                                                         "frames_pose_1"),
                               (f"{args.clients} clients, Pose2D 1 kHz", "cpu_pose_n", "frames_pose_n"),

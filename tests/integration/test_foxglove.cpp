@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -121,26 +122,6 @@ std::pair<std::string, std::string> http_get(int port, const std::string& path) 
   return {text.substr(0, eol), body == std::string::npos ? "" : text.substr(body + 4)};
 }
 
-// Sends every trip's sample every 100 ms until destroyed.
-class Publishing {
- public:
-  explicit Publishing(std::vector<std::unique_ptr<horus_test::Trip>>& trips)
-      : thread_([this, &trips] {
-          while (!stop_.load()) {
-            for (auto& t : trips) t->send();
-            std::this_thread::sleep_for(100ms);
-          }
-        }) {}
-  ~Publishing() {
-    stop_ = true;
-    thread_.join();
-  }
-
- private:
-  std::atomic<bool> stop_{false};
-  std::thread thread_;
-};
-
 TEST(Foxglove, FoxglovesClientDecodesEveryStandardTypeAndEachConvertedChannelDrawsWhatWasSent) {
   REQUIRE_FOXGLOVE_CLIENTS();
   const std::string prefix = horus_test::unique_name("fxall");
@@ -150,7 +131,9 @@ TEST(Foxglove, FoxglovesClientDecodesEveryStandardTypeAndEachConvertedChannelDra
     trips.push_back(t.trip());
     ASSERT_EQ(trips.back()->open(horus::Backend::SharedMemory, prefix), "") << t.name;
   }
-  Publishing publishing(trips);
+  horus_test::Publishing publishing(100ms, [&](int) {
+    for (auto& t : trips) t->send();
+  });
   Server server(prefix + ".**");
   ASSERT_GT(server.port(), 0) << server.output();
 
@@ -243,21 +226,15 @@ TEST(Foxglove, ACmdVelAClientPublishesReachesAHorusSubscriber) {
   auto cmd = horus::Topic<horus::msg::CmdVel>::open(prefix + ".cmd");  // its schema is what the client encodes with
   ASSERT_TRUE(cmd) << cmd.error().message();
   cmd->publish_only();
-  std::atomic<bool> stop{false};
-  std::thread beat([&] {
-    while (!stop) {
-      (void)cmd->send(horus::msg::CmdVel::make(0.1f, 0.2f));
-      std::this_thread::sleep_for(100ms);
-    }
-  });
+  std::optional<horus_test::Publishing> beat;
+  beat.emplace(100ms, [&](int) { cmd->send(horus::msg::CmdVel::make(0.1f, 0.2f)); });
   Server server(prefix + ".**");
   ASSERT_GT(server.port(), 0) << server.output();
   int rc = 0;
   const auto out = client({"publish", server.url(), prefix + ".cmd", prefix + ".teleop",
                            R"({"stamp_nanos": 42, "linear": 0.5, "angular": -0.25})", "20"},
                           rc);
-  stop = true;
-  beat.join();
+  beat.reset();
   EXPECT_EQ(rc, 0) << out << server.output();
   auto m = teleop->recv_for(2s);
   ASSERT_TRUE(m.has_value()) << out;

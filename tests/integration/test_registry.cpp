@@ -34,26 +34,7 @@ std::string ns() { return horus::shm::shm_namespace().value(); }
 // Runs a command; returns its exit status and everything it printed.
 int run(const std::string& cmd, std::string& out) { return horus_test::run_command(cmd, out); }
 
-// Calls send() every `period` on another thread until destroyed (a live publisher for the CLI).
-class Publishing {
- public:
-  template <class Send>
-  Publishing(std::chrono::milliseconds period, Send send)
-      : thread_([this, period, send]() mutable {
-          for (int i = 0; !stop_.load(); ++i) {
-            send(i);
-            std::this_thread::sleep_for(period);
-          }
-        }) {}
-  ~Publishing() {
-    stop_ = true;
-    thread_.join();
-  }
-
- private:
-  std::atomic<bool> stop_{false};
-  std::thread thread_;
-};
+using horus_test::Publishing;
 
 TEST(Registry, ListsALiveTopicWithItsTypeCountsAndProcess) {
   const auto name = horus_test::unique_name("registry");

@@ -1,4 +1,4 @@
-// Shared helpers of the unit tests: a checkable test message and deadlines.
+// Shared helpers of the tests: a checkable test message, deadlines, a publisher on a thread.
 #pragma once
 
 #include <unistd.h>
@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdint>
 #include <string>
+#include <thread>
 
 #include "horus/reflect.hpp"
 
@@ -72,6 +73,28 @@ class Deadline {
 
  private:
   std::chrono::steady_clock::time_point end_;
+};
+
+// Calls send() every `period` on another thread until destroyed (a live publisher for a
+// tool or a server under test).
+class Publishing {
+ public:
+  template <class Send>
+  Publishing(std::chrono::milliseconds period, Send send)
+      : thread_([this, period, send]() mutable {
+          for (int i = 0; !stop_.load(); ++i) {
+            send(i);
+            std::this_thread::sleep_for(period);
+          }
+        }) {}
+  ~Publishing() {
+    stop_ = true;
+    thread_.join();
+  }
+
+ private:
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
 };
 
 }  // namespace horus_test

@@ -111,7 +111,6 @@ Scan Catalogue::scan(Fleet* fleet) {
     d.type = t.type_name;
     d.hash = t.type_hash;
     d.signature = t.signature;
-    d.scope = t.scope;
     add_channels(want, std::move(d));
     // rate: the sent count since the last scan that is at least 0.9 s old
     double rate = -1;
@@ -177,7 +176,6 @@ Scan Catalogue::scan(Fleet* fleet) {
         d.type = t.type_name;
         d.hash = t.type_hash;
         d.signature = t.signature;
-        d.scope = "fleet";
         d.via = t.transport;
         add_channels(want, std::move(d));
       }

@@ -26,7 +26,6 @@ struct Desc {
   std::string type;  // horus type name
   std::uint64_t hash = 0;
   std::string signature;
-  std::string scope;
   std::string via;  // the network backend to read it through (empty: shared memory)
   bool converted = false;
   bool remote_raw = false;  // not a standard type: read through its signature (RemoteReader)

@@ -124,12 +124,11 @@ class HubImpl final : public Hub {
       return;
     }
     std::lock_guard lock(mu_);
-    auto it = clients_.find(id);
-    if (it == clients_.end()) return;
-    auto& st = it->second;
-    auto pub = st.published.find(data->channel);
-    if (pub == st.published.end()) {
-      tell(st, Level::Error,
+    ClientState* st = find_client(id);
+    if (st == nullptr) return;
+    auto pub = st->published.find(data->channel);
+    if (pub == st->published.end()) {
+      tell(*st, Level::Error,
            fmt::format("client message data on channel {}: no such channel of yours (advertise it first)",
                        data->channel));
       return;
@@ -144,7 +143,7 @@ class HubImpl final : public Hub {
       why = j.is_discarded() ? std::string("not JSON") : p.writer->send_json(j);
     }
     if (!why.empty()) {
-      tell(st, Level::Error,
+      tell(*st, Level::Error,
            fmt::format("a message on '{}' ({}) was not published: {}", p.channel.topic, p.channel.schema_name, why));
       return;
     }
@@ -164,10 +163,15 @@ class HubImpl final : public Hub {
   // ---- client ops (the I/O thread) ----------------------------------------------------------
   void reject(std::uint64_t id, std::uint16_t code, const std::string& why) {
     std::lock_guard lock(mu_);
+    ClientState* st = find_client(id);
+    if (st == nullptr) return;
+    tell(*st, Level::Error, why);
+    st->client->close(code, close_reason(why));
+  }
+  // The client `id`, or null when it is gone. Holds mu_.
+  ClientState* find_client(std::uint64_t id) {
     auto it = clients_.find(id);
-    if (it == clients_.end()) return;
-    tell(it->second, Level::Error, why);
-    it->second.client->close(code, close_reason(why));
+    return it == clients_.end() ? nullptr : &it->second;
   }
   static void tell(ClientState& st, Level level, const std::string& message) {
     st.client->send_text(status(level, message));
@@ -177,25 +181,24 @@ class HubImpl final : public Hub {
     std::vector<std::uint32_t> to_open;
     {
       std::lock_guard lock(mu_);
-      auto it = clients_.find(id);
-      if (it == clients_.end()) return;
-      auto& st = it->second;
+      ClientState* st = find_client(id);
+      if (st == nullptr) return;
       for (const auto& item : s.subscriptions) {
-        if (st.subscriptions.contains(item.id)) {
-          tell(st, Level::Error,
+        if (st->subscriptions.contains(item.id)) {
+          tell(*st, Level::Error,
                fmt::format("subscribe: subscription id {} is in use (unsubscribe it first)", item.id));
           continue;
         }
         if (!channels_.contains(item.channel)) {
-          tell(st, Level::Error, fmt::format("subscribe: channel {} is not advertised", item.channel));
+          tell(*st, Level::Error, fmt::format("subscribe: channel {} is not advertised", item.channel));
           continue;
         }
-        if (std::any_of(st.subscriptions.begin(), st.subscriptions.end(),
+        if (std::any_of(st->subscriptions.begin(), st->subscriptions.end(),
                         [&](const auto& kv) { return kv.second == item.channel; })) {
-          tell(st, Level::Error, fmt::format("subscribe: channel {} is already subscribed", item.channel));
+          tell(*st, Level::Error, fmt::format("subscribe: channel {} is already subscribed", item.channel));
           continue;
         }
-        st.subscriptions[item.id] = item.channel;
+        st->subscriptions[item.id] = item.channel;
         auto& a = active_[item.channel];
         a.subscribers.insert({id, item.id});
         if (!a.source && !a.remote) to_open.push_back(item.channel);
@@ -206,16 +209,16 @@ class HubImpl final : public Hub {
 
   void handle(std::uint64_t id, Unsubscribe& u) {
     std::lock_guard lock(mu_);
-    auto it = clients_.find(id);
-    if (it == clients_.end()) return;
+    ClientState* st = find_client(id);
+    if (st == nullptr) return;
     for (auto sub : u.ids) {
-      auto s = it->second.subscriptions.find(sub);
-      if (s == it->second.subscriptions.end()) {
-        tell(it->second, Level::Warning, fmt::format("unsubscribe: no subscription {}", sub));
+      auto s = st->subscriptions.find(sub);
+      if (s == st->subscriptions.end()) {
+        tell(*st, Level::Warning, fmt::format("unsubscribe: no subscription {}", sub));
         continue;
       }
       drop_subscriber(s->second, id, sub);
-      it->second.subscriptions.erase(s);
+      st->subscriptions.erase(s);
     }
   }
 
@@ -244,44 +247,44 @@ class HubImpl final : public Hub {
         pub.writer = open_writer(type, c.topic, std::nullopt, error);
       }
       std::lock_guard lock(mu_);
-      auto it = clients_.find(id);
-      if (it == clients_.end()) return;
+      ClientState* st = find_client(id);
+      if (st == nullptr) return;
       if (!pub.sink && !pub.writer) {
-        tell(it->second, Level::Error,
+        tell(*st, Level::Error,
              fmt::format("advertise: channel {} ('{}', {}): {}", c.id, c.topic, c.schema_name,
                          error.empty() ? std::string("the topic did not open") : error));
         continue;
       }
-      if (auto old = it->second.published.find(c.id); old != it->second.published.end()) {
+      if (auto old = st->published.find(c.id); old != st->published.end()) {
         retire(std::move(old->second));
-        it->second.published.erase(old);
+        st->published.erase(old);
       }
       pub.channel = std::move(c);
-      it->second.published.emplace(pub.channel.id, std::move(pub));
+      st->published.emplace(pub.channel.id, std::move(pub));
     }
   }
 
   void handle(std::uint64_t id, ClientUnadvertise& u) {
     std::lock_guard lock(mu_);
-    auto it = clients_.find(id);
-    if (it == clients_.end()) return;
+    ClientState* st = find_client(id);
+    if (st == nullptr) return;
     for (auto cid : u.ids) {
-      auto p = it->second.published.find(cid);
-      if (p == it->second.published.end()) {
-        tell(it->second, Level::Warning, fmt::format("unadvertise: no channel {} of yours", cid));
+      auto p = st->published.find(cid);
+      if (p == st->published.end()) {
+        tell(*st, Level::Warning, fmt::format("unadvertise: no channel {} of yours", cid));
         continue;
       }
       retire(std::move(p->second));
-      it->second.published.erase(p);
+      st->published.erase(p);
     }
   }
 
   void handle(std::uint64_t id, SubscribeGraph&) {
     std::lock_guard lock(mu_);
-    auto it = clients_.find(id);
-    if (it == clients_.end()) return;
-    it->second.graph = true;
-    if (auto u = graph_update(Graph{}, graph_)) it->second.client->send_text(*u);
+    ClientState* st = find_client(id);
+    if (st == nullptr) return;
+    st->graph = true;
+    if (auto u = graph_update(Graph{}, graph_)) st->client->send_text(*u);
   }
   void handle(std::uint64_t id, UnsubscribeGraph&) {
     std::lock_guard lock(mu_);
@@ -384,12 +387,12 @@ class HubImpl final : public Hub {
       (void)ws->wait(polled ? std::chrono::milliseconds(2) : std::chrono::milliseconds(200));
       wake_.reset();
       std::lock_guard lock(mu_);
-      for (auto& [id, a] : active_) drain(id, a, buf);
+      for (auto& [id, a] : active_) drain(a, buf);
     }
   }
 
-  // Takes what channel `id` has (at most 64 messages a turn) to its subscribers. Holds mu_.
-  void drain(std::uint32_t id, Active& a, std::vector<std::byte>& buf) {
+  // Takes what channel `a` has (at most 64 messages a turn) to its subscribers. Holds mu_.
+  void drain(Active& a, std::vector<std::byte>& buf) {
     for (int n = 0; n < 64; ++n) {
       if (a.source) {
         if (!a.source->next(RecordFormat::Mcap, buf)) return;
@@ -417,7 +420,6 @@ class HubImpl final : public Hub {
       for (const auto& [client, sub] : a.subscribers)
         if (auto c = clients_.find(client); c != clients_.end()) c->second.client->send_data(sub, now, payload);
     }
-    (void)id;
   }
 
   // ---- the scan thread -----------------------------------------------------------------------

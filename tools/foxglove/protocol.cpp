@@ -22,15 +22,20 @@ std::string shown(const json& v) {
   return s;
 }
 
+// `v` as an unsigned 32-bit integer, or nothing (a float, a negative number, a larger one).
+std::optional<std::uint32_t> as_u32(const json& v) {
+  if (!v.is_number_integer() || (!v.is_number_unsigned() && v.get<std::int64_t>() < 0) ||
+      v.get<std::uint64_t>() > 0xffffffffULL)
+    return std::nullopt;
+  return static_cast<std::uint32_t>(v.get<std::uint64_t>());
+}
+
 // A field of `obj` that must be an unsigned 32-bit integer; `where` names it in the error.
 std::expected<std::uint32_t, std::string> u32(const json& obj, const char* key, const std::string& where) {
   auto it = obj.find(key);
   if (it == obj.end()) return Fail(fmt::format("{}.{} is missing (an unsigned 32-bit integer)", where, key));
-  if (!it->is_number_integer() ||
-      (it->is_number_integer() && !it->is_number_unsigned() && it->get<std::int64_t>() < 0) ||
-      it->get<std::uint64_t>() > 0xffffffffULL)
-    return Fail(fmt::format("{}.{} must be an unsigned 32-bit integer, not {}", where, key, shown(*it)));
-  return static_cast<std::uint32_t>(it->get<std::uint64_t>());
+  if (auto v = as_u32(*it)) return *v;
+  return Fail(fmt::format("{}.{} must be an unsigned 32-bit integer, not {}", where, key, shown(*it)));
 }
 
 std::expected<std::string, std::string> str(const json& obj, const char* key, const std::string& where) {
@@ -54,10 +59,9 @@ std::expected<std::vector<std::uint32_t>, std::string> ids(const json& obj, cons
   std::vector<std::uint32_t> out;
   for (std::size_t i = 0; i < (*a)->size(); ++i) {
     const json& v = (**a)[i];
-    if (!v.is_number_integer() || (!v.is_number_unsigned() && v.get<std::int64_t>() < 0) ||
-        v.get<std::uint64_t>() > 0xffffffffULL)
-      return Fail(fmt::format("{}: {}[{}] must be an unsigned 32-bit integer, not {}", op, key, i, shown(v)));
-    out.push_back(static_cast<std::uint32_t>(v.get<std::uint64_t>()));
+    auto id = as_u32(v);
+    if (!id) return Fail(fmt::format("{}: {}[{}] must be an unsigned 32-bit integer, not {}", op, key, i, shown(v)));
+    out.push_back(*id);
   }
   return out;
 }
@@ -138,9 +142,9 @@ std::expected<ClientOp, std::string> parse_client_text(std::string_view text) {
   }
   if (op == "subscribeConnectionGraph") return SubscribeGraph{};
   if (op == "unsubscribeConnectionGraph") return UnsubscribeGraph{};
-  static constexpr std::array<std::string_view, 8> kOthers = {
-      "getParameters", "setParameters", "subscribeParameterUpdates", "unsubscribeParameterUpdates",
-      "callService",   "fetchAsset",    "subscribeParameterUpdate",  "unsubscribeParameterUpdate"};
+  // The protocol's other client ops (parameters, assets; a service call is binary).
+  static constexpr std::array<std::string_view, 5> kOthers = {
+      "getParameters", "setParameters", "subscribeParameterUpdates", "unsubscribeParameterUpdates", "fetchAsset"};
   if (std::find(kOthers.begin(), kOthers.end(), op) != kOthers.end()) return Unsupported{op};
   return Fail(fmt::format("unknown op {} (expected one of {})", shown(*op_it), kOps));
 }

@@ -20,6 +20,7 @@ import WebSocket from "ws";
 import wsProtocol from "@foxglove/ws-protocol";
 import { parseIDL } from "@foxglove/omgidl-parser";
 import { MessageReader, MessageWriter } from "@foxglove/omgidl-serialization";
+import { plain } from "../js_common/plain.mjs";
 import foxgloveInternal from "@foxglove/schemas/internal.js";
 import omgIdl from "@foxglove/schemas/dist/internal/generateOmgIdl.js";
 
@@ -31,19 +32,6 @@ const out = (o) => console.log(JSON.stringify(o, (k, v) => (typeof v === "bigint
 function fail(what) {
   out({ error: what });
   process.exit(1);
-}
-
-function plain(v) {
-  if (typeof v === "bigint") return v.toString();
-  if (typeof v === "number") return Number.isFinite(v) ? v : null;
-  if (ArrayBuffer.isView(v)) return Array.from(v, plain);
-  if (Array.isArray(v)) return v.map(plain);
-  if (v !== null && typeof v === "object") {
-    const o = {};
-    for (const [k, x] of Object.entries(v)) o[k] = plain(x);
-    return o;
-  }
-  return v;
 }
 
 function connect(url) {
@@ -298,6 +286,7 @@ async function latency(url, topic, seconds) {
     if (!ch || reader) return;
     reader = new MessageReader(ch.schemaName, parseIDL(ch.schema));
     client.subscribe(ch.id);
+    out({ subscribed: topic });
     setTimeout(() => {
       clearTimeout(timer);
       const summary = (a) => {

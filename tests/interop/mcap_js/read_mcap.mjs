@@ -15,19 +15,7 @@ import { MessageReader } from "@foxglove/omgidl-serialization";
 import * as zstd from "@foxglove/wasm-zstd";
 import lz4 from "@foxglove/wasm-lz4";
 import { crc32 } from "@foxglove/crc";
-
-function plain(v) {
-  if (typeof v === "bigint") return v.toString();
-  if (typeof v === "number") return Number.isFinite(v) ? v : null;
-  if (ArrayBuffer.isView(v)) return Array.from(v, plain);
-  if (Array.isArray(v)) return v.map(plain);
-  if (v !== null && typeof v === "object") {
-    const out = {};
-    for (const [k, x] of Object.entries(v)) out[k] = plain(x);
-    return out;
-  }
-  return v;
-}
+import { plain } from "../js_common/plain.mjs";
 
 function fail(what) {
   console.log(JSON.stringify({ error: what }));
