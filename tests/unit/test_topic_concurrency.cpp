@@ -162,11 +162,22 @@ TEST(TopicConcurrency, HandlesOpenAndCloseWhilePublishersSend) {
   Topic<Stamp> probe(name);  // keeps the topic alive for the whole test
   std::atomic<bool> stop{false};
   std::atomic<std::uint64_t> torn{0}, received{0};
+  std::atomic<bool> publishing{false};
   std::thread pub_thread([&] {
     Topic<Stamp> pub(name);
     Deadline deadline(kTestBudget);
-    for (std::uint64_t i = 0; !stop.load() && !deadline.expired(); ++i) pub.send(Stamp::make(0, i));
+    for (std::uint64_t i = 0; !stop.load() && !deadline.expired(); ++i) {
+      pub.send(Stamp::make(0, i));
+      if (i == 0) {
+        publishing = true;
+        publishing.notify_all();
+      }
+    }
+    publishing = true;  // also when the budget ran out before a send
+    publishing.notify_all();
   });
+  // The churn starts once the publisher sends (on a loaded machine its thread may start late).
+  publishing.wait(false);
   std::vector<std::thread> churners;
   for (int c = 0; c < 2; ++c) {
     churners.emplace_back([&] {
