@@ -5,6 +5,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <array>
 #include <cstdio>
 #include <optional>
 #include <set>
@@ -12,6 +14,7 @@
 #include <utility>
 
 #include "horus/config.hpp"
+#include "horus/environment.hpp"
 #include "horus/horus.hpp"
 #include "horus/transport_registry.hpp"
 #include "security_cmd.hpp"
@@ -89,6 +92,25 @@ int print_security(std::string_view topic, const horus::Backend& backend, const 
   return 0;
 }
 
+// Whether the topic's sends and receives are logged, and why; the level and rate of its lines,
+// and whether HORUS_LOG_LEVEL hides them.
+void print_traffic_log(const horus::TopicChoice& c) {
+  fmt::print("  log         {:<16} {}\n", c.verbose ? "on" : "off", horus::verbose_origin(c));
+  if (!c.verbose && !c.log_level && !c.log_rate_hz) return;
+  const horus::LogLevel level = c.log_level.value_or(horus::LogLevel::Info);
+  fmt::print("  log_level   {:<16} {}\n", horus::to_string(level), from_where(c.log_level_from, c));
+  const double hz = c.log_rate_hz.value_or(horus::kDefaultLogRateHz);
+  fmt::print("  log_rate_hz {:<16} {}\n", hz > 0 ? fmt::format("{:g}", hz) : "0 (every message)",
+             from_where(c.log_rate_hz_from, c));
+  // HORUS_LOG_LEVEL's names, in the order of the levels (horus/log.hpp).
+  constexpr std::array<std::string_view, 7> kNames{"trace", "debug", "info", "warn", "error", "critical", "off"};
+  const std::string env = horus::Environment::read().log_level;
+  const auto* it = std::find(kNames.begin(), kNames.end(), env);
+  if (c.verbose && it != kNames.end() && static_cast<std::size_t>(it - kNames.begin()) > static_cast<std::size_t>(level))
+    fmt::print("  (hidden: HORUS_LOG_LEVEL={} drops {} lines; set HORUS_LOG_LEVEL={} to see them)\n", env,
+               horus::to_string(level), horus::to_string(level));
+}
+
 }  // namespace
 
 int cmd_config_explain(const std::string& topic, const std::string& file) {
@@ -144,6 +166,7 @@ int cmd_config_explain(const std::string& topic, const std::string& file) {
   if (c.max_rate_hz) fmt::print("  max_rate_hz {:<16} {}\n", *c.max_rate_hz, from_where(c.max_rate_hz_from, c));
   if (c.max_bandwidth)
     fmt::print("  max_bandwidth {:<14} {}\n", fmt::format("{} B/s", *c.max_bandwidth), from_where(c.max_bandwidth_from, c));
+  print_traffic_log(c);
   return 0;
 }
 

@@ -31,6 +31,23 @@ std::string_view to_string(Priority p) noexcept {
   return "?";
 }
 
+std::string_view to_string(LogLevel l) noexcept {
+  switch (l) {
+    case LogLevel::Trace: return "trace";
+    case LogLevel::Debug: return "debug";
+    case LogLevel::Info: return "info";
+    case LogLevel::Warn: return "warn";
+    case LogLevel::Error: return "error";
+  }
+  return "?";
+}
+
+std::optional<LogLevel> log_level_from(std::string_view name) noexcept {
+  for (LogLevel l : {LogLevel::Trace, LogLevel::Debug, LogLevel::Info, LogLevel::Warn, LogLevel::Error})
+    if (to_string(l) == name) return l;
+  return std::nullopt;
+}
+
 std::string_view to_string(const Backend& b) noexcept {
   switch (b.scope()) {
     case Scope::Process: return "inproc";

@@ -45,9 +45,9 @@ constexpr std::array<std::string_view, 6> kFleetKeys{"announce", "heartbeat_ms",
                                                       "forget_after"};
 constexpr std::array<std::string_view, 6> kNetworkKeys{"backend", "domain_id",     "localhost_only",
                                                        "lcm_url", "peers", "max_bandwidth"};
-constexpr std::array<std::string_view, 12> kRuleKeys{"match",         "scope",    "backend",  "reliability",
-                                                     "durability",    "capacity", "max_rate_hz",
-                                                     "max_bandwidth", "priority", "deadline", "lifespan", "protection"};
+constexpr std::array<std::string_view, 15> kRuleKeys{
+    "match",    "scope",    "backend",    "reliability", "durability", "capacity",  "max_rate_hz", "max_bandwidth",
+    "priority", "deadline", "lifespan",   "protection",  "log",        "log_level", "log_rate_hz"};
 
 template <std::size_t N>
 std::string one_of(const std::array<std::string_view, N>& names) {
@@ -109,6 +109,17 @@ class Parser {
     if (s->empty() || ec != std::errc() || p != end || v < min || v > max)
       return bad(n, key, fmt::format("'{}' is not {}", *s, what));
     return static_cast<std::uint32_t>(v);
+  }
+
+  // A rate in Hz up to 1e9: above 0, or also 0 when `zero_ok`.
+  Result<double> rate(const YAML::Node& n, std::string_view key, bool zero_ok, std::string_view expected) const {
+    auto s = scalar(n, key, expected);
+    if (!s) return std::unexpected(s.error());
+    double hz = 0;
+    const auto [end, ec] = std::from_chars(s->data(), s->data() + s->size(), hz);
+    if (ec != std::errc{} || end != s->data() + s->size() || !(hz > 0 || (zero_ok && hz == 0)) || hz > 1e9)
+      return bad(n, key, fmt::format("'{}' is not a rate; expected {}", *s, expected));
+    return hz;
   }
 
   Result<bool> boolean(const YAML::Node& n, std::string_view key) const {
@@ -317,15 +328,10 @@ class Parser {
       r.capacity = *c;
     }
     if (const auto v = n["max_rate_hz"]) {
-      constexpr std::string_view kExpected = "messages per second the host's bridge sends at most, a number above 0 "
-                                             "(such as 5 or 0.5)";
-      auto s = scalar(v, where + ".max_rate_hz", kExpected);
-      if (!s) return std::unexpected(s.error());
-      double hz = 0;
-      const auto [end, ec] = std::from_chars(s->data(), s->data() + s->size(), hz);
-      if (ec != std::errc{} || end != s->data() + s->size() || !(hz > 0) || hz > 1e9)
-        return bad(v, where + ".max_rate_hz", fmt::format("'{}' is not a rate; expected {}", *s, kExpected));
-      r.max_rate_hz = hz;
+      auto hz = rate(v, where + ".max_rate_hz", false,
+                     "messages per second the host's bridge sends at most, a number above 0 (such as 5 or 0.5)");
+      if (!hz) return std::unexpected(hz.error());
+      r.max_rate_hz = *hz;
     }
     if (const auto v = n["max_bandwidth"]) {
       auto b = quantity(v, where + ".max_bandwidth", "a bandwidth such as \"2 MB/s\"", parse_bandwidth);
@@ -360,6 +366,25 @@ class Parser {
       if (r.scope && *r.scope != Scope::Fleet)
         return bad(v, where + ".protection",
                    fmt::format("protection applies to fleet topics (DDS-Security); this rule's scope is {}", to_string(*r.scope)));
+    }
+    if (const auto v = n["log"]) {
+      auto b = boolean(v, where + ".log");
+      if (!b) return std::unexpected(b.error());
+      r.log = *b;
+    }
+    if (const auto v = n["log_level"]) {
+      constexpr std::string_view kLevels = "trace, debug, info, warn or error";
+      auto s = scalar(v, where + ".log_level", kLevels);
+      if (!s) return std::unexpected(s.error());
+      const auto level = log_level_from(*s);
+      if (!level) return bad(v, where + ".log_level", fmt::format("unknown level '{}'; expected {}", *s, kLevels));
+      r.log_level = *level;
+    }
+    if (const auto v = n["log_rate_hz"]) {
+      auto hz = rate(v, where + ".log_rate_hz", true,
+                     "lines per second the topic logs at most, a number such as 5 or 0.5 (0: every message)");
+      if (!hz) return std::unexpected(hz.error());
+      r.log_rate_hz = *hz;
     }
     if ((r.max_rate_hz || r.max_bandwidth || r.priority) && r.scope && *r.scope != Scope::Fleet)
       return bad(n, where, fmt::format("max_rate_hz, max_bandwidth and priority are budgets of the network (fleet topics); "
@@ -542,6 +567,26 @@ Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code, con
   pick(code.priority, rule.priority, c.priority, c.priority_from);
   pick(code.deadline, rule.deadline, c.deadline, c.deadline_from);
   pick(code.lifespan, rule.lifespan, c.lifespan, c.lifespan_from);
+  pick(code.log_level, rule.log_level, c.log_level, c.log_level_from);
+  pick(code.log_rate_hz, rule.log_rate_hz, c.log_rate_hz, c.log_rate_hz_from);
+  // Traffic logging: the code's verbose, else the first HORUS_LOG_TOPICS entry that matches,
+  // else the rule's log.
+  if (code.verbose) {
+    c.verbose = *code.verbose;
+    c.verbose_from = Source::Code;
+  } else if (const std::string env = Environment::read().log_topics; !env.empty()) {
+    auto m = log_topics_match(env, topic);
+    if (!m) return std::unexpected(m.error());
+    if (*m) {
+      c.verbose = (*m)->on;
+      c.verbose_from = Source::Environment;
+      c.verbose_entry = (*m)->entry;
+    }
+  }
+  if (c.verbose_from == Source::Default && rule.log) {
+    c.verbose = *rule.log;
+    c.verbose_from = Source::File;
+  }
   return c;
 }
 
@@ -551,70 +596,27 @@ Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code) {
   return choose(topic, code, *config);
 }
 
-Result<TopicOptions> resolve_topic_options(std::string_view topic, const TopicOptions& code) {
-  auto c = choose(topic, code);
-  if (!c) return std::unexpected(c.error());
+TopicOptions options_of(const TopicChoice& c, const TopicOptions& code) {
   TopicOptions out = code;
-  out.backend = c->backend;
-  out.capacity = c->capacity;
-  out.reliability = c->reliability;
-  out.durability = c->durability;
-  out.max_rate_hz = c->max_rate_hz;
-  out.max_bandwidth = c->max_bandwidth;
-  out.priority = c->priority;
-  out.deadline = c->deadline;
-  out.lifespan = c->lifespan;
+  out.backend = c.backend;
+  out.capacity = c.capacity;
+  out.reliability = c.reliability;
+  out.durability = c.durability;
+  out.max_rate_hz = c.max_rate_hz;
+  out.max_bandwidth = c.max_bandwidth;
+  out.priority = c.priority;
+  out.deadline = c.deadline;
+  out.lifespan = c.lifespan;
+  out.verbose = c.verbose;
+  out.log_level = c.log_level;
+  out.log_rate_hz = c.log_rate_hz;
   return out;
 }
 
-namespace {
-// A number above 0 and a unit from `units` (a quantity of the file: "2 MB/s", "100ms"),
-// scaled to the unit's factor and checked against [lo, hi]; an error message naming what was
-// wrong and `expected`, or the value. `what` names the kind ("a bandwidth", "a duration").
-struct Unit {
-  std::string_view name;
-  double factor;
-};
-std::variant<double, std::string> parse_quantity(std::string_view text, std::span<const Unit> units, double lo,
-                                                 double hi, std::string_view what, std::string_view range,
-                                                 std::string_view expected) {
-  std::string_view t = text;
-  while (!t.empty() && t.front() == ' ') t.remove_prefix(1);
-  while (!t.empty() && t.back() == ' ') t.remove_suffix(1);
-  double value = 0;
-  const auto [end, ec] = std::from_chars(t.data(), t.data() + t.size(), value);
-  if (ec != std::errc{} || !(value > 0)) return fmt::format("'{}' is not {}; {}", text, what, expected);
-  std::string_view unit(end, static_cast<std::size_t>(t.data() + t.size() - end));
-  while (!unit.empty() && unit.front() == ' ') unit.remove_prefix(1);
-  for (const Unit& u : units) {
-    if (unit != u.name) continue;
-    const double scaled = value * u.factor;
-    if (scaled < lo || scaled > hi) return fmt::format("'{}' is out of range ({}); {}", text, range, expected);
-    return scaled;
-  }
-  if (unit.empty()) return fmt::format("'{}' has no unit; {}", text, expected);
-  return fmt::format("'{}' has an unknown unit '{}'; {}", text, unit, expected);
-}
-}  // namespace
-
-std::variant<std::uint64_t, std::string> parse_bandwidth(std::string_view text) {
-  static constexpr Unit kUnits[] = {{"", 1},          {"B/s", 1},           {"kB/s", 1e3},      {"MB/s", 1e6},
-                                    {"GB/s", 1e9},    {"KiB/s", 1024.0},    {"MiB/s", 1048576.0}, {"GiB/s", 1073741824.0},
-                                    {"kbit/s", 125},  {"Mbit/s", 125000},   {"Gbit/s", 125000000}};
-  auto q = parse_quantity(text, kUnits, 1, 1e12, "a bandwidth", "1 B/s to 1000 GB/s",
-                          "expected bytes per second, or a number with a unit: B/s, kB/s, MB/s, GB/s, KiB/s, MiB/s, "
-                          "GiB/s, kbit/s, Mbit/s, Gbit/s (such as \"2 MB/s\" or \"20 Mbit/s\")");
-  if (auto* why = std::get_if<std::string>(&q)) return std::move(*why);
-  return static_cast<std::uint64_t>(std::get<double>(q));
-}
-
-std::variant<std::chrono::nanoseconds, std::string> parse_duration(std::string_view text) {
-  static constexpr Unit kUnits[] = {{"ns", 1}, {"us", 1e3}, {"ms", 1e6}, {"s", 1e9}, {"min", 60e9}, {"h", 3600e9}};
-  auto q = parse_quantity(text, kUnits, 1, 1e15, "a duration", "1 ns to 11 days",
-                          "expected a duration above 0 with a unit: ns, us, ms, s, min or h (such as \"100ms\" or "
-                          "\"1.5 s\")");
-  if (auto* why = std::get_if<std::string>(&q)) return std::move(*why);
-  return std::chrono::nanoseconds(static_cast<std::int64_t>(std::get<double>(q)));
+Result<TopicOptions> resolve_topic_options(std::string_view topic, const TopicOptions& code) {
+  auto c = choose(topic, code);
+  if (!c) return std::unexpected(c.error());
+  return options_of(*c, code);
 }
 
 Result<FleetSettings> fleet_settings() {

@@ -15,6 +15,7 @@
 #include "horus/detail/topic_core.hpp"
 
 #include "horus/detail/network_link.hpp"
+#include "horus/detail/traffic_log.hpp"
 #include "horus/log.hpp"
 #include "horus/names.hpp"
 #include "horus/transport_registry.hpp"
@@ -22,7 +23,8 @@
 namespace horus {
 namespace detail {
 
-TopicCore::~TopicCore() = default;  // here: NetworkLink is complete
+// Here: NetworkLink is complete. A verbose topic says how many lines it held back at the end.
+TopicCore::~TopicCore() { report_held_traffic(*this); }
 
 namespace {
 // Large data: each publisher has 2 x capacity pool slots, at most kMaxPoolSlotsPerLane.

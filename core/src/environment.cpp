@@ -29,6 +29,7 @@ Environment Environment::read() {
   e.shm_namespace = variable("HORUS_NAMESPACE");
   e.shm_mode = variable("HORUS_SHM_MODE");
   e.log_level = variable("HORUS_LOG_LEVEL");
+  e.log_topics = variable("HORUS_LOG_TOPICS");
   return e;
 }
 

@@ -95,6 +95,9 @@ py::dict config_explain(const std::string& topic, const std::optional<std::strin
       entry(opt(c.durability, [](auto v) { return py::str(std::string(net::to_string(v))); }), from(c.durability_from));
   out["deadline"] = entry(opt(c.deadline, secs), from(c.deadline_from));
   out["lifespan"] = entry(opt(c.lifespan, secs), from(c.lifespan_from));
+  out["verbose"] = entry(py::bool_(c.verbose), verbose_origin(c));
+  out["log_level"] = entry(py::str(std::string(to_string(c.log_level.value_or(LogLevel::Info)))), from(c.log_level_from));
+  out["log_rate_hz"] = entry(py::float_(c.log_rate_hz.value_or(kDefaultLogRateHz)), from(c.log_rate_hz_from));
   if (is_network(c.backend)) {
     const auto net = ok_or_raise(net::config_from_environment(config));
     py::dict s;

@@ -81,10 +81,20 @@ TopicOptions topic_options(const pybind11::kwargs& kw) {
       else if (s == "normal") o.priority = Priority::Normal;
       else if (s == "high") o.priority = Priority::High;
       else bad("priority", s, "'low', 'normal' or 'high'");
+    } else if (key == "verbose") {
+      if (!pybind11::isinstance<pybind11::bool_>(v)) type_error("verbose", "a bool", v);
+      o.verbose = v.cast<bool>();
+    } else if (key == "log_level") {
+      const auto s = text(v, "log_level", "'trace', 'debug', 'info', 'warn' or 'error'");
+      const auto level = log_level_from(s);
+      if (!level) bad("log_level", s, "'trace', 'debug', 'info', 'warn' or 'error'");
+      o.log_level = *level;
+    } else if (key == "log_rate_hz") {
+      o.log_rate_hz = number_from<double>(v, "log_rate_hz");
     } else {
       throw pybind11::type_error(fmt::format(
           "unknown option '{}'; the options are capacity, slot_size, scope, backend, reliability, durability, deadline, "
-          "lifespan, max_rate_hz, max_bandwidth, priority",
+          "lifespan, max_rate_hz, max_bandwidth, priority, verbose, log_level, log_rate_hz",
           key));
     }
   }

@@ -1,6 +1,7 @@
 // Keyword arguments of horus.Topic and Executor.subscribe as TopicOptions: capacity, slot_size,
 // scope, backend, reliability, durability, deadline, lifespan, max_rate_hz, max_bandwidth,
-// priority. A wrong name or value raises, naming it and the valid ones.
+// priority, verbose, log_level, log_rate_hz. A wrong name or value raises, naming it and the
+// valid ones.
 #pragma once
 
 #include <pybind11/pybind11.h>

@@ -30,6 +30,12 @@ def test_config_check_and_explain_read_the_file_as_cpp_does(tmp_path):
     assert str(bad) in str(err.value) and "line 3" in str(err.value) and "galaxy" in str(err.value)
     with pytest.raises(horus.InvalidNameError):
         horus.config.explain("bad name", file=str(good))
+    verbose = tmp_path / "verbose.yaml"
+    verbose.write_text("topics:\n  - match: cmd_vel\n    log: true\n    log_rate_hz: 0\n")
+    v = horus.config.explain("cmd_vel", file=str(verbose))
+    assert v["verbose"] == {"value": True, "from": f"file {verbose}, line 2: rule 'cmd_vel'"}
+    assert v["log_level"]["value"] == "info" and v["log_rate_hz"]["value"] == 0.0
+    assert horus.config.explain("odom", file=str(verbose))["verbose"] == {"value": False, "from": "default"}
 
 
 def test_the_configuration_file_chooses_scopes_in_python_as_in_cpp(tmp_path, unique):

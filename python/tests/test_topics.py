@@ -32,6 +32,20 @@ def test_send_recv_and_the_counts_follow_the_cpp_semantics(unique):
     assert pub.pub_count >= 1 and pub.sub_count == 1
 
 
+def test_a_verbose_topic_logs_each_send_and_receive(unique, capfd):
+    pub = horus.Topic(unique, Pose, verbose=True, log_rate_hz=0)
+    sub = horus.Topic(unique, Pose, verbose=True, log_level="warn", log_rate_hz=0)
+    pub.send(Pose(x=1.5))
+    assert sub.recv().x == 1.5
+    err = capfd.readouterr().err
+    assert f"[info] topic '{unique}' send #1: Pose2D {{ x: 1.5, y: 0, theta: 0, timestamp_ns: 0 }}" in err
+    assert f"[warning] topic '{unique}' recv #1: Pose2D {{ x: 1.5," in err
+    with pytest.raises(ValueError, match="log_level: 'loud' is not valid"):
+        horus.Topic(unique, Pose, log_level="loud")
+    with pytest.raises(TypeError, match="verbose"):
+        horus.Topic(unique, Pose, verbose="yes")
+
+
 def test_try_send_and_send_blocking_wait_for_a_slow_subscriber(unique):
     pub = horus.Topic(unique, Pose, capacity=2)
     sub = horus.Topic(unique, Pose, capacity=2)

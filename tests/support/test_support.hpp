@@ -1,4 +1,5 @@
-// Shared helpers of the tests: a checkable test message, deadlines, a publisher on a thread.
+// Shared helpers of the tests: a checkable test message, deadlines, a publisher on a thread, a
+// temporary file.
 #pragma once
 
 #include <unistd.h>
@@ -7,6 +8,9 @@
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <string>
 #include <thread>
 
@@ -95,6 +99,22 @@ class Publishing {
  private:
   std::atomic<bool> stop_{false};
   std::thread thread_;
+};
+
+// A file in the test's temporary directory ($TMPDIR, else /tmp) holding `text`, removed at the
+// end; a new path for each (HORUS_CONFIG is read once per value).
+struct TempFile {
+  std::string path;
+  explicit TempFile(const std::string& text, const std::string& suffix = ".yaml") {
+    static std::atomic<int> n{0};
+    const char* dir = std::getenv("TMPDIR");
+    path = std::string(dir != nullptr ? dir : "/tmp") + "/horus_test_file_" + std::to_string(::getpid()) + "_" +
+           std::to_string(++n) + suffix;
+    std::ofstream(path) << text;
+  }
+  TempFile(const TempFile&) = delete;
+  TempFile& operator=(const TempFile&) = delete;
+  ~TempFile() { std::remove(path.c_str()); }
 };
 
 }  // namespace horus_test

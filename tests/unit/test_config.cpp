@@ -18,6 +18,7 @@
 #include "horus/msg/geometry.hpp"
 #include "horus/topic.hpp"
 #include "process_support.hpp"
+#include "test_support.hpp"
 
 namespace {
 
@@ -26,18 +27,7 @@ using horus::Errc;
 using horus::Scope;
 using horus::Source;
 
-// A file in the test's temporary directory, removed at the end.
-struct TempFile {
-  std::string path;
-  explicit TempFile(const std::string& text) {
-    static int n = 0;  // a new path per file: HORUS_CONFIG is read once per value
-    const char* dir = std::getenv("TMPDIR");
-    path = std::string(dir != nullptr ? dir : "/tmp") + "/horus_test_config_" + std::to_string(::getpid()) + "_" +
-           std::to_string(++n) + ".yaml";
-    std::ofstream(path) << text;
-  }
-  ~TempFile() { std::remove(path.c_str()); }
-};
+using horus_test::TempFile;
 
 // The error of parsing `text` (which must fail).
 std::string parse_error(const std::string& text) {

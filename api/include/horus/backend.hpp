@@ -80,6 +80,16 @@ enum class Priority : std::uint8_t { Low, Normal, High };
 /// "low", "normal", "high".
 std::string_view to_string(Priority p) noexcept;
 
+/// The level of a verbose topic's lines in the library's log (TopicOptions::log_level); the
+/// values are spdlog's, so HORUS_LOG_LEVEL above it hides them.
+enum class LogLevel : std::uint8_t { Trace, Debug, Info, Warn, Error };
+/// "trace", "debug", "info", "warn", "error".
+std::string_view to_string(LogLevel l) noexcept;
+/// The level named `name` (one of to_string's); nothing for another word.
+std::optional<LogLevel> log_level_from(std::string_view name) noexcept;
+/// Lines a verbose topic logs per second in a process at most, unless log_rate_hz says otherwise.
+inline constexpr double kDefaultLogRateHz = 5.0;
+
 /// Per-topic choices made in code (they take precedence over the environment).
 struct TopicOptions {
   std::optional<Backend> backend;         // default: HORUS_BACKEND, else shared memory
@@ -113,6 +123,16 @@ struct TopicOptions {
   //   Messages without a timestamp_ns (or with 0) never expire.
   std::optional<std::chrono::nanoseconds> deadline = std::nullopt;
   std::optional<std::chrono::nanoseconds> lifespan = std::nullopt;
+  // Traffic logging (off by default): each send and receive of the handle logs a line through
+  // the library's logger: the direction, the topic, the handle's count (send #N, recv #N), the
+  // drops so far and the message's horus::log_summary() (large data: its description, never its
+  // bytes). At `log_level` (default info), at most `log_rate_hz` lines per second for the topic
+  // in this process (default kDefaultLogRateHz; 0: every message); the next line logged says how
+  // many were held back. Also `log: true` on a rule of the configuration file, or
+  // HORUS_LOG_TOPICS=PATTERN[,PATTERN...] (`!PATTERN` turns logging off).
+  std::optional<bool> verbose = std::nullopt;
+  std::optional<LogLevel> log_level = std::nullopt;
+  std::optional<double> log_rate_hz = std::nullopt;
 };
 
 /// The backend HORUS_BACKEND selects (auto|shm|inproc, or a registered transport's name:

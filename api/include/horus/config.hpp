@@ -25,9 +25,12 @@
 //       durability: transient_local # volatile | transient_local
 //       capacity: 64                # slots per publisher, a power of two
 //       protection: sign            # under security: encrypt (the default) | sign (`horus security governance`)
+//       log: true                   # log each send and receive of the topic (TopicOptions::verbose)
+//       log_level: debug            # those lines' level: trace | debug | info (the default) | warn | error
+//       log_rate_hz: 5              # lines per second at most, per topic and process (default 5; 0: all)
 //
 // Precedence, per setting: code (TopicOptions) > environment (HORUS_BACKEND, HORUS_DOMAIN_ID,
-// HORUS_DDS_LOCALHOST, HORUS_LCM_URL) > file > the message type's defaults. Parsing is strict:
+// HORUS_DDS_LOCALHOST, HORUS_LCM_URL, HORUS_LOG_TOPICS) > file > the message type's defaults. Parsing is strict:
 // an unknown key or value, a value of the wrong type, a bad pattern, a rule without `match`, a
 // backend this build lacks is an error naming the file, the line, the key and what is valid.
 // Nothing here includes yaml-cpp.
@@ -68,6 +71,9 @@ struct TopicRule {
   std::optional<std::chrono::nanoseconds> deadline;  // "100ms", "1.5 s" in the file
   std::optional<std::chrono::nanoseconds> lifespan;
   std::optional<net::Protection> protection;  // under DDS-Security (the governance document)
+  std::optional<bool> log;                    // traffic logging (TopicOptions::verbose)
+  std::optional<LogLevel> log_level;
+  std::optional<double> log_rate_hz;          // 0: every message
 };
 
 /// Parses a bandwidth: a number of bytes per second, or a number with a unit (B/s, kB/s, MB/s,
@@ -175,6 +181,13 @@ struct TopicChoice {
   Source deadline_from = Source::Default;
   std::optional<std::chrono::nanoseconds> lifespan;  // nullopt: messages never expire
   Source lifespan_from = Source::Default;
+  bool verbose = false;  // the topic's traffic is logged
+  Source verbose_from = Source::Default;
+  std::string verbose_entry;  // Source::Environment: the HORUS_LOG_TOPICS entry that decided
+  std::optional<LogLevel> log_level;  // nullopt: info
+  Source log_level_from = Source::Default;
+  std::optional<double> log_rate_hz;  // nullopt: kDefaultLogRateHz
+  Source log_rate_hz_from = Source::Default;
   const TopicRule* rule = nullptr;  // the file's rule that matched
   const Config* config = nullptr;   // the file, when there is one
 };
@@ -186,6 +199,21 @@ Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code);
 
 /// `code` with what the environment and the file choose filled in (what Topic<T>::open uses).
 Result<TopicOptions> resolve_topic_options(std::string_view topic, const TopicOptions& code);
+/// The same from a choice already made for `code`.
+TopicOptions options_of(const TopicChoice& choice, const TopicOptions& code);
+
+/// What HORUS_LOG_TOPICS (`value`) says of `topic`: the first entry that matches it (a pattern
+/// turns logging on, `!pattern` off) and that entry; nothing when no entry matches. An error
+/// names the variable, the entry and what is expected.
+struct LogTopicsEntry {
+  bool on = true;
+  std::string entry;
+};
+Result<std::optional<LogTopicsEntry>> log_topics_match(std::string_view value, std::string_view topic);
+/// Why a topic logs its traffic or not, in words ("environment (HORUS_LOG_TOPICS entry 'cmd_*')",
+/// "file F, line L: rule 'R'", "code (TopicOptions::verbose)", "default"): `horus config explain`
+/// and the line a verbose handle logs when it opens.
+std::string verbose_origin(const TopicChoice& choice);
 
 /// The fleet layer's settings (horus/fleet.hpp): HORUS_FLEET_HEARTBEAT_MS > the file's
 /// `fleet:` section > defaults; the transport: HORUS_BACKEND when it names a network backend,

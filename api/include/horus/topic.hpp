@@ -37,6 +37,7 @@
 #include "horus/detail/bridge_port.hpp"
 #include "horus/detail/network_link.hpp"
 #include "horus/detail/slots.hpp"
+#include "horus/detail/traffic_log.hpp"
 #include "horus/detail/waiting.hpp"
 #include "horus/detail/watch.hpp"
 #include "horus/error.hpp"
@@ -105,9 +106,9 @@ class Topic {
   /// only when all kMaxPublishers lanes are taken, or (serialized T) when it encodes to more
   /// than max_message_size() bytes; it is then counted in metrics().send_failures() and logged.
   [[gnu::always_inline]] void send(const T& msg) {
-    send_local(msg);
+    const bool sent = send_local(msg);
     if (watch_.active()) [[unlikely]]
-      watch_.sent();
+      watched_send(msg, sent);
   }
 
   /// Large data: lends a slot of the topic's pool for a message described by `desc` (e.g.
@@ -131,21 +132,27 @@ class Topic {
     Loan<T> l = std::move(loan);
     switch (codec_.check_loan(port_, l)) {
       case Codec::LoanSend::Copy: return send(static_cast<const T&>(*l));
-      case Codec::LoanSend::Refused: ++port_.counters.send_failures; return;
+      case Codec::LoanSend::Refused:
+        ++port_.counters.send_failures;
+        if (watch_.logs()) [[unlikely]]
+          log_traffic(detail::Traffic::Refused, *l);
+        return;
       case Codec::LoanSend::Publish: break;
     }
     codec_.publish_loan(port_, l);
-    watch_.sent();
+    watched_send(*l, true);
   }
 
   /// Publishes only if no subscriber would lose an unread message; else gives the message back
   /// (also when it is refused for its size).
   std::expected<void, T> try_send(const T& msg) {
     if (port_.ensure_lane() && codec_.prepare(port_, msg) && try_commit(msg)) {
-      watch_.sent();
+      watched_send(msg, true);
       return {};
     }
     ++port_.counters.send_failures;
+    if (watch_.logs()) [[unlikely]]
+      log_traffic(detail::Traffic::Refused, msg);
     return std::unexpected<T>(msg);
   }
 
@@ -212,8 +219,8 @@ class Topic {
   std::optional<T> read_latest() {
     port_.received = true;
     auto m = codec_.read_latest(port_);
-    if (m && watch_.active() && !watch_.fresh(*m)) [[unlikely]]
-      return std::nullopt;  // the newest expired (not counted again at each call)
+    if (m && watch_.active()) [[unlikely]]
+      return watched_latest(std::move(m));
     return m;
   }
 
@@ -308,7 +315,33 @@ class Topic {
   }
   [[gnu::noinline]] std::optional<T> watched(std::optional<T> m) {
     while (m && !watch_.take(*m)) m = codec_.read(port_);
+    if (m && watch_.logs()) log_traffic(detail::Traffic::Recv, *m);
     return m;
+  }
+  [[gnu::noinline]] std::optional<T> watched_latest(std::optional<T> m) {
+    if (!watch_.fresh(*m)) return std::nullopt;  // the newest expired (not counted again at each call)
+    if (watch_.logs() && watch_.newer_latest(core().ring.total_sent())) log_traffic(detail::Traffic::Latest, *m);
+    return m;
+  }
+  // After a send (sent: false when it was refused): the deadline, and the traffic line.
+  [[gnu::noinline]] void watched_send(const T& msg, bool sent) {
+    watch_.sent();
+    if (watch_.logs()) log_traffic(sent ? detail::Traffic::Send : detail::Traffic::Refused, msg);
+  }
+  // TopicOptions::verbose: a line for a message sent or received, if the topic's limit admits it.
+  [[gnu::noinline]] void log_traffic(detail::Traffic what, const T& msg) {
+    const auto held = detail::admit_traffic(core(), traffic_);
+    if (!held) return;
+    std::uint64_t count = 0;
+    switch (what) {
+      case detail::Traffic::Send: count = port_.writer().sent(); break;
+      case detail::Traffic::Refused: count = port_.counters.send_failures; break;
+      case detail::Traffic::Recv: count = port_.reader().delivered() - port_.counters.undelivered; break;
+      case detail::Traffic::Latest: break;
+    }
+    const bool receiving = what == detail::Traffic::Recv || what == detail::Traffic::Latest;
+    detail::write_traffic(core(), traffic_, what, count, receiving ? dropped_count() : 0, *held,
+                          detail::traffic_summary(msg));
   }
   // What a WaitSet waits on: this handle's subscriber entry. The handle stays a subscriber
   // (its first send does not make it a pure publisher). Nothing when no entry is free.
@@ -340,8 +373,8 @@ class Topic {
     return true;
   }
 
-  Result<void> committed() {  // send_blocking sent
-    watch_.sent();
+  Result<void> committed(const T& msg) {  // send_blocking sent
+    watched_send(msg, true);
     return {};
   }
 
@@ -355,7 +388,8 @@ class Topic {
   Port port_;    // the topic, and this handle's lane and subscriber entry
   Codec codec_;  // the slot codec's state (scratch buffers, pool counters)
   std::uint64_t net_dropped_base_ = 0;  // the bridge's dropped count when this handle opened
-  detail::Watch watch_;                 // deadline and lifespan (TopicOptions)
+  detail::Watch watch_;                 // deadline, lifespan and verbose (TopicOptions)
+  detail::TrafficLogSettings traffic_;  // verbose: the level and rate of its lines
 };
 
 }  // namespace horus

@@ -4,9 +4,10 @@
 //
 // Char arrays print as quoted text, other arrays and sequences as [a, b, c],
 // enums through an ADL to_string(E) when one exists (else their number), and
-// nested messages recursively. horus::log_summary(msg) calls msg.log_summary()
-// when the type has one (large messages do: "LaserScan(360 ranges, ...)"), else
-// the full format.
+// nested messages recursively. horus::log_summary(msg) calls the message's own
+// summary: a free function log_summary(const T&) found by argument-dependent lookup
+// (beside the type, in its namespace), else a member msg.log_summary() (large
+// messages have one: "LaserScan(360 ranges, ...)"), else the full format.
 #pragma once
 
 #include <fmt/format.h>
@@ -81,6 +82,18 @@ concept HasLogSummary = requires(const T& t) {
   { t.log_summary() } -> std::convertible_to<std::string>;
 };
 
+// A free log_summary(const T&) beside T: this deleted one stops ordinary lookup here, so that
+// only argument-dependent lookup finds one (horus::log_summary is an object, never found so).
+void log_summary() = delete;
+template <class T>
+concept HasFreeLogSummary = requires(const T& t) {
+  { log_summary(t) } -> std::convertible_to<std::string>;
+};
+template <class T>
+std::string free_log_summary(const T& t) {
+  return std::string(log_summary(t));
+}
+
 }  // namespace horus::reflect::detail
 
 template <horus::Reflected T>
@@ -106,16 +119,27 @@ std::string to_string(const T& msg) {
   return out;
 }
 
-/// A short, human-readable line for logs: T::log_summary() if T has one, else to_string().
-template <class T>
-std::string log_summary(const T& msg) {
-  if constexpr (reflect::detail::HasLogSummary<T>) {
-    return std::string(msg.log_summary());
-  } else if constexpr (Reflected<T>) {
-    return to_string(msg);
-  } else {
-    return fmt::format("{}", msg);
+namespace reflect::detail {
+struct LogSummaryFn {
+  template <class T>
+  std::string operator()(const T& msg) const {
+    if constexpr (HasFreeLogSummary<T>) {
+      return free_log_summary(msg);
+    } else if constexpr (HasLogSummary<T>) {
+      return std::string(msg.log_summary());
+    } else if constexpr (Reflected<T>) {
+      return horus::to_string(msg);
+    } else {
+      return fmt::format("{}", msg);
+    }
   }
-}
+};
+}  // namespace reflect::detail
+
+/// A short, human-readable line for logs (a verbose topic's traffic: TopicOptions::verbose): the
+/// message's own summary, a free `std::string log_summary(const T&)` in T's namespace or a member
+/// `log_summary() const`, else to_string(). An object, so that calls never find it by
+/// argument-dependent lookup in place of a message's own overload.
+inline constexpr reflect::detail::LogSummaryFn log_summary{};
 
 }  // namespace horus

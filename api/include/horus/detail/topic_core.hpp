@@ -35,6 +35,36 @@ struct TypeInfo {
 
 class NetworkLink;  // network_link.hpp
 
+/// What a verbose handle logs with (TopicOptions::verbose, log_level, log_rate_hz).
+struct TrafficLogSettings {
+  LogLevel level = LogLevel::Info;
+  double rate_hz = kDefaultLogRateHz;  // 0: every message
+};
+
+/// A topic's limit on traffic lines in this process (TopicOptions::log_rate_hz), shared by its
+/// verbose handles: a token bucket of rate_hz lines a second that holds one second's lines (at
+/// least one), so a topic that sends now and then loses none. Lines over it are held back:
+/// counted, and the next line written says how many (traffic_log.hpp).
+class TrafficLimiter {
+ public:
+  /// Whether a line may be written at `now_ns` (steady clock): nothing when over the rate (the
+  /// line is counted as held back); else how many were held back since the last line written.
+  std::optional<std::uint64_t> admit(const TrafficLogSettings& s, std::int64_t now_ns) noexcept;
+  /// Lines held back since the last one written, and in all.
+  std::uint64_t held() const noexcept;
+  std::uint64_t held_total() const noexcept;
+  /// The settings of the last line asked for (what the topic's close reports with).
+  TrafficLogSettings last_settings() const noexcept;
+
+ private:
+  mutable std::mutex mutex_;
+  double tokens_ = -1;  // below 0: no line asked for yet (the bucket starts full)
+  std::int64_t last_ns_ = 0;
+  std::uint64_t held_ = 0;
+  std::uint64_t held_total_ = 0;
+  TrafficLogSettings last_;
+};
+
 /// The shared state of one topic in this process: its ring and the memory it lives in.
 struct TopicCore {
   std::string name;
@@ -57,6 +87,8 @@ struct TopicCore {
   shm::InlineExport inline_export;
   // Fleet topics: samples from the network that did not decode (the transport's thread).
   std::atomic<std::uint64_t> net_decode_failures{0};
+  // Verbose handles: the topic's limit on traffic lines in this process.
+  TrafficLimiter traffic;
   // Fleet topics: this process's network bridge (horus/detail/network_link.hpp: the host's
   // bridge when this process holds it, else a watcher that takes over). Declared last: it goes
   // first, so the engine stops serving it and its callbacks end before the ring is gone.

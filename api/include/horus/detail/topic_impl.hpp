@@ -17,15 +17,20 @@ namespace horus {
 template <class T>
 Result<Topic<T>> Topic<T>::make(std::string_view name, const TopicOptions& requested) {
   // Code > environment > HORUS_CONFIG's file > defaults (horus/config.hpp).
-  auto resolved = resolve_topic_options(name, requested);
-  if (!resolved) return std::unexpected(std::move(resolved.error()));
-  const TopicOptions& options = *resolved;
+  auto choice = choose(name, requested);
+  if (!choice) return std::unexpected(std::move(choice.error()));
+  const TopicOptions options = options_of(*choice, requested);
   const detail::TypeInfo type{horus::type_name<T>(), horus::type_hash<T>, Codec::kPayloadBytes, kSerialized,
                               Codec::kPoolBytes, &reflect::type_signature<T>};
   auto core = detail::open_core(name, type, options);
   if (!core) return std::unexpected(std::move(core.error()));
   Topic topic(std::move(*core));
-  topic.watch_ = detail::Watch(options.deadline, options.lifespan);
+  if (choice->verbose) {
+    auto traffic = detail::start_traffic_log(topic.core(), *choice);
+    if (!traffic) return std::unexpected(std::move(traffic.error()));
+    topic.traffic_ = *traffic;
+  }
+  topic.watch_ = detail::Watch(options.deadline, options.lifespan, choice->verbose);
   if (!topic.port_.reader().subscribe()) return std::unexpected(detail::subscriber_limit_error(name));
   auto& c = topic.core();
   if (is_network(c.backend)) {
@@ -53,24 +58,24 @@ Result<void> Topic<T>::send_blocking(const T& msg, std::chrono::nanoseconds time
     explicit Blocking(Codec& c) : codec(c) { codec.set_blocking(true); }
     ~Blocking() { codec.set_blocking(false); }
   } blocking(codec_);
-  if (try_commit(msg)) return committed();
+  if (try_commit(msg)) return committed(msg);
   const auto deadline = clock::now() + timeout;
   for (int i = 0; i < 256; ++i) {
     shm::cpu_relax();
-    if (try_commit(msg)) return committed();
+    if (try_commit(msg)) return committed(msg);
   }
   for (int i = 0; i < 8; ++i) {
     ::sched_yield();  // <sched.h> and nanosleep: <thread> costs every node's file 0.1 s to compile
-    if (try_commit(msg)) return committed();
+    if (try_commit(msg)) return committed(msg);
   }
   for (auto now = clock::now(); now < deadline; now = clock::now()) {
     const auto nap = std::chrono::duration_cast<std::chrono::nanoseconds>(
         std::min<clock::duration>(std::chrono::microseconds(100), deadline - now));
     const ::timespec ts{0, static_cast<long>(nap.count())};
     ::nanosleep(&ts, nullptr);
-    if (try_commit(msg)) return committed();
+    if (try_commit(msg)) return committed(msg);
     // A subscriber that died with unread messages must not hold us back: reap (every 50 ms).
-    if (detail::reap_dead_participants(core()) && try_commit(msg)) return committed();
+    if (detail::reap_dead_participants(core()) && try_commit(msg)) return committed(msg);
   }
   ++port_.counters.send_failures;
   if (auto e = codec_.full_error(port_)) return std::unexpected(std::move(*e));

@@ -1,5 +1,6 @@
-// A topic handle's deadline and lifespan (TopicOptions::deadline, ::lifespan; horus/topic.hpp).
-// Internal to horus: users include <horus/topic.hpp>.
+// A topic handle's deadline and lifespan (TopicOptions::deadline, ::lifespan; horus/topic.hpp),
+// and whether it logs its traffic (TopicOptions::verbose): what a send or a receive does beyond
+// moving the message, behind one test (active()). Internal to horus: users include <horus/topic.hpp>.
 //
 // Deadline: a miss is each full period without a message, counted lazily from the times the
 // handle saw messages (no thread, no timer): a gap of 2.5 periods is 2 misses. Lifespan: a
@@ -35,12 +36,25 @@ class Watch {
   using Clock = std::chrono::steady_clock;
 
   Watch() = default;
-  Watch(std::optional<std::chrono::nanoseconds> deadline, std::optional<std::chrono::nanoseconds> lifespan) noexcept
+  Watch(std::optional<std::chrono::nanoseconds> deadline, std::optional<std::chrono::nanoseconds> lifespan,
+        bool logs = false) noexcept
       : deadline_ns_(deadline && deadline->count() > 0 ? deadline->count() : 0),
         lifespan_ns_(lifespan && lifespan->count() > 0 ? lifespan->count() : 0),
-        last_ns_(now_ns()) {}
+        last_ns_(now_ns()),
+        logs_(logs),
+        active_(deadline_ns_ != 0 || lifespan_ns_ != 0 || logs) {}
 
-  bool active() const noexcept { return deadline_ns_ != 0 || lifespan_ns_ != 0; }
+  /// True when sends and receives have more to do than move the message.
+  bool active() const noexcept { return active_; }
+  /// True when the handle logs its traffic.
+  bool logs() const noexcept { return logs_; }
+  /// read_latest: true when `sent` (the topic's messages sent so far) changed since the last
+  /// call, so that polling the same newest message logs it once.
+  bool newer_latest(std::uint64_t sent) noexcept {
+    if (sent == latest_sent_) return false;
+    latest_sent_ = sent;
+    return true;
+  }
   std::chrono::nanoseconds deadline() const noexcept { return std::chrono::nanoseconds(deadline_ns_); }
   std::chrono::nanoseconds lifespan() const noexcept { return std::chrono::nanoseconds(lifespan_ns_); }
 
@@ -105,7 +119,10 @@ class Watch {
   std::int64_t last_ns_ = 0;  // steady ns: the last message, or the handle's opening
   std::uint64_t missed_ = 0;  // misses counted up to last_ns_
   std::uint64_t expired_ = 0;
+  std::uint64_t latest_sent_ = ~std::uint64_t{0};  // newer_latest()
   bool sent_ = false;         // the handle publishes: the deadline measures its sends
+  bool logs_ = false;
+  bool active_ = false;
 };
 
 }  // namespace detail
