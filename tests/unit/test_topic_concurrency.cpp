@@ -13,7 +13,9 @@
 #include <vector>
 
 #include "horus/fleet.hpp"
+#include "horus/msg/geometry.hpp"
 #include "horus/topic.hpp"
+#include "log_capture.hpp"
 #include "test_support.hpp"
 
 using horus::Topic;
@@ -344,4 +346,39 @@ TEST(TopicConcurrency, AProcessWithAFleetTopicAnnouncesItsHostToAFleetOnAnotherT
   EXPECT_GE(events.load(), 1);  // joined (and changed) arrived on the Fleet's thread
   EXPECT_EQ((*f)->malformed(), 0u);
   ::unsetenv("HORUS_FLEET_HEARTBEAT_MS");
+}
+
+// Verbose handles of one topic on several threads share the topic's limit on lines: every send
+// is a line or counted as held back, whichever thread made it.
+TEST(TopicConcurrency, VerboseHandlesOnManyThreadsShareTheTopicsLimit) {
+  horus_test::LogCapture log;
+  const std::string name = unique_name("verbose");
+  constexpr int kThreads = 4;
+  const std::uint64_t kSends = 20000 / kScale;
+  {
+    horus::TopicOptions o;
+    o.backend = horus::Backend::InProcess;
+    o.verbose = true;
+    o.log_rate_hz = 50;
+    auto keep = Topic<horus::msg::CmdVel>::open(name, o);  // the topic stays open until all are done
+    ASSERT_TRUE(keep);
+    std::vector<std::thread> threads;
+    std::atomic<int> failed{0};
+    for (int t = 0; t < kThreads; ++t) {
+      threads.emplace_back([&, t] {
+        auto pub = Topic<horus::msg::CmdVel>::open(name, o);
+        if (!pub) {
+          ++failed;
+          return;
+        }
+        for (std::uint64_t i = 0; i < kSends; ++i) pub->send(horus::msg::CmdVel::make(static_cast<float>(t), 0.0f));
+      });
+    }
+    for (auto& th : threads) th.join();
+    ASSERT_EQ(failed.load(), 0);
+  }
+  const auto c = horus_test::count_traffic(log, name);
+  EXPECT_GE(c.sends, 50u) << log.text();
+  EXPECT_EQ(c.sends + c.held_in_lines + c.held_at_close, kThreads * kSends) << log.text();
+  EXPECT_EQ(c.held_in_lines + c.held_at_close, c.held_in_all);
 }

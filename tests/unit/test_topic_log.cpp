@@ -4,24 +4,18 @@
 // precedence of code, environment and file, and the errors of bad settings. The library's
 // logger is read through a sink added for the test. ctest runs each test in its own process.
 #include <gtest/gtest.h>
-#include <spdlog/logger.h>
-#include <spdlog/sinks/ostream_sink.h>
 
-#include <algorithm>
 #include <chrono>
 #include <cstdlib>
-#include <memory>
-#include <regex>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "horus/config.hpp"
 #include "horus/format.hpp"
-#include "horus/log.hpp"
 #include "horus/msg/geometry.hpp"
 #include "horus/msg/image.hpp"
 #include "horus/topic.hpp"
+#include "log_capture.hpp"
 #include "process_support.hpp"
 #include "test_support.hpp"
 
@@ -44,36 +38,8 @@ HORUS_MESSAGE(Note, (std::string, text))
 namespace {
 
 using horus::TopicOptions;
+using horus_test::LogCapture;
 using horus_test::unique_name;
-
-// The library's log lines while it lives, as "LEVEL TEXT".
-class LogCapture {
- public:
-  LogCapture() : sink_(std::make_shared<spdlog::sinks::ostream_sink_mt>(out_)) {
-    sink_->set_pattern("%l %v");
-    horus::detail::log().sinks().push_back(sink_);
-  }
-  ~LogCapture() {
-    auto& sinks = horus::detail::log().sinks();
-    sinks.erase(std::remove(sinks.begin(), sinks.end(), sink_), sinks.end());
-  }
-  LogCapture(const LogCapture&) = delete;
-  LogCapture& operator=(const LogCapture&) = delete;
-
-  // The lines that contain `part`.
-  std::vector<std::string> lines(const std::string& part = "") const {
-    std::vector<std::string> out;
-    std::istringstream in(out_.str());
-    for (std::string line; std::getline(in, line);)
-      if (line.find(part) != std::string::npos) out.push_back(line);
-    return out;
-  }
-  std::string text() const { return out_.str(); }
-
- private:
-  std::ostringstream out_;
-  std::shared_ptr<spdlog::sinks::ostream_sink_mt> sink_;
-};
 
 TopicOptions verbose(double rate_hz = 0) {
   TopicOptions o;
@@ -165,23 +131,14 @@ TEST_F(TopicLogTest, TheRateLimitHoldsAndCountsWhatItHeldBack) {
     for (int i = 0; i < kSends; ++i) pub->send(horus::msg::CmdVel::make(0.1f * static_cast<float>(i % 10), 0.0f));
   }  // the topic closes: what was held back after the last line is reported
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const auto sends = log.lines("' send #");
+  const auto c = horus_test::count_traffic(log, name);
   // A full bucket (one second's lines) at first, then kRate a second.
-  EXPECT_GE(sends.size(), static_cast<std::size_t>(kRate)) << log.text();
-  EXPECT_LE(static_cast<double>(sends.size()), kRate + seconds * kRate + 1) << log.text();
+  EXPECT_GE(c.sends, static_cast<std::uint64_t>(kRate)) << log.text();
+  EXPECT_LE(static_cast<double>(c.sends), kRate + seconds * kRate + 1) << log.text();
   // Every send is either a line or counted as held back: in the next line, or at the close.
-  std::uint64_t held = 0;
-  const std::regex in_line(R"((\d+) lines? held back before this one by log_rate_hz 4\))");
-  for (const auto& l : sends) {
-    std::smatch m;
-    if (std::regex_search(l, m, in_line)) held += std::stoull(m[1]);
-  }
-  const auto tail = log.lines("of its traffic held back after the last one by log_rate_hz 4");
-  ASSERT_EQ(tail.size(), 1u) << log.text();
-  std::smatch m;
-  ASSERT_TRUE(std::regex_search(tail[0], m, std::regex(R"(': (\d+) lines? of its traffic.*\((\d+) in all\))"))) << tail[0];
-  EXPECT_EQ(sends.size() + held + std::stoull(m[1]), static_cast<std::size_t>(kSends)) << log.text();
-  EXPECT_EQ(held + std::stoull(m[1]), std::stoull(m[2]));
+  EXPECT_EQ(c.closes, 1u) << log.text();
+  EXPECT_EQ(c.sends + c.held_in_lines + c.held_at_close, static_cast<std::uint64_t>(kSends)) << log.text();
+  EXPECT_EQ(c.held_in_lines + c.held_at_close, c.held_in_all);
 }
 
 TEST_F(TopicLogTest, MessagesOfTheirOwnUseTheirOwnSummary) {

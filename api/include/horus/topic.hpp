@@ -106,9 +106,9 @@ class Topic {
   /// only when all kMaxPublishers lanes are taken, or (serialized T) when it encodes to more
   /// than max_message_size() bytes; it is then counted in metrics().send_failures() and logged.
   [[gnu::always_inline]] void send(const T& msg) {
-    const bool sent = send_local(msg);
+    send_local(msg);
     if (watch_.active()) [[unlikely]]
-      watched_send(msg, sent);
+      watched_send(msg);
   }
 
   /// Large data: lends a slot of the topic's pool for a message described by `desc` (e.g.
@@ -134,25 +134,26 @@ class Topic {
       case Codec::LoanSend::Copy: return send(static_cast<const T&>(*l));
       case Codec::LoanSend::Refused:
         ++port_.counters.send_failures;
-        if (watch_.logs()) [[unlikely]]
-          log_traffic(detail::Traffic::Refused, *l);
+        if (watch_.active()) [[unlikely]]
+          watched_send(*l);
         return;
       case Codec::LoanSend::Publish: break;
     }
     codec_.publish_loan(port_, l);
-    watched_send(*l, true);
+    if (watch_.active()) [[unlikely]]
+      watched_send(*l);
   }
 
   /// Publishes only if no subscriber would lose an unread message; else gives the message back
   /// (also when it is refused for its size).
   std::expected<void, T> try_send(const T& msg) {
     if (port_.ensure_lane() && codec_.prepare(port_, msg) && try_commit(msg)) {
-      watched_send(msg, true);
+      watched_send(msg);
       return {};
     }
     ++port_.counters.send_failures;
-    if (watch_.logs()) [[unlikely]]
-      log_traffic(detail::Traffic::Refused, msg);
+    if (watch_.active()) [[unlikely]]
+      watched_send(msg);
     return std::unexpected<T>(msg);
   }
 
@@ -323,13 +324,23 @@ class Topic {
     if (watch_.logs() && watch_.newer_latest(core().ring.total_sent())) log_traffic(detail::Traffic::Latest, *m);
     return m;
   }
-  // After a send (sent: false when it was refused): the deadline, and the traffic line.
-  [[gnu::noinline]] void watched_send(const T& msg, bool sent) {
-    watch_.sent();
-    if (watch_.logs()) log_traffic(sent ? detail::Traffic::Send : detail::Traffic::Refused, msg);
+  // After each send of an active handle, sent or refused: the deadline, and the traffic line.
+  // Whether it went out is told by the lane's count (every path that sends calls this), so that
+  // send() passes nothing more than the message. A small fixed-size message is passed by value:
+  // its copy is made on this path only, and the caller's message never has its address taken,
+  // so that a loop that sends keeps it in registers as it did before there were traffic lines.
+  using WatchedMessage = std::conditional_t<std::is_trivially_copyable_v<T> && sizeof(T) <= 64, T, const T&>;
+  [[gnu::noinline]] void watched_send(WatchedMessage msg) {
+    const std::uint64_t sent = port_.writer().sent();
+    const bool refused = sent == sent_seen_;
+    sent_seen_ = sent;
+    if (!refused) watch_.sent();  // the offered deadline counts what went out
+    if (watch_.logs()) log_traffic(refused ? detail::Traffic::Refused : detail::Traffic::Send, msg);
   }
   // TopicOptions::verbose: a line for a message sent or received, if the topic's limit admits it.
-  [[gnu::noinline]] void log_traffic(detail::Traffic what, const T& msg) {
+  // Never throws (a summary that cannot be made costs its line, not the message): callers on
+  // the receive path then need no unwinding for it, which keeps recv()'s code as it was.
+  [[gnu::noinline]] void log_traffic(detail::Traffic what, const T& msg) noexcept {
     const auto held = detail::admit_traffic(core(), traffic_);
     if (!held) return;
     std::uint64_t count = 0;
@@ -340,8 +351,13 @@ class Topic {
       case detail::Traffic::Latest: break;
     }
     const bool receiving = what == detail::Traffic::Recv || what == detail::Traffic::Latest;
-    detail::write_traffic(core(), traffic_, what, count, receiving ? dropped_count() : 0, *held,
-                          detail::traffic_summary(msg));
+    try {
+      detail::write_traffic(core(), traffic_, what, count, receiving ? dropped_count() : 0, *held,
+                            detail::traffic_summary(msg));
+    } catch (...) {
+      detail::write_traffic(core(), traffic_, what, count, receiving ? dropped_count() : 0, *held,
+                            "(its summary failed)");
+    }
   }
   // What a WaitSet waits on: this handle's subscriber entry. The handle stays a subscriber
   // (its first send does not make it a pure publisher). Nothing when no entry is free.
@@ -374,7 +390,7 @@ class Topic {
   }
 
   Result<void> committed(const T& msg) {  // send_blocking sent
-    watched_send(msg, true);
+    watched_send(msg);
     return {};
   }
 
@@ -390,6 +406,7 @@ class Topic {
   std::uint64_t net_dropped_base_ = 0;  // the bridge's dropped count when this handle opened
   detail::Watch watch_;                 // deadline, lifespan and verbose (TopicOptions)
   detail::TrafficLogSettings traffic_;  // verbose: the level and rate of its lines
+  std::uint64_t sent_seen_ = 0;         // the lane's count when watched_send last looked
 };
 
 }  // namespace horus
