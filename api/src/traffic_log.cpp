@@ -4,7 +4,9 @@
 
 #include <fmt/format.h>
 
-#include <chrono>
+#include <time.h>
+
+#include <algorithm>
 #include <cmath>
 #include <mutex>
 
@@ -56,33 +58,35 @@ std::string verbose_origin(const TopicChoice& c) {
 namespace detail {
 
 std::optional<std::uint64_t> TrafficLimiter::admit(const TrafficLogSettings& s, std::int64_t now_ns) noexcept {
+  if (s.rate_hz > 0 && now_ns < empty_until_.load(std::memory_order_relaxed)) {
+    held_.fetch_add(1, std::memory_order_relaxed);
+    return std::nullopt;
+  }
   std::lock_guard lock(mutex_);
   last_ = s;
   if (s.rate_hz > 0) {
     const double burst = std::max(1.0, s.rate_hz);  // one second's lines
     if (tokens_ < 0) tokens_ = burst;
-    else tokens_ = std::min(burst, tokens_ + static_cast<double>(now_ns - last_ns_) * 1e-9 * s.rate_hz);
-    last_ns_ = now_ns;
-    if (tokens_ < 1) {
-      ++held_;
-      ++held_total_;
+    else if (now_ns > last_ns_) tokens_ = std::min(burst, tokens_ + static_cast<double>(now_ns - last_ns_) * 1e-9 * s.rate_hz);
+    last_ns_ = std::max(last_ns_, now_ns);
+    const bool admitted = tokens_ >= 1;
+    if (admitted) tokens_ -= 1;
+    // When the bucket has a line again: until then, lines are held back without the lock.
+    const double wait_ns = tokens_ >= 1 ? 0 : (1 - tokens_) / s.rate_hz * 1e9;
+    empty_until_.store(last_ns_ + static_cast<std::int64_t>(wait_ns), std::memory_order_relaxed);
+    if (!admitted) {
+      held_.fetch_add(1, std::memory_order_relaxed);
       return std::nullopt;
     }
-    tokens_ -= 1;
   }
-  const std::uint64_t held = held_;
-  held_ = 0;
+  const std::uint64_t held = held_.exchange(0, std::memory_order_relaxed);
+  held_reported_ += held;
   return held;
-}
-
-std::uint64_t TrafficLimiter::held() const noexcept {
-  std::lock_guard lock(mutex_);
-  return held_;
 }
 
 std::uint64_t TrafficLimiter::held_total() const noexcept {
   std::lock_guard lock(mutex_);
-  return held_total_;
+  return held_reported_ + held_.load(std::memory_order_relaxed);
 }
 
 TrafficLogSettings TrafficLimiter::last_settings() const noexcept {
@@ -128,8 +132,11 @@ Result<TrafficLogSettings> start_traffic_log(const TopicCore& core, const TopicC
 
 std::optional<std::uint64_t> admit_traffic(TopicCore& core, const TrafficLogSettings& s) noexcept {
   if (!log().should_log(spd(s.level))) return std::nullopt;
-  const auto now = std::chrono::steady_clock::now().time_since_epoch();
-  return core.traffic.admit(s, std::chrono::duration_cast<std::chrono::nanoseconds>(now).count());
+  // The coarse clock (a few ns instead of some 20; ticks of 1 to 4 ms) is enough for lines a
+  // second: a held-back line then costs little more than its count.
+  ::timespec ts{};
+  ::clock_gettime(CLOCK_MONOTONIC_COARSE, &ts);
+  return core.traffic.admit(s, static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec);
 }
 
 void write_traffic(const TopicCore& core, const TrafficLogSettings& s, Traffic what, std::uint64_t count,

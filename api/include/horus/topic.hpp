@@ -106,9 +106,18 @@ class Topic {
   /// only when all kMaxPublishers lanes are taken, or (serialized T) when it encodes to more
   /// than max_message_size() bytes; it is then counted in metrics().send_failures() and logged.
   [[gnu::always_inline]] void send(const T& msg) {
-    send_local(msg);
-    if (watch_.active()) [[unlikely]]
-      watched_send(msg);
+    const bool sent = send_local(msg);
+    if (watch_.active()) [[unlikely]] {
+      if constexpr (kSmallMessage) {
+        // A copy made here, on this path only: the caller's message never has its address
+        // taken, so a loop that sends keeps it in registers (what it did before there were
+        // traffic lines: bench/compare_builds.sh).
+        const T copy = msg;
+        watched_send(copy, sent);
+      } else {
+        watched_send(msg, sent);
+      }
+    }
   }
 
   /// Large data: lends a slot of the topic's pool for a message described by `desc` (e.g.
@@ -135,25 +144,26 @@ class Topic {
       case Codec::LoanSend::Refused:
         ++port_.counters.send_failures;
         if (watch_.active()) [[unlikely]]
-          watched_send(*l);
+          watched_send(*l, false);
         return;
       case Codec::LoanSend::Publish: break;
     }
     codec_.publish_loan(port_, l);
     if (watch_.active()) [[unlikely]]
-      watched_send(*l);
+      watched_send(*l, true);
   }
 
   /// Publishes only if no subscriber would lose an unread message; else gives the message back
   /// (also when it is refused for its size).
   std::expected<void, T> try_send(const T& msg) {
     if (port_.ensure_lane() && codec_.prepare(port_, msg) && try_commit(msg)) {
-      watched_send(msg);
+      if (watch_.active()) [[unlikely]]
+        watched_send(msg, true);
       return {};
     }
     ++port_.counters.send_failures;
     if (watch_.active()) [[unlikely]]
-      watched_send(msg);
+      watched_send(msg, false);
     return std::unexpected<T>(msg);
   }
 
@@ -324,18 +334,12 @@ class Topic {
     if (watch_.logs() && watch_.newer_latest(core().ring.total_sent())) log_traffic(detail::Traffic::Latest, *m);
     return m;
   }
-  // After each send of an active handle, sent or refused: the deadline, and the traffic line.
-  // Whether it went out is told by the lane's count (every path that sends calls this), so that
-  // send() passes nothing more than the message. A small fixed-size message is passed by value:
-  // its copy is made on this path only, and the caller's message never has its address taken,
-  // so that a loop that sends keeps it in registers as it did before there were traffic lines.
-  using WatchedMessage = std::conditional_t<std::is_trivially_copyable_v<T> && sizeof(T) <= 64, T, const T&>;
-  [[gnu::noinline]] void watched_send(WatchedMessage msg) {
-    const std::uint64_t sent = port_.writer().sent();
-    const bool refused = sent == sent_seen_;
-    sent_seen_ = sent;
-    if (!refused) watch_.sent();  // the offered deadline counts what went out
-    if (watch_.logs()) log_traffic(refused ? detail::Traffic::Refused : detail::Traffic::Send, msg);
+  // Small enough to be copied for watched_send (send() keeps the caller's message in registers).
+  static constexpr bool kSmallMessage = std::is_trivially_copyable_v<T> && sizeof(T) <= 64;
+  // After a send of an active handle, sent or refused: the deadline, and the traffic line.
+  [[gnu::noinline]] void watched_send(const T& msg, bool sent) {
+    if (sent) watch_.sent();  // the offered deadline counts what went out
+    if (watch_.logs()) log_traffic(sent ? detail::Traffic::Send : detail::Traffic::Refused, msg);
   }
   // TopicOptions::verbose: a line for a message sent or received, if the topic's limit admits it.
   // Never throws (a summary that cannot be made costs its line, not the message): callers on
@@ -390,7 +394,8 @@ class Topic {
   }
 
   Result<void> committed(const T& msg) {  // send_blocking sent
-    watched_send(msg);
+    if (watch_.active()) [[unlikely]]
+      watched_send(msg, true);
     return {};
   }
 
@@ -406,7 +411,6 @@ class Topic {
   std::uint64_t net_dropped_base_ = 0;  // the bridge's dropped count when this handle opened
   detail::Watch watch_;                 // deadline, lifespan and verbose (TopicOptions)
   detail::TrafficLogSettings traffic_;  // verbose: the level and rate of its lines
-  std::uint64_t sent_seen_ = 0;         // the lane's count when watched_send last looked
 };
 
 }  // namespace horus

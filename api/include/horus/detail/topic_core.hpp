@@ -44,24 +44,26 @@ struct TrafficLogSettings {
 /// A topic's limit on traffic lines in this process (TopicOptions::log_rate_hz), shared by its
 /// verbose handles: a token bucket of rate_hz lines a second that holds one second's lines (at
 /// least one), so a topic that sends now and then loses none. Lines over it are held back:
-/// counted, and the next line written says how many (traffic_log.hpp).
+/// counted, and the next line written says how many (traffic_log.hpp). While the bucket is empty
+/// a line is held back without the lock: one load and one atomic add.
 class TrafficLimiter {
  public:
   /// Whether a line may be written at `now_ns` (steady clock): nothing when over the rate (the
   /// line is counted as held back); else how many were held back since the last line written.
   std::optional<std::uint64_t> admit(const TrafficLogSettings& s, std::int64_t now_ns) noexcept;
   /// Lines held back since the last one written, and in all.
-  std::uint64_t held() const noexcept;
+  std::uint64_t held() const noexcept { return held_.load(std::memory_order_relaxed); }
   std::uint64_t held_total() const noexcept;
   /// The settings of the last line asked for (what the topic's close reports with).
   TrafficLogSettings last_settings() const noexcept;
 
  private:
+  std::atomic<std::int64_t> empty_until_{0};  // steady ns: the bucket has no line before then
+  std::atomic<std::uint64_t> held_{0};
   mutable std::mutex mutex_;
   double tokens_ = -1;  // below 0: no line asked for yet (the bucket starts full)
   std::int64_t last_ns_ = 0;
-  std::uint64_t held_ = 0;
-  std::uint64_t held_total_ = 0;
+  std::uint64_t held_reported_ = 0;  // held back, and said so in a line
   TrafficLogSettings last_;
 };
 

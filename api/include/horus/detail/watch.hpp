@@ -38,11 +38,11 @@ class Watch {
   Watch() = default;
   Watch(std::optional<std::chrono::nanoseconds> deadline, std::optional<std::chrono::nanoseconds> lifespan,
         bool logs = false) noexcept
-      : deadline_ns_(deadline && deadline->count() > 0 ? deadline->count() : 0),
-        lifespan_ns_(lifespan && lifespan->count() > 0 ? lifespan->count() : 0),
-        last_ns_(now_ns()),
+      : active_((deadline && deadline->count() > 0) || (lifespan && lifespan->count() > 0) || logs),
         logs_(logs),
-        active_(deadline_ns_ != 0 || lifespan_ns_ != 0 || logs) {}
+        deadline_ns_(deadline && deadline->count() > 0 ? deadline->count() : 0),
+        lifespan_ns_(lifespan && lifespan->count() > 0 ? lifespan->count() : 0),
+        last_ns_(now_ns()) {}
 
   /// True when sends and receives have more to do than move the message.
   bool active() const noexcept { return active_; }
@@ -114,6 +114,9 @@ class Watch {
     last_ns_ = now;
   }
 
+  // First, where every send and receive reads it: the handle's hot lines end here.
+  bool active_ = false;
+  bool logs_ = false;
   std::int64_t deadline_ns_ = 0;
   std::int64_t lifespan_ns_ = 0;
   std::int64_t last_ns_ = 0;  // steady ns: the last message, or the handle's opening
@@ -121,8 +124,6 @@ class Watch {
   std::uint64_t expired_ = 0;
   std::uint64_t latest_sent_ = ~std::uint64_t{0};  // newer_latest()
   bool sent_ = false;         // the handle publishes: the deadline measures its sends
-  bool logs_ = false;
-  bool active_ = false;
 };
 
 }  // namespace detail
