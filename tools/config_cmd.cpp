@@ -104,7 +104,8 @@ void print_traffic_log(const horus::TopicChoice& c) {
              from_where(c.log_rate_hz_from, c));
   // HORUS_LOG_LEVEL's names, in the order of the levels (horus/log.hpp).
   constexpr std::array<std::string_view, 7> kNames{"trace", "debug", "info", "warn", "error", "critical", "off"};
-  const std::string env = horus::Environment::read().log_level;
+  std::string env = horus::Environment::read().log_level;
+  if (env.empty()) env = "info";  // the logger's default
   const auto* it = std::find(kNames.begin(), kNames.end(), env);
   if (c.verbose && it != kNames.end() && static_cast<std::size_t>(it - kNames.begin()) > static_cast<std::size_t>(level))
     fmt::print("  (hidden: HORUS_LOG_LEVEL={} drops {} lines; set HORUS_LOG_LEVEL={} to see them)\n", env,

@@ -72,7 +72,7 @@ std::optional<std::uint64_t> TrafficLimiter::admit(const TrafficLogSettings& s, 
     const bool admitted = tokens_ >= 1;
     if (admitted) tokens_ -= 1;
     // When the bucket has a line again: until then, lines are held back without the lock.
-    const double wait_ns = tokens_ >= 1 ? 0 : (1 - tokens_) / s.rate_hz * 1e9;
+    const double wait_ns = tokens_ >= 1 ? 0 : std::min(1e15, (1 - tokens_) / s.rate_hz * 1e9);  // a tiny rate: 11 days
     empty_until_.store(last_ns_ + static_cast<std::int64_t>(wait_ns), std::memory_order_relaxed);
     if (!admitted) {
       held_.fetch_add(1, std::memory_order_relaxed);

@@ -329,6 +329,7 @@ TEST_F(TopicLogTest, TheCliExplainsWhetherATopicLogsAndWhy) {
       << out;
   EXPECT_NE(out.find("log_level   debug            file"), std::string::npos) << out;
   EXPECT_NE(out.find("log_rate_hz 20               file"), std::string::npos) << out;
+  EXPECT_NE(out.find("(hidden: HORUS_LOG_LEVEL=info drops debug lines"), std::string::npos) << out;  // info: the default
   ASSERT_EQ(horus_test::run_command(cli + " config explain odom --file " + file.path, out), 0) << out;
   EXPECT_NE(out.find("log         off              default"), std::string::npos) << out;
   EXPECT_EQ(out.find("log_level"), std::string::npos) << out;
