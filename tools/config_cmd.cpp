@@ -5,8 +5,6 @@
 
 #include <fmt/format.h>
 
-#include <algorithm>
-#include <array>
 #include <cstdio>
 #include <optional>
 #include <set>
@@ -14,8 +12,8 @@
 #include <utility>
 
 #include "horus/config.hpp"
-#include "horus/environment.hpp"
 #include "horus/horus.hpp"
+#include "horus/log.hpp"
 #include "horus/transport_registry.hpp"
 #include "security_cmd.hpp"
 
@@ -102,14 +100,10 @@ void print_traffic_log(const horus::TopicChoice& c) {
   const double hz = c.log_rate_hz.value_or(horus::kDefaultLogRateHz);
   fmt::print("  log_rate_hz {:<16} {}\n", hz > 0 ? fmt::format("{:g}", hz) : "0 (every message)",
              from_where(c.log_rate_hz_from, c));
-  // HORUS_LOG_LEVEL's names, in the order of the levels (horus/log.hpp).
-  constexpr std::array<std::string_view, 7> kNames{"trace", "debug", "info", "warn", "error", "critical", "off"};
-  std::string env = horus::Environment::read().log_level;
-  if (env.empty()) env = "info";  // the logger's default
-  const auto* it = std::find(kNames.begin(), kNames.end(), env);
-  if (c.verbose && it != kNames.end() && static_cast<std::size_t>(it - kNames.begin()) > static_cast<std::size_t>(level))
-    fmt::print("  (hidden: HORUS_LOG_LEVEL={} drops {} lines; set HORUS_LOG_LEVEL={} to see them)\n", env,
-               horus::to_string(level), horus::to_string(level));
+  // The CLI's logger reads the same HORUS_LOG_LEVEL as the program would.
+  if (const std::string hidden = horus::detail::hidden_lines(static_cast<spdlog::level::level_enum>(level));
+      c.verbose && !hidden.empty())
+    fmt::print("  (hidden: {})\n", hidden);
 }
 
 }  // namespace

@@ -522,12 +522,13 @@ Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code, con
   c.config = config;
   c.rule = config != nullptr ? config->match(topic) : nullptr;
   const TopicRule* r = c.rule;
+  const Environment env = Environment::read();
   // Scope and backend: code, HORUS_BACKEND, the rule (its backend, else network.backend).
   if (code.backend) {
     c.backend = *code.backend;
     c.backend_from = Source::Code;
-  } else if (const std::string env = Environment::read().backend; !env.empty()) {
-    auto b = backend_from(env);
+  } else if (!env.backend.empty()) {
+    auto b = backend_from(env.backend);
     if (!b) return std::unexpected(b.error());
     c.backend = *b;
     c.backend_from = Source::Environment;
@@ -574,8 +575,8 @@ Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code, con
   if (code.verbose) {
     c.verbose = *code.verbose;
     c.verbose_from = Source::Code;
-  } else if (const std::string env = Environment::read().log_topics; !env.empty()) {
-    auto m = log_topics_match(env, topic);
+  } else if (!env.log_topics.empty()) {
+    auto m = log_topics_match(env.log_topics, topic);
     if (!m) return std::unexpected(m.error());
     if (*m) {
       c.verbose = (*m)->on;

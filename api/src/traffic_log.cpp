@@ -121,12 +121,10 @@ Result<TrafficLogSettings> start_traffic_log(const TopicCore& core, const TopicC
   const std::string what = fmt::format("topic '{}' ({}): this handle logs its sends and receives at {}, {}; from {}",
                                        core.name, core.type_name, to_string(s.level), rate_words(s.rate_hz),
                                        verbose_origin(choice));
-  if (log.should_log(spd(s.level))) {
+  if (const std::string hidden = hidden_lines(spd(s.level)); hidden.empty())
     log.log(std::max(spd(s.level), spdlog::level::info), "{}", what);
-  } else {
-    log.warn("{}; but the library's log level ({}, HORUS_LOG_LEVEL) hides {} lines: set HORUS_LOG_LEVEL={} to see them",
-             what, spdlog::level::to_string_view(log.level()), to_string(s.level), to_string(s.level));
-  }
+  else
+    log.warn("{}; but {}", what, hidden);
   return s;
 }
 

@@ -8,11 +8,15 @@
 #include <pthread.h>
 
 #include <array>
+#include <string>
 #include <string_view>
 
 namespace horus::detail {
 
 namespace {
+// HORUS_LOG_LEVEL's values, in the order of spdlog's levels.
+constexpr std::array<std::string_view, 7> kLevelNames{"trace", "debug", "info", "warn", "error", "critical", "off"};
+
 std::shared_ptr<spdlog::logger> make_logger() {
   auto logger = spdlog::get("horus");
   if (!logger) logger = spdlog::stderr_color_mt("horus");
@@ -24,10 +28,9 @@ std::shared_ptr<spdlog::logger> make_logger() {
   logger->set_level(spdlog::level::info);
   const std::string env = Environment::read().log_level;
   if (!env.empty()) {
-    constexpr std::array<std::string_view, 7> names{"trace", "debug", "info", "warn", "error", "critical", "off"};
     bool ok = false;
-    for (std::size_t i = 0; i < names.size(); ++i) {
-      if (names[i] == env) {
+    for (std::size_t i = 0; i < kLevelNames.size(); ++i) {
+      if (kLevelNames[i] == env) {
         logger->set_level(static_cast<spdlog::level::level_enum>(i));
         ok = true;
       }
@@ -44,6 +47,13 @@ std::shared_ptr<spdlog::logger> make_logger() {
 spdlog::logger& log() {
   static const std::shared_ptr<spdlog::logger> logger = make_logger();
   return *logger;
+}
+
+std::string hidden_lines(spdlog::level::level_enum level) {
+  if (log().should_log(level)) return {};
+  const auto name = [](spdlog::level::level_enum l) { return kLevelNames.at(static_cast<std::size_t>(l)); };
+  return "the library's log level (" + std::string(name(log().level())) + ", HORUS_LOG_LEVEL) hides " +
+         std::string(name(level)) + " lines: set HORUS_LOG_LEVEL=" + std::string(name(level)) + " to see them";
 }
 
 }  // namespace horus::detail

@@ -7,10 +7,12 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <mutex>
 #include <string>
 #include <thread>
 
@@ -80,25 +82,35 @@ class Deadline {
 };
 
 // Calls send() every `period` on another thread until destroyed (a live publisher for a
-// tool or a server under test).
+// tool or a server under test). The period is kept by waiting for the stop, so the destructor
+// ends it at once.
 class Publishing {
  public:
   template <class Send>
   Publishing(std::chrono::milliseconds period, Send send)
       : thread_([this, period, send]() mutable {
-          for (int i = 0; !stop_.load(); ++i) {
+          std::unique_lock lock(mutex_);
+          for (int i = 0; !stop_; ++i) {
+            lock.unlock();
             send(i);
-            std::this_thread::sleep_for(period);
+            lock.lock();
+            stopped_.wait_for(lock, period, [this] { return stop_; });
           }
         }) {}
   ~Publishing() {
-    stop_ = true;
+    {
+      std::lock_guard lock(mutex_);
+      stop_ = true;
+    }
+    stopped_.notify_all();
     thread_.join();
   }
 
  private:
-  std::atomic<bool> stop_{false};
-  std::thread thread_;
+  std::mutex mutex_;
+  std::condition_variable stopped_;
+  bool stop_ = false;
+  std::thread thread_;  // last: started once the members it uses exist
 };
 
 // A file in the test's temporary directory ($TMPDIR, else /tmp) holding `text`, removed at the
