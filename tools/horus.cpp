@@ -161,6 +161,7 @@ int main(int argc, char** argv) {
   record->add_option("--duration", rec.duration_s, "stop after S seconds (default: until Ctrl-C)")
       ->check(CLI::PositiveNumber);
   record->add_option("--split-size", rec.split_mb, "start a new file every N MB");
+  record->add_flag("--overwrite", rec.overwrite, "replace the output file(s) when they exist (else refused)");
   record->add_option("--compression", rec.compression, "MCAP chunk compression: zstd (default), lz4 or none");
   record->add_option("--format", rec.format, "mcap (default) or lcm (an LCM event log, as lcm-logger writes)");
   record->add_option("--backend", rec.backend, "network backend of the fleet (default: the configuration's)");

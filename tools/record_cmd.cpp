@@ -128,6 +128,7 @@ int cmd_record(const RecordArgs& a, const std::atomic<bool>& stop) {
   o.format = *format;
   o.compression = *compression;
   o.split_size = static_cast<std::uint64_t>(a.split_mb * 1e6);
+  o.overwrite = a.overwrite;
   auto rec = Recorder::open(a.output, o);
   if (!rec) {
     fmt::print(stderr, "horus record: {}\n", rec.error().message());
@@ -201,6 +202,10 @@ int cmd_record(const RecordArgs& a, const std::atomic<bool>& stop) {
   Progress progress(::isatty(STDOUT_FILENO) == 1);
   const auto start = Clock::now();
   auto next_scan = start, next_show = start + std::chrono::seconds(1);
+  bool said_none = false;  // "no topic matches yet", once
+  const auto patterns = [&] {
+    return a.topics.empty() ? std::string("--all") : fmt::format("--topics '{}'", fmt::join(a.topics, "' '"));
+  };
   while (!stop.load()) {
     const auto now = Clock::now();
     const double elapsed = std::chrono::duration<double>(now - start).count();
@@ -209,6 +214,11 @@ int cmd_record(const RecordArgs& a, const std::atomic<bool>& stop) {
     if (now >= next_scan) {
       discover();
       next_scan = now + std::chrono::milliseconds(500);
+      if (!said_none && skipped.empty() && recorder.stats().topics.empty()) {
+        said_none = true;
+        fmt::print(stderr, "horus record: no topic matches {} yet ({} topics on this host{}); recording what appears\n",
+                   patterns(), discovery::list_topics(a.ns).size(), fleet ? " and the fleet's" : "");
+      }
     }
     if (now >= next_show) {
       progress.show(recorder.stats(), elapsed);
@@ -228,6 +238,11 @@ int cmd_record(const RecordArgs& a, const std::atomic<bool>& stop) {
                t.dropped ? fmt::format("({} lost before the recorder took them)", t.dropped) : "");
   if (!closed) {
     fmt::print(stderr, "horus record: {}\n", closed.error().message());
+    return 1;
+  }
+  if (s.topics.empty()) {
+    fmt::print(stderr, "horus record: no topic matched {} in {:.1f} s: {} holds no messages\n", patterns(), elapsed,
+               fmt::join(s.files, ", "));
     return 1;
   }
   return 0;

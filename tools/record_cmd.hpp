@@ -17,6 +17,7 @@ struct RecordArgs {
   std::string compression = "zstd";
   std::string format = "mcap";
   std::string backend;              // the fleet's transport (--backend), else the configuration's
+  bool overwrite = false;           // replace an existing -o file (else refused)
   bool foxglove = false;            // also TOPIC/foxglove in Foxglove's schema (foxglove/schemas.hpp)
   std::string frame = "world";      // its frame when the message names none
 };

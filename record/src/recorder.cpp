@@ -83,10 +83,19 @@ struct Recorder::Impl {
   WaitSet ws;
   Trigger wake;
   std::atomic<bool> stop{false};
+  std::atomic<std::uint64_t> rounds{0};
   std::thread thread;
 
   Result<void> open_file(std::size_t index) {
     const auto path = split_path(base_path, index);
+    if (!options.overwrite) {
+      std::error_code ec;
+      if (std::filesystem::exists(path, ec) || ec)
+        return fail(Errc::InvalidArgument,
+                    fmt::format("{} exists already; not replacing a recording (overwrite it on purpose: "
+                                "RecorderOptions::overwrite, `horus record --overwrite`)",
+                                path));
+    }
     if (options.format == RecordFormat::Mcap) {
       mcap::WriterOptions w;
       w.compression = options.compression;
@@ -235,7 +244,13 @@ struct Recorder::Impl {
   }
 
   void run() {
-    while (!stop.load(std::memory_order_acquire)) {
+    for (;;) {
+      // The trigger says "look again" (a topic added, close()): it stays fired until reset, and a
+      // fired trigger ends every wait at once (the thread spun a core on an idle topic). Reset
+      // before looking at `stop`: close() stores it before it fires.
+      wake.reset();
+      if (stop.load(std::memory_order_acquire)) break;
+      rounds.fetch_add(1, std::memory_order_relaxed);
       std::size_t took = 0;
       bool polled = false;
       {
@@ -312,6 +327,7 @@ RecorderStats Recorder::stats() const {
   s.messages = impl_->messages;
   s.bytes = impl_->bytes;
   s.file_bytes = impl_->closed_bytes + impl_->file_size();
+  s.rounds = impl_->rounds.load(std::memory_order_relaxed);
   s.files = impl_->files;
   for (const auto& e : impl_->entries) s.topics.push_back(e.stats);
   if (impl_->closed) s.topics.insert(s.topics.end(), impl_->closed_topics.begin(), impl_->closed_topics.end());

@@ -13,6 +13,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -405,6 +406,95 @@ TEST(Record, TheLibraryRecordsItsOwnTopicsAndRefusesWhatItCannotRecord) {
   ASSERT_FALSE(unknown);
   EXPECT_NE(unknown.error().message().find("no.such.topic"), std::string::npos);
   for (const auto& f : {file, file + ".lcm"}) std::remove(f.c_str());
+}
+
+// A recorder of an idle topic sleeps: the library's thread makes a handful of rounds a second
+// (its 200 ms tick), not millions (a fired trigger once kept every wait from sleeping), and
+// `horus record` of an idle topic uses a small part of a core. The bounds are upper bounds on
+// counts and CPU, never on how fast anything ran.
+TEST(Record, AnIdleRecorderSleepsInsteadOfSpinning) {
+  const std::string prefix = horus_test::unique_name("idle");
+  const std::string file = "/tmp/horus-" + prefix + ".mcap";
+  auto pub = horus::Topic<horus::msg::Pose2D>::open(prefix + ".pose");
+  ASSERT_TRUE(pub) << pub.error().message();
+  auto rec = horus::Recorder::open(file);
+  ASSERT_TRUE(rec) << rec.error().message();
+  ASSERT_TRUE((*rec)->add<horus::msg::Pose2D>(prefix + ".pose"));
+  pub->send(horus::msg::Pose2D{1.0, 2.0, 3.0, 4});
+  horus_test::Deadline took(10s);
+  while (!took.expired() && (*rec)->stats().messages == 0) std::this_thread::sleep_for(5ms);
+  ASSERT_EQ((*rec)->stats().messages, 1u);
+  const auto before = (*rec)->stats().rounds;
+  const auto t0 = std::chrono::steady_clock::now();
+  std::this_thread::sleep_for(1s);
+  const auto rounds = (*rec)->stats().rounds - before;
+  const double idle_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  // One round per 200 ms tick, and a few for the message's gather and the flush.
+  EXPECT_LE(static_cast<double>(rounds), 5.0 * idle_s + 4.0) << rounds << " rounds in " << idle_s << " s idle";
+  EXPECT_GE(rounds, 1u) << "the tick still runs (flushes, splits)";
+  ASSERT_TRUE((*rec)->close());
+  EXPECT_EQ((*rec)->stats().topics.at(0).messages, 1u);
+
+  // The command line: 3 s of an idle topic.
+  rusage r0{}, r1{};
+  ::getrusage(RUSAGE_CHILDREN, &r0);
+  std::string out;
+  const std::string cli = HORUS_CLI;
+  ASSERT_EQ(horus_test::run_command(cli + " record --overwrite -o " + file + " --topics '" + prefix + ".**' --duration 3", out), 0)
+      << out;
+  ::getrusage(RUSAGE_CHILDREN, &r1);
+  const auto cpu_s = [](const rusage& r) {
+    return static_cast<double>(r.ru_utime.tv_sec + r.ru_stime.tv_sec) +
+           static_cast<double>(r.ru_utime.tv_usec + r.ru_stime.tv_usec) / 1e6;
+  };
+  EXPECT_LT(cpu_s(r1) - cpu_s(r0), 0.6) << "horus record of an idle topic for 3 s used " << cpu_s(r1) - cpu_s(r0)
+                                        << " s of CPU\n" << out;
+  EXPECT_NE(out.find("+ " + prefix + ".pose"), std::string::npos) << out;
+  std::remove(file.c_str());
+}
+
+// `horus record -o FILE` never replaces a recording unless told to, and says when no topic
+// matched (it once replaced a recording with an empty one when the pattern matched nothing).
+TEST(Record, AnExistingRecordingIsKeptAndNoMatchIsSaid) {
+  const std::string prefix = horus_test::unique_name("keep");
+  const std::string file = "/tmp/horus-" + prefix + ".mcap";
+  const std::string cli = HORUS_CLI;
+  std::ofstream(file, std::ios::binary) << "an earlier recording";
+  std::string out;
+  EXPECT_EQ(horus_test::run_command(cli + " record -o " + file + " --topics '" + prefix + ".**' --duration 1", out), 1)
+      << out;
+  EXPECT_NE(out.find(file + " exists already"), std::string::npos) << out;
+  EXPECT_NE(out.find("--overwrite"), std::string::npos) << out;
+  EXPECT_EQ(slurp(file), "an earlier recording") << "the file is untouched";
+  // A split that would reach an existing file stops the recording, naming it.
+  std::remove(file.c_str());
+  const std::string second = "/tmp/horus-" + prefix + "_1.mcap";
+  std::ofstream(second, std::ios::binary) << "kept";
+  {
+    auto rec = horus::Recorder::open(file, {.split_size = 1, .overwrite = false});
+    ASSERT_TRUE(rec) << rec.error().message();
+    ASSERT_TRUE((*rec)->add<horus::msg::Pose2D>(prefix + ".split"));
+    auto pub = horus::Topic<horus::msg::Pose2D>::open(prefix + ".split");
+    ASSERT_TRUE(pub);
+    pub->send(horus::msg::Pose2D{});
+    horus_test::Deadline stopped(10s);
+    while (!stopped.expired() && !(*rec)->error()) std::this_thread::sleep_for(5ms);
+    ASSERT_TRUE((*rec)->error()) << "the split reached " << second;
+    EXPECT_NE((*rec)->error()->message().find(second + " exists already"), std::string::npos)
+        << (*rec)->error()->message();
+  }
+  EXPECT_EQ(slurp(second), "kept");
+  std::remove(second.c_str());
+  // --overwrite replaces it; a pattern that matches nothing is said at the start and at the end.
+  std::ofstream(file, std::ios::binary) << "an earlier recording";
+  EXPECT_EQ(
+      horus_test::run_command(cli + " record --overwrite -o " + file + " --topics '" + prefix + ".none' --duration 1", out), 1)
+      << out;
+  EXPECT_NE(out.find("no topic matches --topics '" + prefix + ".none' yet"), std::string::npos) << out;
+  EXPECT_NE(out.find("no topic matched --topics '" + prefix + ".none'"), std::string::npos) << out;
+  EXPECT_NE(out.find("holds no messages"), std::string::npos) << out;
+  EXPECT_NE(slurp(file), "an earlier recording") << "--overwrite replaced it";
+  std::remove(file.c_str());
 }
 
 TEST(Record, BadFilesAndArgumentsGetClearErrors) {

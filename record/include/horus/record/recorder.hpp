@@ -157,6 +157,9 @@ struct RecorderOptions {
   std::chrono::milliseconds flush_interval{1000};            // and at least this often (what a kill loses)
   /// Starts a new file when this one reaches this many bytes (0: never): run.mcap, run_1.mcap, ...
   std::uint64_t split_size = 0;
+  /// false: a file that exists already is not replaced; open() (or the split that reaches it)
+  /// fails with Errc::InvalidArgument naming it. `horus record` sets it from --overwrite.
+  bool overwrite = true;
 };
 
 struct RecordedTopic {
@@ -174,6 +177,10 @@ struct RecorderStats {
   std::uint64_t file_bytes = 0;      // bytes written to the files so far
   std::vector<std::string> files;    // in order; the last one is being written
   std::vector<RecordedTopic> topics; // in the order they were added
+  /// Rounds of the recording thread so far: each one follows a wake-up (a message, a topic
+  /// added, the 200 ms tick, a 2 ms gather after messages). An idle recorder adds about 5 a
+  /// second, one that polls a source that cannot wake it about 500.
+  std::uint64_t rounds = 0;
 };
 
 class Recorder {
