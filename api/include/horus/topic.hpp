@@ -106,17 +106,18 @@ class Topic {
   /// only when all kMaxPublishers lanes are taken, or (serialized T) when it encodes to more
   /// than max_message_size() bytes; it is then counted in metrics().send_failures() and logged.
   [[gnu::always_inline]] void send(const T& msg) {
-    const bool sent = send_local(msg);
-    if (watch_.active()) [[unlikely]] {
-      if constexpr (kSmallMessage) {
-        // A copy made here, on this path only: the caller's message never has its address
-        // taken, so a loop that sends keeps it in registers (what it did before there were
-        // traffic lines: bench/compare_builds.sh).
-        const T copy = msg;
-        watched_send(copy, sent);
-      } else {
-        watched_send(msg, sent);
+    if constexpr (requires { codec_.write_plain(port_, msg); }) {
+      // A fixed-size message: a handle with a deadline or verbose lines is told by the writer's
+      // own slow branch (RingWriter::observe), so a plain send loads no flag of ours.
+      if (port_.ensure_lane()) [[likely]] {
+        if (codec_.write_plain(port_, msg)) [[likely]]
+          return;
+        return after_send(msg, true);
       }
+      ++port_.counters.send_failures;
+      return after_send(msg, false);
+    } else {
+      after_send(msg, send_local(msg));
     }
   }
 
@@ -320,24 +321,55 @@ class Topic {
   // recv() and recv_for(): the next message, expired ones skipped (lifespan).
   [[gnu::always_inline]] std::optional<T> read_next() {
     auto m = codec_.read(port_);
-    if (!m || !watch_.active()) [[likely]]
-      return m;
-    return watched(std::move(m));
-  }
-  [[gnu::noinline]] std::optional<T> watched(std::optional<T> m) {
-    while (m && !watch_.take(*m)) m = codec_.read(port_);
-    if (m && watch_.logs()) log_traffic(detail::Traffic::Recv, *m);
+    if (m && watch_.active()) [[unlikely]] {
+      // The slow path sees the message through a copy (small T) and answers whether to deliver
+      // it: the message received, the caller's return slot, never has its address taken, so the
+      // fast path keeps it in registers (passing the slot to a noinline call cost a store and a
+      // reload per receive, +1.3 ns same-thread: bench/compare_builds.sh).
+      for (;;) {
+        bool keep = false;
+        if constexpr (kSmallMessage) {
+          const T copy = *m;
+          keep = watched(copy);
+        } else {
+          keep = watched(*m);
+        }
+        if (keep) break;
+        m = codec_.read(port_);  // expired (lifespan): the next one
+        if (!m) break;
+      }
+    }
     return m;
   }
-  [[gnu::noinline]] std::optional<T> watched_latest(std::optional<T> m) {
+  // A received message of an active handle: false when it expired (skipped, counted).
+  [[gnu::noinline, gnu::cold]] bool watched(const T& m) noexcept {
+    if (!watch_.take(m)) return false;
+    if (watch_.logs()) log_traffic(detail::Traffic::Recv, m);
+    return true;
+  }
+  [[gnu::noinline, gnu::cold]] std::optional<T> watched_latest(std::optional<T> m) {
     if (!watch_.fresh(*m)) return std::nullopt;  // the newest expired (not counted again at each call)
     if (watch_.logs() && watch_.newer_latest(core().ring.total_sent())) log_traffic(detail::Traffic::Latest, *m);
     return m;
   }
   // Small enough to be copied for watched_send (send() keeps the caller's message in registers).
   static constexpr bool kSmallMessage = std::is_trivially_copyable_v<T> && sizeof(T) <= 64;
+  // After a send, sent or refused: an active handle's deadline and traffic line.
+  [[gnu::always_inline]] void after_send(const T& msg, bool sent) {
+    if (watch_.active()) [[unlikely]] {
+      if constexpr (kSmallMessage) {
+        // A copy made here, on this path only: the caller's message never has its address
+        // taken, so a loop that sends keeps it in registers (what it did before there were
+        // traffic lines: bench/compare_builds.sh).
+        const T copy = msg;
+        watched_send(copy, sent);
+      } else {
+        watched_send(msg, sent);
+      }
+    }
+  }
   // After a send of an active handle, sent or refused: the deadline, and the traffic line.
-  [[gnu::noinline]] void watched_send(const T& msg, bool sent) {
+  [[gnu::noinline, gnu::cold]] void watched_send(const T& msg, bool sent) noexcept {
     if (sent) watch_.sent();  // the offered deadline counts what went out
     if (watch_.logs()) log_traffic(sent ? detail::Traffic::Send : detail::Traffic::Refused, msg);
   }

@@ -47,6 +47,9 @@ class FixedSlots {
     port.writer().write(msg);
     return true;
   }
+  // Topic::send's path (the lane claimed): false when the handle is observed (RingWriter::observe),
+  // told by the branch the send takes anyway for receivers that wait. Sent either way.
+  [[gnu::always_inline]] bool write_plain(Port& port, const T& msg) noexcept { return port.writer().write(msg); }
   bool try_write(Port& port, const T& msg) noexcept {
     if (!port.writer().has_space(port.reader().token())) return false;
     port.writer().write(msg);

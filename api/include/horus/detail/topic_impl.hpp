@@ -31,6 +31,7 @@ Result<Topic<T>> Topic<T>::make(std::string_view name, const TopicOptions& reque
     topic.traffic_ = *traffic;
   }
   topic.watch_ = detail::Watch(options.deadline, options.lifespan, choice->verbose);
+  topic.port_.writer().observe(topic.watch_.active());  // its sends reach after_send's watch
   if (!topic.port_.reader().subscribe()) return std::unexpected(detail::subscriber_limit_error(name));
   auto& c = topic.core();
   if (is_network(c.backend)) {

@@ -45,6 +45,8 @@ class RingWriter {
       stride_ = o.stride_;
       wake_classes_ = o.wake_classes_;
       inline_export_ = o.inline_export_;
+      observed_ = o.observed_;
+      expect_ = o.expect_;
       o.lane_ = kNoLane;
       o.slots_ = nullptr;
     }
@@ -58,6 +60,13 @@ class RingWriter {
   void wake_readers_only() noexcept { wake_classes_ = Doorbell::kArmedReader; }
   /// A fleet topic's handle: sends export inline while `e->active` (doorbell.hpp, InlineExport).
   void set_inline_export(InlineExport* e) noexcept { inline_export_ = e; }
+  /// A handle that looks at what it sent (a deadline, verbose lines: api/'s Watch): every
+  /// write() then returns false, through the branch a send takes anyway when receivers wait.
+  /// An unobserved writer's fast path compares the doorbell's state with one value, as before.
+  void observe(bool on) noexcept {
+    observed_ = on;
+    expect_ = expected_state();
+  }
   /// The token this writer claims its lane with.
   std::uint64_t token() const noexcept { return token_; }
   /// The lane this writer owns (when has_lane()).
@@ -88,20 +97,23 @@ class RingWriter {
     if (has_lane()) sent_before_ += head_ - claim_head_;
     lane_ = kNoLane;
     slots_ = nullptr;
+    expect_ = expected_state();
   }
 
   /// Publishes; overwrites the oldest slot of the lane when it is full. Requires ensure_lane().
-  [[gnu::always_inline]] void write(const T& msg) noexcept
+  /// False only for an observed writer (observe()): the message is sent either way.
+  [[gnu::always_inline]] bool write(const T& msg) noexcept
     requires(!kBytes)
   {
-    commit(msg);
+    return commit(msg);
   }
 
-  /// Publishes an encoded message of at most max_serialized_size(payload_size) bytes.
-  void write_bytes(std::span<const std::byte> msg) noexcept
+  /// Publishes an encoded message of at most max_serialized_size(payload_size) bytes; false
+  /// only for an observed writer (the message is sent either way).
+  bool write_bytes(std::span<const std::byte> msg) noexcept
     requires kBytes
   {
-    commit(msg);
+    return commit(msg);
   }
 
   /// Largest encoded message write_bytes() accepts.
@@ -145,6 +157,7 @@ class RingWriter {
     }
     lane_ = kNoLane;
     slots_ = nullptr;
+    expect_ = expected_state();
   }
 
  private:
@@ -160,7 +173,13 @@ class RingWriter {
     state_ = &ring_.header().doorbell.state;
     space_limit_ = 0;
     slots_ = ring_.lane_slots(lane_);
+    expect_ = expected_state();
   }
+
+  // The doorbell state a send finds when it has nothing more to do: our lane as the latest-lane
+  // hint and no waiter. An observed writer expects a state that never occurs (the waiters' half
+  // all ones), so each of its sends takes after_commit.
+  std::uint64_t expected_state() const noexcept { return observed_ ? ~std::uint64_t{0} : lane_; }
 
   std::size_t stride() const noexcept {
     if constexpr (kBytes) return stride_;
@@ -168,7 +187,7 @@ class RingWriter {
   }
 
   template <class P>
-  [[gnu::always_inline]] void commit(const P& msg) noexcept {
+  [[gnu::always_inline]] bool commit(const P& msg) noexcept {
     const std::uint64_t s = head_;
     write_slot(slots_ + (s & mask_) * stride(), s, msg);
     head_ = s + 1;
@@ -179,10 +198,12 @@ class RingWriter {
     // (only written when it changes, so one publisher keeps the line shared and cheap) and the
     // blocked receivers in the high half (none: nothing more to do).
     const std::uint64_t state = state_->load(std::memory_order_relaxed);
-    if (state != lane_) [[unlikely]] after_commit(state);
+    if (state != expect_) [[unlikely]]
+      return after_commit(state);
+    return true;
   }
 
-  [[gnu::noinline]] void after_commit(std::uint64_t state) noexcept {
+  [[gnu::noinline]] bool after_commit(std::uint64_t state) noexcept {
     if (static_cast<std::uint32_t>(state) != lane_) {
       // Relaxed: a hint read_latest() checks against the heads (ring_control.hpp). A
       // compare-exchange, as waiters register in the high half meanwhile.
@@ -191,6 +212,7 @@ class RingWriter {
       }
     }
     if ((state >> 32) != 0) wake();
+    return !observed_;
   }
 
   // Waiters registered: wake them if armed; a count that stays registered and unarmed for
@@ -216,11 +238,13 @@ class RingWriter {
   std::atomic<std::uint64_t>* lane_head_ = nullptr;
   std::atomic<std::uint64_t>* state_ = nullptr;  // the doorbell's state: latest lane, waiters
   std::uint32_t lane_ = kNoLane;
+  std::uint64_t expect_ = kNoLane;  // expected_state(): what commit() compares the doorbell's state with
   std::uint64_t space_limit_ = 0;  // head values below this are known to have space
   std::uint64_t claim_head_ = 0;   // head when the lane was claimed
   std::uint32_t unarmed_ = 0;      // sends that found waiters but nobody armed (wake())
   std::uint32_t wake_classes_ = Doorbell::kArmedAll;  // the waiters a send wakes (doorbell.hpp)
   InlineExport* inline_export_ = nullptr;  // a fleet topic's, in process memory (doorbell.hpp)
+  bool observed_ = false;          // observe()
   std::uint64_t sent_before_ = 0;  // messages sent through lanes released earlier
   Ring ring_;
   std::uint64_t token_ = 0;
