@@ -224,7 +224,9 @@ int cmd_record(const RecordArgs& a, const std::atomic<bool>& stop) {
       progress.show(recorder.stats(), elapsed);
       next_show = now + std::chrono::seconds(1);
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    // Ten looks a second (Ctrl-C, --duration, the recorder's error, the next scan and line): a
+    // recorder runs all shift, its idle cost is what it costs.
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
   auto closed = recorder.close();
