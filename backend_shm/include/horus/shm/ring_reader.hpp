@@ -304,10 +304,7 @@ class RingReader {
   // Lanes that may hold data: the shared high-water mark, never above kMaxPublishers whatever
   // another process wrote there.
   std::uint32_t lane_count() const noexcept {
-    const std::uint32_t n = lane_hwm_->load(std::memory_order_acquire);
-    if (n > kMaxPublishers) [[unlikely]]
-      return kMaxPublishers;  // a branch never taken, not a cmov on every receive
-    return n;
+    return std::min(lane_hwm_->load(std::memory_order_acquire), kMaxPublishers);
   }
   const std::atomic<std::uint32_t>* lane_hwm_ = nullptr;
   std::atomic<std::uint64_t>* shared_cursor_ = nullptr;  // our entry's cursors; null when not subscribed
