@@ -120,7 +120,10 @@ void cyclone_log_sink(void*, const dds_log_data_t* data) {
 
 void route_cyclone_log() {
   static std::once_flag once;
-  std::call_once(once, [] { dds_set_log_sink(&cyclone_log_sink, nullptr); });
+  std::call_once(once, [] {
+    horus::detail::open_transport_log();
+    dds_set_log_sink(&cyclone_log_sink, nullptr);
+  });
 }
 
 // A built-in topic instance as a remote-endpoint id.

@@ -110,6 +110,7 @@ Result<std::array<unsigned char, 4>> resolve_ipv4(const std::string& host) {
 void quiet_fastdds_log() {
   static std::once_flag once;
   std::call_once(once, [] {
+    horus::detail::open_transport_log();
     fd::Log::ClearConsumers();
     fd::Log::RegisterConsumer(std::make_unique<HorusLogConsumer>());
     fd::Log::SetVerbosity(fd::Log::Kind::Warning);

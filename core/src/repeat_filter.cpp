@@ -1,6 +1,8 @@
 #include "horus/detail/repeat_filter.hpp"
 
 #include <algorithm>
+#include <cstdlib>
+#include <mutex>
 #include <utility>
 
 #include "horus/log.hpp"
@@ -42,11 +44,38 @@ std::optional<std::uint64_t> RepeatFilter::admit(std::string_view kind, Clock::t
   return std::exchange(s.held, 0);
 }
 
+namespace {
+// What log_transport_line uses, never destroyed: a transport's thread may call it while the
+// process's statics are destroyed. Closed (under its mutex) by an exit handler registered after
+// the logger was made, so it runs before the logger goes.
+struct TransportLog {
+  std::mutex mutex;
+  bool closed = false;
+  RepeatFilter filter;
+};
+TransportLog& transport_log() {
+  static TransportLog* const t = [] {
+    (void)log();  // the logger first: the handler below runs before its destruction
+    auto* made = new TransportLog;
+    std::atexit([] {
+      std::lock_guard lock(transport_log().mutex);
+      transport_log().closed = true;
+    });
+    return made;
+  }();
+  return *t;
+}
+}  // namespace
+
+void open_transport_log() { (void)transport_log(); }
+
 void log_transport_line(spdlog::level::level_enum level, std::string_view source, std::string_view text) {
   while (!text.empty() && (text.back() == '\n' || text.back() == '\r' || text.back() == ' ')) text.remove_suffix(1);
-  if (text.empty() || !log().should_log(level)) return;
-  static RepeatFilter filter;
-  const auto held = filter.admit(RepeatFilter::kind_of(text));
+  if (text.empty()) return;
+  TransportLog& t = transport_log();
+  std::lock_guard lock(t.mutex);  // the exit handler waits for a line in progress
+  if (t.closed || !log().should_log(level)) return;
+  const auto held = t.filter.admit(RepeatFilter::kind_of(text));
   if (!held) return;
   if (*held == 0)
     log().log(level, "[{}] {} (repeats of this line are not shown)", source, text);

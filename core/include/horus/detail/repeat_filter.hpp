@@ -44,7 +44,15 @@ class RepeatFilter {
 };
 
 /// Logs a transport library's own line through the library's logger ("[source] text", at
-/// `level`), unless it repeats a line of the same kind (RepeatFilter, one per process).
+/// `level`), unless it repeats a line of the same kind (RepeatFilter, one per process). Lines
+/// that come once the process has begun to exit are dropped: a transport's threads outlive the
+/// library's statics (Fast DDS's participant factory logs from its log thread while the exit
+/// handlers run, after the logger's sinks were destroyed).
 void log_transport_line(spdlog::level::level_enum level, std::string_view source, std::string_view text);
+
+/// Call before a transport library may call log_transport_line from its own threads (where it
+/// installs its log routing): the logger is made, and the exit handler that closes
+/// log_transport_line is registered after it, so it runs before the logger is destroyed.
+void open_transport_log();
 
 }  // namespace horus::detail
