@@ -17,6 +17,7 @@
 #include "horus/error.hpp"
 #include "horus/network.hpp"
 #include "horus/transport/endpoint_gate.hpp"
+#include "horus/transport/linger.hpp"
 #include "horus/transport/remote_types.hpp"
 #include "horus/transport/shared_cache.hpp"
 
@@ -93,11 +94,9 @@ class CycloneTransport final : public net::Transport, public std::enable_shared_
 
   const net::Config& config() const noexcept { return config_; }
   dds_entity_t participant() const noexcept { return participant_; }
-  /// Before a reliable writer is deleted: waits (at most kLinger) until its readers acknowledged
-  /// what it wrote. Once a wait ran out (a reader that does not answer: a link down), the
-  /// transport's next writers do not wait for kNoLinger, so a process with many topics ends on
-  /// time. (Cyclone's own linger, WriterLingerDuration, is off: it waits 1 s per writer, one
-  /// writer after the other.)
+  /// Before a reliable writer is deleted: waits until its readers acknowledged what it wrote
+  /// (net::process_linger(), horus/transport/linger.hpp: its bound and when it does not wait).
+  /// Cyclone's own linger, WriterLingerDuration, is off: 1 s per writer, one after the other.
   void linger(dds_entity_t writer) noexcept;
   net::RemoteTypes& remote_types() noexcept { return remote_types_; }
 
@@ -108,7 +107,6 @@ class CycloneTransport final : public net::Transport, public std::enable_shared_
 
   net::CacheTicket ticket_;  // first: removes the cache entry after everything else is gone
   const net::Config config_;
-  std::atomic<std::int64_t> no_linger_until_ns_{0};  // steady clock
   dds_entity_t domain_ = 0;
   dds_entity_t participant_ = 0;
   dds_guid_t guid_{};

@@ -148,12 +148,9 @@ CycloneTransport::~CycloneTransport() {
 }
 
 void CycloneTransport::linger(dds_entity_t writer) noexcept {
-  constexpr auto kLinger = std::chrono::milliseconds(300);
-  constexpr auto kNoLinger = std::chrono::seconds(5);
-  const auto now = std::chrono::steady_clock::now().time_since_epoch();
-  if (now.count() < no_linger_until_ns_.load(std::memory_order_relaxed)) return;
-  if (dds_wait_for_acks(writer, std::chrono::nanoseconds(kLinger).count()) == DDS_RETCODE_TIMEOUT)
-    no_linger_until_ns_.store(std::chrono::nanoseconds(now + kNoLinger).count(), std::memory_order_relaxed);
+  net::process_linger().before_delete([writer](std::chrono::milliseconds wait) {
+    return dds_wait_for_acks(writer, std::chrono::nanoseconds(wait).count()) != DDS_RETCODE_TIMEOUT;
+  });
 }
 
 void CycloneTransport::on_publication(dds_entity_t reader, void* arg) {

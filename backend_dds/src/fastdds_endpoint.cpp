@@ -183,6 +183,7 @@ FastddsEndpoint::~FastddsEndpoint() {
   if (filtered_ != nullptr) transport_->delete_filtered(filtered_);
   if (writer_ != nullptr) {
     writer_->set_listener(nullptr);
+    if (core_->spec().qos.reliability == net::Reliability::Reliable) transport_->linger(writer_);
     transport_->publisher()->delete_datawriter(writer_);
   }
   transport_->release_topic(core_->spec().wire_topic);

@@ -45,6 +45,7 @@
 #include "horus/error.hpp"
 #include "horus/network.hpp"
 #include "horus/transport/endpoint_gate.hpp"
+#include "horus/transport/linger.hpp"
 #include "horus/transport/remote_types.hpp"
 #include "horus/transport/shared_cache.hpp"
 
@@ -249,6 +250,9 @@ class FastddsTransport final : public net::Transport, public std::enable_shared_
   void release_topic(const std::string& wire_topic);
   Result<fd::ContentFilteredTopic*> create_filtered(const net::EndpointSpec& spec, fd::Topic* topic);
   void delete_filtered(fd::ContentFilteredTopic* filtered);
+  /// Before a reliable writer is deleted: waits until its readers acknowledged what it wrote
+  /// (net::process_linger(), horus/transport/linger.hpp: its bound and when it does not wait).
+  void linger(fd::DataWriter* writer) noexcept;
 
   // For the participant listener.
   void on_remote_endpoint(const rtps::GUID_t& guid, const std::string& topic, const std::string& type, bool writer,

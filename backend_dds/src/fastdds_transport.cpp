@@ -302,6 +302,18 @@ Result<fd::ContentFilteredTopic*> FastddsTransport::create_filtered(const net::E
   return filtered;
 }
 
+void FastddsTransport::linger(fd::DataWriter* writer) noexcept {
+  // The fleet layer's own topics (heartbeats, announcements, queries) are current state, sent
+  // again: a closing watcher (`horus fleet --once` on a lossy link) does not wait for them.
+  if (control_) return;
+  net::process_linger().before_delete([writer](std::chrono::milliseconds wait) {
+    const auto ns = std::chrono::nanoseconds(wait).count();
+    return writer->wait_for_acknowledgments(eprosima::fastrtps::Duration_t(static_cast<std::int32_t>(ns / 1000000000),
+                                                                           static_cast<std::uint32_t>(ns % 1000000000))) ==
+           ReturnCode_t::RETCODE_OK;
+  });
+}
+
 void FastddsTransport::delete_filtered(fd::ContentFilteredTopic* filtered) {
   std::lock_guard lk(entities_mu_);
   participant_->delete_contentfilteredtopic(filtered);
