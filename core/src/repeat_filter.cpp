@@ -1,8 +1,11 @@
 #include "horus/detail/repeat_filter.hpp"
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdint>
 #include <cstdlib>
-#include <mutex>
+#include <thread>
 #include <utility>
 
 #include "horus/log.hpp"
@@ -46,11 +49,15 @@ std::optional<std::uint64_t> RepeatFilter::admit(std::string_view kind, Clock::t
 
 namespace {
 // What log_transport_line uses, never destroyed: a transport's thread may call it while the
-// process's statics are destroyed. Closed (under its mutex) by an exit handler registered after
-// the logger was made, so it runs before the logger goes.
+// process's statics are destroyed. Closed by an exit handler registered after the logger was
+// made (so it runs before the logger goes), which then waits for the lines in progress. No lock
+// is held across a write: a process that forks while a transport thread writes (spdlog's fork
+// handler holds its console lock meanwhile) leaves the child a count, not a held mutex, and the
+// child's exit waits for it kExitWait at most.
+constexpr auto kExitWait = std::chrono::milliseconds(200);
 struct TransportLog {
-  std::mutex mutex;
-  bool closed = false;
+  std::atomic<bool> closed{false};
+  std::atomic<std::uint32_t> writing{0};  // lines between their check of `closed` and their end
   RepeatFilter filter;
 };
 TransportLog& transport_log() {
@@ -58,8 +65,11 @@ TransportLog& transport_log() {
     (void)log();  // the logger first: the handler below runs before its destruction
     auto* made = new TransportLog;
     std::atexit([] {
-      std::lock_guard lock(transport_log().mutex);
-      transport_log().closed = true;
+      TransportLog& tl = transport_log();
+      tl.closed.store(true, std::memory_order_seq_cst);
+      const auto until = std::chrono::steady_clock::now() + kExitWait;
+      while (tl.writing.load(std::memory_order_seq_cst) != 0 && std::chrono::steady_clock::now() < until)
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
     });
     return made;
   }();
@@ -73,8 +83,14 @@ void log_transport_line(spdlog::level::level_enum level, std::string_view source
   while (!text.empty() && (text.back() == '\n' || text.back() == '\r' || text.back() == ' ')) text.remove_suffix(1);
   if (text.empty()) return;
   TransportLog& t = transport_log();
-  std::lock_guard lock(t.mutex);  // the exit handler waits for a line in progress
-  if (t.closed || !log().should_log(level)) return;
+  // Counted before closed is read (both sequentially consistent, as in the handler): either the
+  // handler sees this line and waits for it, or this line sees closed and leaves.
+  t.writing.fetch_add(1, std::memory_order_seq_cst);
+  struct Done {
+    TransportLog& t;
+    ~Done() { t.writing.fetch_sub(1, std::memory_order_seq_cst); }
+  } done{t};
+  if (t.closed.load(std::memory_order_seq_cst) || !log().should_log(level)) return;
   const auto held = t.filter.admit(RepeatFilter::kind_of(text));
   if (!held) return;
   if (*held == 0)

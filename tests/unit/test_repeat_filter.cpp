@@ -84,4 +84,45 @@ TEST(TransportLog, AThreadThatLogsWhileTheProcessExitsDoesNotCrashIt) {
   }
 }
 
+// A process forks while a transport thread logs (spdlog holds its console lock across fork()):
+// the child ends when it exits, within the exit handler's bound, instead of waiting forever for
+// a lock its parent's thread held. Run in a child of its own, whose thread logs without pause.
+TEST(TransportLog, AChildForkedWhileATransportThreadLogsEndsWhenItExits) {
+  const pid_t parent = ::fork();
+  ASSERT_GE(parent, 0);
+  if (parent == 0) {
+    const int null = ::open("/dev/null", O_WRONLY);
+    if (null >= 0) ::dup2(null, 2);
+    horus::detail::open_transport_log();
+    std::thread([] {
+      for (unsigned n = 0;; ++n) {
+        std::string kind = "transport line ";
+        for (unsigned v = n; v != 0; v /= 26) kind.push_back(static_cast<char>('a' + v % 26));
+        horus::detail::log_transport_line(spdlog::level::warn, "Test", kind);
+      }
+    }).detach();
+    for (int i = 0; i < 10; ++i) {
+      const pid_t child = ::fork();
+      if (child < 0) ::_exit(2);
+      if (child == 0) std::exit(5);  // the exit handlers run in a copy of a process whose thread was writing
+      int status = 0;
+      pid_t done = 0;
+      const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+      while ((done = ::waitpid(child, &status, WNOHANG)) == 0 && std::chrono::steady_clock::now() < until)
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+      if (done == 0) {
+        ::kill(child, SIGKILL);
+        ::waitpid(child, &status, 0);
+        ::_exit(3);  // hung in exit()
+      }
+      if (!WIFEXITED(status) || WEXITSTATUS(status) != 5) ::_exit(4);
+    }
+    ::_exit(0);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(parent, &status, 0), parent);
+  ASSERT_TRUE(WIFEXITED(status)) << "the forking process ended by signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "3: a child hung in exit(); 4: a child did not exit with its status; 2: fork failed";
+}
+
 }  // namespace
