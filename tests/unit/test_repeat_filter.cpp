@@ -9,6 +9,7 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -46,6 +47,33 @@ TEST(RepeatFilter, ItKeepsABoundedNumberOfKinds) {
   EXPECT_FALSE(f.admit("kind e", t0 + 7ms).has_value());
 }
 
+// A transport's thread that logs lines of a new kind each, without pause (detached).
+void start_logging_thread() {
+  std::thread([] {
+    for (unsigned n = 0;; ++n) {
+      std::string kind = "transport line ";
+      for (unsigned v = n; v != 0; v /= 26) kind.push_back(static_cast<char>('a' + v % 26));
+      horus::detail::log_transport_line(spdlog::level::warn, "Test", kind);
+    }
+  }).detach();
+}
+
+// Waits for `child` until `limit` (waitpid has no deadline: polled); a child still running then
+// is killed. Its wait status, or nothing when it had to be killed.
+std::optional<int> wait_child(pid_t child, std::chrono::seconds limit) {
+  int status = 0;
+  const auto until = std::chrono::steady_clock::now() + limit;
+  while (::waitpid(child, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() >= until) {
+      ::kill(child, SIGKILL);
+      ::waitpid(child, &status, 0);
+      return std::nullopt;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  return status;
+}
+
 // A transport's own thread logs while the process exits (Fast DDS's participant factory does,
 // from its log thread, during the exit handlers): the line is dropped, the process ends with its
 // status. Before, the logger's sinks were destroyed under it (SIGSEGV in 1 of ~30 `horus fleet
@@ -59,26 +87,13 @@ TEST(TransportLog, AThreadThatLogsWhileTheProcessExitsDoesNotCrashIt) {
       const int null = ::open("/dev/null", O_WRONLY);
       if (null >= 0) ::dup2(null, 2);  // the lines themselves are not the point
       horus::detail::open_transport_log();
-      std::thread([] {
-        for (unsigned n = 0;; ++n) {
-          std::string kind = "transport line ";
-          for (unsigned v = n; v != 0; v /= 26) kind.push_back(static_cast<char>('a' + v % 26));  // a new kind each
-          horus::detail::log_transport_line(spdlog::level::warn, "Test", kind);
-        }
-      }).detach();
-      std::this_thread::sleep_for(std::chrono::milliseconds(5 + i));
+      start_logging_thread();
+      std::this_thread::sleep_for(std::chrono::milliseconds(5 + i));  // exit at various points of its lines
       std::exit(7);  // the exit handlers and the statics' destructors run while the thread logs
     }
-    int status = 0;
-    pid_t done = 0;
-    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-    while ((done = ::waitpid(child, &status, WNOHANG)) == 0 && std::chrono::steady_clock::now() < until)
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    if (done == 0) {
-      ::kill(child, SIGKILL);
-      ::waitpid(child, &status, 0);
-      FAIL() << "child " << i << " did not end within 10 s of exit()";
-    }
+    const auto ended = wait_child(child, std::chrono::seconds(10));
+    ASSERT_TRUE(ended.has_value()) << "child " << i << " did not end within 10 s of exit()";
+    const int status = *ended;
     ASSERT_TRUE(WIFEXITED(status)) << "child " << i << " ended by signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
     EXPECT_EQ(WEXITSTATUS(status), 7) << "child " << i;
   }
@@ -94,28 +109,14 @@ TEST(TransportLog, AChildForkedWhileATransportThreadLogsEndsWhenItExits) {
     const int null = ::open("/dev/null", O_WRONLY);
     if (null >= 0) ::dup2(null, 2);
     horus::detail::open_transport_log();
-    std::thread([] {
-      for (unsigned n = 0;; ++n) {
-        std::string kind = "transport line ";
-        for (unsigned v = n; v != 0; v /= 26) kind.push_back(static_cast<char>('a' + v % 26));
-        horus::detail::log_transport_line(spdlog::level::warn, "Test", kind);
-      }
-    }).detach();
+    start_logging_thread();
     for (int i = 0; i < 10; ++i) {
       const pid_t child = ::fork();
       if (child < 0) ::_exit(2);
       if (child == 0) std::exit(5);  // the exit handlers run in a copy of a process whose thread was writing
-      int status = 0;
-      pid_t done = 0;
-      const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
-      while ((done = ::waitpid(child, &status, WNOHANG)) == 0 && std::chrono::steady_clock::now() < until)
-        std::this_thread::sleep_for(std::chrono::milliseconds(2));
-      if (done == 0) {
-        ::kill(child, SIGKILL);
-        ::waitpid(child, &status, 0);
-        ::_exit(3);  // hung in exit()
-      }
-      if (!WIFEXITED(status) || WEXITSTATUS(status) != 5) ::_exit(4);
+      const auto ended = wait_child(child, std::chrono::seconds(5));
+      if (!ended) ::_exit(3);  // hung in exit()
+      if (!WIFEXITED(*ended) || WEXITSTATUS(*ended) != 5) ::_exit(4);
     }
     ::_exit(0);
   }
