@@ -2,11 +2,15 @@
 // HORUS_BACKEND (or the scope argument), the settings from HORUS_DOMAIN_ID / HORUS_LCM_URL.
 //
 //   horus_fleet_member <topic> <scope> <id> <count> <start_unix_ms> <publishers> <seconds> [best-effort]
-//                      [await-reader] [deadline=<ms>] [period=<ms>]
+//                      [await-reader] [await-file=<path>] [ready=<path>] [deadline=<ms>] [period=<ms>]
 //
 // (reliable unless best-effort is given; await-reader: a publisher starts at <start_unix_ms> or
 // once a remote reader matched, whichever comes later: DDS delivers nothing written before the
 // match, and under load on a lossy link discovery may take longer than a test's head start;
+// await-file=<path>: a publisher also waits until <path> exists; ready=<path>: a receiver creates
+// <path> once its host's bridge matched a remote writer (pub_count() >= 1). The pair is a
+// handshake for best-effort topics: a DDS reader drops what comes from a writer it has not
+// matched yet, and on a lossy link it may match seconds after the writer matched it;
 // deadline=<ms>: the subscribing handle watches that deadline and a receiver's last lines are
 // "deadline missed <n> while receiving" and, 5 periods later, "deadline missed <n> after";
 // period=<ms>: the publisher's messages go that far apart, 2 ms unless given)
@@ -70,10 +74,13 @@ struct Tally {
 int main(int argc, char** argv) {
   bool best_effort = false, await_reader = false, usage = argc < 8;
   long deadline_ms = 0, period_ms = 2;
+  std::string await_file, ready_file;
   for (int i = 8; i < argc; ++i) {
     const std::string flag = argv[i];
     if (flag == "best-effort") best_effort = true;
     else if (flag == "await-reader") await_reader = true;
+    else if (flag.starts_with("await-file=")) await_file = flag.substr(11);
+    else if (flag.starts_with("ready=")) ready_file = flag.substr(6);
     else if (flag.starts_with("deadline=")) deadline_ms = std::atol(flag.c_str() + 9);
     else if (flag.starts_with("period=")) period_ms = std::atol(flag.c_str() + 7);
     else usage = true;
@@ -82,7 +89,7 @@ int main(int argc, char** argv) {
   if (usage) {
     std::fprintf(stderr,
                  "usage: %s <topic> <fleet|host|process> <id> <count> <start_unix_ms> <publishers> <seconds> "
-                 "[best-effort] [await-reader] [deadline=<ms>] [period=<ms>]\n",
+                 "[best-effort] [await-reader] [await-file=<path>] [ready=<path>] [deadline=<ms>] [period=<ms>]\n",
                  argv[0]);
     return 2;
   }
@@ -118,12 +125,25 @@ int main(int argc, char** argv) {
   auto drain = [&] {
     while (auto m = sub->recv()) add(*m);
   };
-  // sub_count(): this handle plus the remote readers the host's bridge matched.
-  while ((unix_ms() < start || (await_reader && id != 0 && sub->sub_count() < 2)) && Clock::now() < deadline) {
+  // A receiver says it matched a remote writer (once) by creating ready_file.
+  auto announce_ready = [&] {
+    if (ready_file.empty() || sub->pub_count() < 1) return;
+    if (std::FILE* f = std::fopen(ready_file.c_str(), "w")) std::fclose(f);
+    std::printf("matched a writer %lld ms after the start\n", static_cast<long long>(unix_ms() - start));
+    std::fflush(stdout);
+    ready_file.clear();
+  };
+  auto awaited = [&] {
+    if (id == 0) return true;
+    if (await_reader && sub->sub_count() < 2) return false;  // this handle plus a remote reader
+    return await_file.empty() || ::access(await_file.c_str(), F_OK) == 0;
+  };
+  while ((unix_ms() < start || !awaited()) && Clock::now() < deadline) {
     drain();
+    announce_ready();
     std::this_thread::sleep_for(1ms);
   }
-  if (await_reader && id != 0) {
+  if ((await_reader || !await_file.empty()) && id != 0) {
     std::printf("publishing %lld ms after the start\n", static_cast<long long>(unix_ms() - start));
     std::fflush(stdout);
   }
@@ -174,6 +194,7 @@ int main(int argc, char** argv) {
       add(*m);
       last_message = Clock::now();
     }
+    announce_ready();
   }
   drain();
   std::uint64_t missing = 0;

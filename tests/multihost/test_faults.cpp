@@ -18,6 +18,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -267,10 +268,11 @@ TEST_P(Faults, HostsOnANetworkWithoutMulticastMeetThroughPeers) {
 // (DDS: the reader's sample-lost status; LCM: gaps in the senders' sequence numbers, which also
 // count the sender's other channels, hence the 10% of slack above). Cyclone DDS 0.10 raises no
 // sample-lost status for best-effort readers: its losses are not counted (README says so).
-// The best-effort run lasts 4 s (4 ms apart): on the 20% link a DDS reader may match its writer
-// seconds after the writer matched it (Fast DDS repairs a lost discovery message at its next
-// heartbeat, 3 s), and what comes before is neither received nor seen lost; the link's loss is
-// judged over the rest, at least a quarter of the run (250 messages: about 50 lost at 20%).
+// The best-effort run lasts 4 s (4 ms apart) and starts once both sides of the DDS topic matched
+// (on the 20% link a reader may match its writer seconds after the writer matched it: Fast DDS
+// repairs a lost discovery message at its next heartbeat; once, the reader's first message was
+// the 881st); the link's loss is judged between the first and the last message received, at
+// least a quarter of the run (250 messages: about 50 lost at 20%).
 TEST_P(Faults, ALossyLinkDeliversReliableTopicsWholeAndCountsWhatBestEffortLoses) {
   if (!horus::backend_available(GetParam()))
     GTEST_SKIP() << "this build has no " << horus::to_string(GetParam()) << " backend";
@@ -281,12 +283,13 @@ TEST_P(Faults, ALossyLinkDeliversReliableTopicsWholeAndCountsWhatBestEffortLoses
     int percent;
     std::unique_ptr<horus_test::NetnsLan> lan;
     std::unique_ptr<horus_test::HostProcess> rel_pub, rel_sub, be_pub, be_sub;
+    std::string ready;  // the best-effort reader's "matched" file (DDS)
   };
   std::vector<Lossy> lans;
   const long long start = unix_ms() + 3000;
   constexpr int kCount = 1000;  // reliable: 2 ms apart (2 s); best effort: 4 ms apart (4 s)
   for (int percent : {5, 20}) {
-    Lossy l{percent, std::make_unique<horus_test::NetnsLan>(2, percent == 5 ? "l" : "m"), {}, {}, {}, {}};
+    Lossy l{percent, std::make_unique<horus_test::NetnsLan>(2, percent == 5 ? "l" : "m"), {}, {}, {}, {}, {}};
     if (!l.lan->ok()) GTEST_SKIP() << "no namespace hosts: " << l.lan->why();
     for (int host : {0, 1}) {
       for (const std::string& rule : std::vector<std::string>{
@@ -313,11 +316,20 @@ TEST_P(Faults, ALossyLinkDeliversReliableTopicsWholeAndCountsWhatBestEffortLoses
       l.rel_pub = held(l.lan->spawn(0, {FLEET_MEMBER, "fleet.rel_" + id, "fleet", "1", n, at, "-1", "20", await}, env));
       l.rel_sub = held(l.lan->spawn(1, {FLEET_MEMBER, "fleet.rel_" + id, "fleet", "0", n, at, "1", "20"}, env));
     }
-    std::vector<std::string> be_pub = {FLEET_MEMBER, "fleet.be_" + id, "fleet", "1", n, at, "-1", "12", "best-effort",
+    // A best-effort DDS reader drops what a writer it has not matched yet sends, and on the 20%
+    // link it may match seconds after its writer matched it (a lost discovery message waits for
+    // the next heartbeat): its publisher starts once the reader said it matched (a file).
+    std::vector<std::string> be_pub = {FLEET_MEMBER, "fleet.be_" + id, "fleet", "1", n, at, "-1", "14", "best-effort",
                                        "period=4"};
-    if (!lcm) be_pub.push_back(await);
+    std::vector<std::string> be_sub = {FLEET_MEMBER, "fleet.be_" + id, "fleet", "0", n, at, "1", "13", "best-effort"};
+    if (!lcm) {
+      l.ready = "/tmp/horus_lossy_ready_" + id;
+      std::filesystem::remove(l.ready);
+      be_pub.insert(be_pub.end(), {await, "await-file=" + l.ready});
+      be_sub.push_back("ready=" + l.ready);
+    }
     l.be_pub = held(l.lan->spawn(0, be_pub, env));
-    l.be_sub = held(l.lan->spawn(1, {FLEET_MEMBER, "fleet.be_" + id, "fleet", "0", n, at, "1", "11", "best-effort"}, env));
+    l.be_sub = held(l.lan->spawn(1, be_sub, env));
     lans.push_back(std::move(l));
   }
   for (Lossy& l : lans) {
@@ -334,6 +346,7 @@ TEST_P(Faults, ALossyLinkDeliversReliableTopicsWholeAndCountsWhatBestEffortLoses
     const auto at = out.find("received ");
     ASSERT_NE(at, std::string::npos) << what << "\n" << out;
     std::printf("%s, best effort: %s", what.c_str(), out.substr(at).c_str());
+    if (!l.ready.empty()) std::filesystem::remove(l.ready);
     const long long received = std::atoll(out.c_str() + at + 9);
     const auto d = out.find("dropped ", at);
     ASSERT_NE(d, std::string::npos) << out;
