@@ -1,6 +1,8 @@
 // Topics of a standard message whose type is known only at run time (horus topic echo / hz /
-// bw / pub): one Topic<T> per standard type behind a small interface, instantiated once per
-// type in typed_reader_*.cpp (two files, so the build compiles the halves in parallel).
+// bw / pub, record, play): the library's AnyTopic of each standard type (horus/standard_types.hpp,
+// compiled once there) behind the CLI's small interfaces (typed_reader.cpp); and horus bench's
+// peers, which take each type's Topic<T> itself (the round trip they measure is the typed one),
+// instantiated once per type in typed_reader_{first,second}.cpp (two files built in parallel).
 #pragma once
 
 #include <chrono>
@@ -70,25 +72,17 @@ std::unique_ptr<PlaySink> open_play_sink(std::string_view type_name, const std::
                                          std::uint64_t& type_hash, std::string& error);
 
 namespace detail {
-/// What one half of the standard types offers for a type name, or for an LCM fingerprint when
-/// `lcm_fingerprint` is not 0 (known: it is in that half).
+/// What one half of the standard types offers horus bench for a qualified type name (known: it
+/// is in that half).
 struct Opened {
   bool known = false;
-  std::string qualified;
-  std::uint64_t hash = 0;
-  std::uint64_t lcm_fingerprint = 0;
-  std::unique_ptr<TypedReader> reader;
-  std::unique_ptr<TypedWriter> writer;
-  // horus bench (bench_peer.hpp): what to open, and the peer
   const BenchPayload* bench_payload = nullptr;
   const BenchEndpoints* bench_endpoints = nullptr;
   std::unique_ptr<BenchPeer> bench;
 };
-enum class Want { Name, Reader, Writer, BenchCheck, Bench };
-void open_first_half(std::string_view type_name, const std::string& name, const std::optional<Backend>& backend,
-                     Want want, Opened& out, std::string& error);
-void open_second_half(std::string_view type_name, const std::string& name, const std::optional<Backend>& backend,
-                      Want want, Opened& out, std::string& error);
+enum class Want { BenchCheck, Bench };
+void open_first_half(std::string_view qualified, Want want, Opened& out, std::string& error);
+void open_second_half(std::string_view qualified, Want want, Opened& out, std::string& error);
 }  // namespace detail
 
 }  // namespace horus::tools

@@ -2,12 +2,11 @@
 
 namespace horus::tools::detail {
 
-void open_second_half(std::string_view type_name, const std::string& name, const std::optional<Backend>& backend,
-                      Want want, Opened& out, std::string& error) {
+void open_second_half(std::string_view qualified, Want want, Opened& out, std::string& error) {
   using Second = msg::detail::Concat<msg::NavigationMessages, msg::DiagnosticsMessages, msg::ForceMessages,
                                      msg::InputMessages, msg::TrackingMessages, msg::TimeMessages,
                                      msg::AudioMessages, msg::GenericMessages>::type;
-  open_as(Second{}, type_name, name, backend, want, out, error);
+  open_as(Second{}, qualified, want, out, error);
 }
 
 }  // namespace horus::tools::detail

@@ -1,12 +1,11 @@
 // Recording and playing the standard messages by name, for programs that know a topic's type
 // only at run time (`horus record` / `horus play`, the Python package): a RecordSource and a
-// PlaySink of every standard type, compiled once here (src/standard_*.cpp, two halves built in
-// parallel) instead of in each program.
+// PlaySink of every standard type over the library's AnyTopic (horus/standard_types.hpp: the
+// types' topics and codecs are compiled once there).
 #pragma once
 
 #include <cstdint>
 #include <memory>
-#include <optional>
 #include <string_view>
 
 #include "horus/backend.hpp"
@@ -28,22 +27,5 @@ Result<std::unique_ptr<RecordSource>> open_standard_source(std::string_view type
 Result<std::unique_ptr<PlaySink>> open_standard_sink(std::string_view type_name, std::string_view name,
                                                      bool lcm_encoding, std::uint64_t& type_hash,
                                                      const TopicOptions& options = {});
-
-namespace record_detail {
-/// What one half of the standard types found for a name (standard_*.cpp).
-struct StandardOpen {
-  bool known = false;
-  std::uint64_t hash = 0;
-  bool want_sink = false;
-  bool lcm_encoding = false;
-  std::unique_ptr<RecordSource> source;
-  std::unique_ptr<PlaySink> sink;
-  std::optional<Error> error;
-};
-void open_standard_first(std::string_view type_name, std::string_view name, const TopicOptions& options,
-                         StandardOpen& out);
-void open_standard_second(std::string_view type_name, std::string_view name, const TopicOptions& options,
-                          StandardOpen& out);
-}  // namespace record_detail
 
 }  // namespace horus
