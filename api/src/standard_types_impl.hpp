@@ -26,7 +26,17 @@ class TopicOf final : public AnyTopic {
  public:
   explicit TopicOf(Topic<T> topic) : topic_(std::move(topic)) {}
   const StandardType& type() const noexcept override { return type_of<T>(); }
+  void send(const void* msg) override { topic_.send(*static_cast<const T*>(msg)); }
+  bool try_send(const void* msg) override { return topic_.try_send(*static_cast<const T*>(msg)).has_value(); }
+  Result<void> send_blocking(const void* msg, std::chrono::nanoseconds timeout) override {
+    return topic_.send_blocking(*static_cast<const T*>(msg), timeout);
+  }
+  bool recv_into(void* out) override { return moved(topic_.recv(), out); }
+  bool recv_for_into(void* out, std::chrono::nanoseconds timeout) override { return moved(topic_.recv_for(timeout), out); }
+  bool read_latest_into(void* out) override { return moved(topic_.read_latest(), out); }
   bool wait_for(std::chrono::nanoseconds timeout) override { return topic_.wait_for(timeout); }
+  bool has_message() override { return topic_.has_message(); }
+  std::uint64_t pending_count() override { return topic_.pending_count(); }
   Result<void> send_json(const nlohmann::json& json, std::chrono::nanoseconds timeout) override {
     std::optional<T> m;
     try {
@@ -61,6 +71,12 @@ class TopicOf final : public AnyTopic {
   std::uint32_t sub_count() const noexcept override { return topic_.sub_count(); }
   std::uint64_t dropped_count() const noexcept override { return topic_.dropped_count(); }
   TopicMetrics metrics() const noexcept override { return topic_.metrics(); }
+  std::uint64_t deadline_missed_count() const noexcept override { return topic_.deadline_missed_count(); }
+  std::uint64_t expired_count() const noexcept override { return topic_.expired_count(); }
+  std::uint64_t network_errors() const noexcept override { return topic_.network_errors(); }
+  bool is_bridge() const noexcept override { return topic_.is_bridge(); }
+  std::uint32_t capacity() const noexcept override { return topic_.capacity(); }
+  std::size_t max_message_size() const noexcept override { return topic_.max_message_size(); }
   void publish_only() noexcept override { topic_.publish_only(); }
   WaitSet::Id attach(WaitSet& ws) override { return ws.attach(topic_); }
 
@@ -74,6 +90,11 @@ class TopicOf final : public AnyTopic {
   }
 
  private:
+  static bool moved(std::optional<T>&& m, void* out) {
+    if (!m) return false;
+    *static_cast<T*>(out) = std::move(*m);
+    return true;
+  }
   Topic<T> topic_;
 };
 

@@ -1,6 +1,6 @@
-// What the module knows of each standard message at run time: its Python class, and a
-// Topic<T> behind a small interface (AnyTopic), instantiated once per type in the
-// messages_*.cpp files (three, so the build compiles them in parallel).
+// What the module knows of each standard message at run time: its Python class, and its topic
+// behind a small interface (AnyTopic; over the library's own AnyTopic of the type, compiled once
+// in the library), made per type in the messages_*.cpp files (three, built in parallel).
 #pragma once
 
 #include <pybind11/pybind11.h>

@@ -1,5 +1,6 @@
 // The per-type half of the module, included by messages_{first,second,third}.cpp: a message's
-// Python class from its reflection, and its Topic<T> behind AnyTopic.
+// Python class from its reflection, and its topic behind AnyTopic (the library's AnyTopic of the
+// type, horus/standard_types.hpp; large data's own Topic<T>, which lends pool slots).
 #pragma once
 
 #include <fmt/format.h>
@@ -17,6 +18,7 @@
 #include "fields.hpp"
 #include "horus/json.hpp"
 #include "horus/msg/all.hpp"
+#include "horus/standard_types.hpp"
 #include "horus/topic.hpp"
 #include "horus/wire/lcm.hpp"
 #include "large_data.hpp"
@@ -114,23 +116,87 @@ py::class_<T> bind_class(py::module_& msg) {
   return c;
 }
 
+// A topic of a standard type that is not large data: the library's AnyTopic of the type
+// (horus/standard_types.hpp: its Topic<T> compiled once there), this class converting only.
 template <class T>
 class TopicOf final : public AnyTopic {
  public:
-  explicit TopicOf(Topic<T> t) : topic_(std::move(t)) {}
-  void send(py::handle msg) override {
-    if constexpr (kLarge<T>) {
-      if (py::isinstance<PyLoan>(msg)) return send_loan(msg.cast<PyLoan&>());
+  explicit TopicOf(std::unique_ptr<horus::AnyTopic> t) : topic_(std::move(t)) {}
+  void send(py::handle msg) override { topic_->send(&message_from<T>(msg)); }
+  bool try_send(py::handle msg) override { return topic_->try_send(&message_from<T>(msg)); }
+  std::optional<Error> send_blocking(py::handle msg, std::chrono::nanoseconds timeout) override {
+    // A copy that no other Python thread can change while the GIL is released.
+    const T copy = message_from<T>(msg);
+    Result<void> ok;
+    {
+      py::gil_scoped_release free;
+      ok = topic_->send_blocking(&copy, timeout);
     }
+    if (ok) return std::nullopt;
+    if (ok.error().code() != Errc::Timeout) raise(ok.error());
+    return std::move(ok.error());
+  }
+  py::object recv() override {
+    T m{};
+    return topic_->recv_into(&m) ? py::cast(std::move(m)) : py::none();
+  }
+  py::object recv_for(std::chrono::nanoseconds timeout) override {
+    T m{};
+    bool got = false;
+    {
+      py::gil_scoped_release free;
+      got = topic_->recv_for_into(&m, timeout);
+    }
+    return got ? py::cast(std::move(m)) : py::none();
+  }
+  py::object read_latest() override {
+    T m{};
+    return topic_->read_latest_into(&m) ? py::cast(std::move(m)) : py::none();
+  }
+  bool wait_for(std::chrono::nanoseconds timeout) override {
+    py::gil_scoped_release free;
+    return topic_->wait_for(timeout);
+  }
+  bool has_message() override { return topic_->has_message(); }
+  std::uint64_t pending_count() override { return topic_->pending_count(); }
+  std::uint64_t dropped_count() const override { return topic_->dropped_count(); }
+  std::uint32_t pub_count() const override { return topic_->pub_count(); }
+  std::uint32_t sub_count() const override { return topic_->sub_count(); }
+  TopicMetrics metrics() const override { return topic_->metrics(); }
+  std::uint64_t deadline_missed_count() const override { return topic_->deadline_missed_count(); }
+  std::uint64_t expired_count() const override { return topic_->expired_count(); }
+  std::uint64_t network_errors() const override { return topic_->network_errors(); }
+  bool is_bridge() const override { return topic_->is_bridge(); }
+  std::uint32_t capacity() const override { return topic_->capacity(); }
+  std::size_t max_message_size() const override { return topic_->max_message_size(); }
+  Backend backend() const override { return topic_->backend(); }
+  std::string_view name() const override { return topic_->name(); }
+  void publish_only() override { topic_->publish_only(); }
+  WaitSet::Id attach(WaitSet& ws) override { return topic_->attach(ws); }
+  py::object loan(const py::args&, std::shared_ptr<AnyTopic>) override {
+    throw py::type_error(fmt::format("loan: {} is not large data (only Image, DepthImage, PointCloud and Tensor "
+                                     "topics lend pool slots)",
+                                     short_name(type_name<T>())));
+  }
+
+ private:
+  std::unique_ptr<horus::AnyTopic> topic_;
+};
+
+// A topic of large data (Image, DepthImage, PointCloud, Tensor): its own Topic<T>, which lends
+// pool slots (loan()).
+template <class T>
+class LargeTopicOf final : public AnyTopic {
+ public:
+  explicit LargeTopicOf(Topic<T> t) : topic_(std::move(t)) {}
+  void send(py::handle msg) override {
+    if (py::isinstance<PyLoan>(msg)) return send_loan(msg.cast<PyLoan&>());
     topic_.send(message_from<T>(msg));
   }
   bool try_send(py::handle msg) override { return topic_.try_send(message_from<T>(msg)).has_value(); }
   std::optional<Error> send_blocking(py::handle msg, std::chrono::nanoseconds timeout) override {
-    // A copy (but of large data: its bytes are not resizable from Python) that no other Python
-    // thread can change while the GIL is released.
-    std::optional<T> copy;
-    if constexpr (!kLarge<T>) copy.emplace(message_from<T>(msg));
-    const T& m = copy ? *copy : message_from<T>(msg);
+    // Not a copy: large data's bytes are not resizable from Python.
+    const T& m = message_from<T>(msg);
     Result<void> ok;
     {
       py::gil_scoped_release free;
@@ -171,21 +237,13 @@ class TopicOf final : public AnyTopic {
   void publish_only() override { topic_.publish_only(); }
   WaitSet::Id attach(WaitSet& ws) override { return ws.attach(topic_); }
   py::object loan(const py::args& args, std::shared_ptr<AnyTopic> self) override {
-    if constexpr (kLarge<T>) {
-      using D = typename T::Descriptor;
-      const bool given = args.size() == 1 && PyObject_TypeCheck(args[0].ptr(), class_of<D>()) != 0;
-      const D desc = given ? *static_cast<const D*>(cpp_object(args[0].ptr(), class_of<D>(), "loan"))
-                           : describe_from(static_cast<const T*>(nullptr), args);
-      auto l = topic_.loan(desc);
-      if (!l) raise(l.error());
-      return py::cast(PyLoan(std::make_unique<LoanOf<T>>(std::move(*l)), std::move(self)));
-    } else {
-      (void)args;
-      (void)self;
-      throw py::type_error(fmt::format("loan: {} is not large data (only Image, DepthImage, PointCloud and Tensor "
-                                       "topics lend pool slots)",
-                                       short_name(type_name<T>())));
-    }
+    using D = typename T::Descriptor;
+    const bool given = args.size() == 1 && PyObject_TypeCheck(args[0].ptr(), class_of<D>()) != 0;
+    const D desc = given ? *static_cast<const D*>(cpp_object(args[0].ptr(), class_of<D>(), "loan"))
+                         : describe_from(static_cast<const T*>(nullptr), args);
+    auto l = topic_.loan(desc);
+    if (!l) raise(l.error());
+    return py::cast(PyLoan(std::make_unique<LoanOf<T>>(std::move(*l)), std::move(self)));
   }
 
  private:
@@ -212,9 +270,17 @@ MessageType message_type(py::object cls) {
   t.large = kLarge<T>;
   if constexpr (lcm::expressible<T>) t.lcm_fingerprint = lcm::fingerprint<T>();
   t.open = [](const std::string& name, const TopicOptions& options) -> std::unique_ptr<AnyTopic> {
-    auto topic = Topic<T>::open(name, options);
-    if (!topic) raise(topic.error());
-    return std::make_unique<TopicOf<T>>(std::move(*topic));
+    if constexpr (kLarge<T>) {
+      auto topic = Topic<T>::open(name, options);
+      if (!topic) raise(topic.error());
+      return std::make_unique<LargeTopicOf<T>>(std::move(*topic));
+    } else {
+      static const StandardType* const type = find_standard_type(type_hash<T>);
+      if (type == nullptr) throw std::logic_error(std::string(type_name<T>()) + " is not in the library's standard types");
+      auto topic = type->open(name, options);
+      if (!topic) raise(topic.error());
+      return std::make_unique<TopicOf<T>>(std::move(*topic));
+    }
   };
   return t;
 }

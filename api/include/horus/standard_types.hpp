@@ -20,6 +20,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include <nlohmann/json_fwd.hpp>
@@ -63,15 +64,29 @@ class AnyTopic {
   virtual ~AnyTopic() = default;
   virtual const StandardType& type() const noexcept = 0;
 
+  // `msg` and `out` below point to a message of the topic's type (a T: what the caller made of
+  // it knows the type; nothing here checks it).
+
+  /// Topic::send, try_send (false: it was refused) and send_blocking of *msg.
+  virtual void send(const void* msg) = 0;
+  virtual bool try_send(const void* msg) = 0;
+  virtual Result<void> send_blocking(const void* msg, std::chrono::nanoseconds timeout) = 0;
+  /// Topic::recv, recv_for and read_latest: the message moved into *out (true), or nothing
+  /// (false, *out untouched).
+  virtual bool recv_into(void* out) = 0;
+  virtual bool recv_for_into(void* out, std::chrono::nanoseconds timeout) = 0;
+  virtual bool read_latest_into(void* out) = 0;
   /// Takes the next message and hands it to `fn` (a `const void*` to the message, valid during
-  /// the call); false, without calling it, when none was waiting (Topic::recv).
+  /// the call: not copied); false, without calling it, when none was waiting (Topic::recv).
   template <class F>
   bool take(F&& fn) {
     return take_with([](void* ctx, const void* msg) { (*static_cast<std::remove_reference_t<F>*>(ctx))(msg); },
                      static_cast<void*>(&fn));
   }
-  /// Topic::wait_for.
+  /// Topic::wait_for, has_message, pending_count.
   virtual bool wait_for(std::chrono::nanoseconds timeout) = 0;
+  virtual bool has_message() = 0;
+  virtual std::uint64_t pending_count() = 0;
   /// Publishes the message `json` describes (horus::from_json: strict), waiting up to `timeout`
   /// for room (Topic::send_blocking). Errc::InvalidArgument names the field that did not fit.
   virtual Result<void> send_json(const nlohmann::json& json, std::chrono::nanoseconds timeout) = 0;
@@ -89,6 +104,12 @@ class AnyTopic {
   virtual std::uint32_t sub_count() const noexcept = 0;
   virtual std::uint64_t dropped_count() const noexcept = 0;
   virtual TopicMetrics metrics() const noexcept = 0;
+  virtual std::uint64_t deadline_missed_count() const noexcept = 0;
+  virtual std::uint64_t expired_count() const noexcept = 0;
+  virtual std::uint64_t network_errors() const noexcept = 0;
+  virtual bool is_bridge() const noexcept = 0;
+  virtual std::uint32_t capacity() const noexcept = 0;
+  virtual std::size_t max_message_size() const noexcept = 0;
   /// Topic::publish_only: this handle will not read.
   virtual void publish_only() noexcept = 0;
   /// WaitSet::attach of the topic (throws as it does: Errc::LimitReached when the set is full).
