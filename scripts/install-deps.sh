@@ -24,6 +24,7 @@ packages=(
   chromium   # horus foxglove's status page in a real browser (puppeteer-core drives it headless)
   gnuplot-nox   # horus bench ping --plot: the latency histogram and CDF as PNG
   pybind11-dev python3-dev python3-numpy python3-pytest   # the Python package horus (python/) and its tests
+  dpkg-dev lintian   # scripts/package.sh: the Debian packages (dpkg-shlibdeps) and their check
 )
 
 missing=()

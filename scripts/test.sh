@@ -47,6 +47,7 @@ cmake --build --preset default -j "$jobs"
 # after this script; the tests below use the build tree's copy.
 if [ -d build/default/python/horus ]; then
   cmake --install build/default --component python >/dev/null
+  cmake --install build/default --component python_bundle >/dev/null
   py=python3
   [ -x /usr/bin/python3 ] && py=/usr/bin/python3
   (cd / && "$py" -c "import horus; print('python3: horus', horus.__version__, 'installed at', horus.__path__[0])")

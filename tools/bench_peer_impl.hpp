@@ -1,5 +1,6 @@
-// The per-type half of bench_peer.hpp, included by typed_reader_impl.hpp (so each standard
-// type's Topic<T> is instantiated once for all of the CLI, in typed_reader_{first,second}.cpp).
+// The per-type half of bench_peer.hpp, included by typed_reader_impl.hpp (typed_reader_{first,
+// second}.cpp): where each standard type carries the round trip's tag, and its peer over the
+// library's AnyTopic (large data: its own Topic<T>, which lends pool slots).
 #pragma once
 
 #include <fmt/format.h>
@@ -13,8 +14,8 @@
 #include "bench_peer.hpp"
 #include "horus/msg/all.hpp"
 #include "horus/msg/generic_value.hpp"
+#include "horus/standard_types.hpp"
 #include "horus/topic.hpp"
-#include "horus/wire/xcdr1.hpp"
 
 namespace horus::tools::detail {
 
@@ -180,45 +181,107 @@ auto describe_bytes(std::uint64_t bytes) {
   }
 }
 
+// What both kinds of peer report the same way.
+template <class M>
+std::string describe_peer(std::uint64_t bytes, std::uint64_t pooled_bytes) {
+  const std::string name(horus::type_name<M>());
+  if constexpr (is_pool_message<M>)
+    return fmt::format("{} ({} bytes of data through the pool)", name, pooled_bytes);
+  else if constexpr (is_serialized_message<M>)
+    return fmt::format("{} (serialized, {} bytes)", name, bytes);
+  else
+    return fmt::format("{} (fixed size, {} bytes)", name, sizeof(M));
+}
+
+// A peer of a type that is not large data: the library's AnyTopic of the type
+// (horus/standard_types.hpp: its Topic<T> compiled once there; a send or receive costs one
+// indirect call more than a Topic<T> of this file would).
 template <class M>
 class BenchPeerOf final : public BenchPeer {
  public:
-  BenchPeerOf(Topic<M> in, Topic<M> out, std::uint64_t size) : in_(std::move(in)), out_(std::move(out)) {
-    if constexpr (Topic<M>::kPooled) {
-      desc_ = *describe_bytes<M>(size);
+  BenchPeerOf(std::unique_ptr<AnyTopic> in, std::unique_ptr<AnyTopic> out, std::uint64_t size)
+      : in_(std::move(in)), out_(std::move(out)) {
+    if constexpr (kSizedSerialized<M>) {
+      sample_.data.assign(size, std::uint8_t{0xA5});
+      (void)sample_.set_format("bench");
     } else {
-      if constexpr (kSizedSerialized<M>) {
-        sample_.data.assign(size, std::uint8_t{0xA5});
-        (void)sample_.set_format("bench");
-      }
+      (void)size;
     }
   }
 
   bool send(std::uint64_t tag, std::int64_t& sent_at) override {
-    if constexpr (Topic<M>::kPooled) {
-      auto loan = out_.loan(desc_);
-      if (!loan) return false;
-      auto bytes = (*loan)->data_mut();
-      const std::uint64_t t = tag;
-      std::memcpy(bytes.data(), &t, std::min<std::size_t>(sizeof t, bytes.size()));
-      sent_at = bench_now_ns();
-      out_.send(std::move(*loan));
+    put_tag(sample_, tag);
+    sent_at = bench_now_ns();
+    if (checked_) {
+      out_->send(&sample_);
       return true;
-    } else {
-      put_tag(sample_, tag);
-      sent_at = bench_now_ns();
-      if (checked_) {
-        out_.send(sample_);
-        return true;
-      }
-      // The first message tells whether the topic takes this size (a serialized message larger
-      // than its slot is refused); the others have the same size, and reading the counters on
-      // every send would put their cache lines into the measured round trip.
-      const auto failures = out_.metrics().send_failures();
-      out_.send(sample_);
-      checked_ = out_.metrics().send_failures() == failures;
-      return checked_;
     }
+    // The first message tells whether the topic takes this size (a serialized message larger
+    // than its slot is refused); the others have the same size, and reading the counters on
+    // every send would put their cache lines into the measured round trip.
+    const auto failures = out_->metrics().send_failures();
+    out_->send(&sample_);
+    checked_ = out_->metrics().send_failures() == failures;
+    return checked_;
+  }
+
+  std::optional<std::uint64_t> recv_tag() override {
+    std::optional<std::uint64_t> tag;
+    in_->take([&](const void* m) { tag = take_tag(*static_cast<const M*>(m)); });
+    return tag;
+  }
+
+  bool echo_one(EchoStamp* stamp) override {
+    return in_->take([&](const void* m) {
+      if (stamp != nullptr) {
+        stamp->tag = take_tag(*static_cast<const M*>(m));
+        stamp->at = bench_now_ns();
+      }
+      out_->send(m);
+    });
+  }
+
+  bool wait(std::chrono::nanoseconds timeout) override { return in_->wait_for(timeout); }
+
+  std::uint64_t tag_modulus() const override {
+    if constexpr (kMsgpackTag<M>) return std::uint64_t{1} << 62;
+    else return tag_modulus_of(tag_pass<M>());
+  }
+  std::uint64_t message_bytes() const override { return out_->type().xcdr_size(&sample_); }
+  std::string describe() const override { return describe_peer<M>(message_bytes(), 0); }
+  std::string tag_carrier() const override {
+    if constexpr (kMsgpackTag<M>) return "the MessagePack payload";
+    else return "field " + tag_field_name<M>();
+  }
+  std::uint64_t dropped() const override { return in_->dropped_count(); }
+  std::uint32_t subscribers() const override { return out_->sub_count(); }
+  std::uint32_t capacity() const override { return out_->capacity(); }
+  std::string backend() const override { return std::string(to_string(out_->backend())); }
+
+ private:
+  std::unique_ptr<AnyTopic> in_;
+  std::unique_ptr<AnyTopic> out_;
+  M sample_{};
+  bool checked_ = false;
+};
+
+// A peer of large data (Image, DepthImage, PointCloud, Tensor): its own Topic<M>, which lends
+// pool slots; the tag rides in the data's first 8 bytes.
+template <class M>
+class PooledBenchPeerOf final : public BenchPeer {
+ public:
+  PooledBenchPeerOf(Topic<M> in, Topic<M> out, std::uint64_t size)
+      : in_(std::move(in)), out_(std::move(out)), desc_(*describe_bytes<M>(size)) {}
+
+  bool send(std::uint64_t tag, std::int64_t& sent_at) override {
+    auto loan = out_.loan(desc_);
+    if (!loan) return false;
+    auto bytes = (*loan)->data_mut();
+    const std::uint64_t t = tag;
+    std::memcpy(bytes.data(), &t, std::min<std::size_t>(sizeof t, bytes.size()));
+    sent_at = bench_now_ns();
+    out_.send(std::move(*loan));
+    return true;
   }
 
   std::optional<std::uint64_t> recv_tag() override {
@@ -239,33 +302,10 @@ class BenchPeerOf final : public BenchPeer {
   }
 
   bool wait(std::chrono::nanoseconds timeout) override { return in_.wait_for(timeout); }
-
-  std::uint64_t tag_modulus() const override {
-    if constexpr (Topic<M>::kPooled || kMsgpackTag<M>) return std::uint64_t{1} << 62;
-    else return tag_modulus_of(tag_pass<M>());
-  }
-
-  std::uint64_t message_bytes() const override {
-    if constexpr (Topic<M>::kPooled) return desc_.data_size;
-    else return cdr::encoded_size(sample_);
-  }
-
-  std::string describe() const override {
-    const std::string name(horus::type_name<M>());
-    if constexpr (Topic<M>::kPooled)
-      return fmt::format("{} ({} bytes of data through the pool)", name, desc_.data_size);
-    else if constexpr (Topic<M>::kSerialized)
-      return fmt::format("{} (serialized, {} bytes)", name, message_bytes());
-    else
-      return fmt::format("{} (fixed size, {} bytes)", name, sizeof(M));
-  }
-
-  std::string tag_carrier() const override {
-    if constexpr (Topic<M>::kPooled) return "the first 8 bytes of the data";
-    else if constexpr (kMsgpackTag<M>) return "the MessagePack payload";
-    else return "field " + tag_field_name<M>();
-  }
-
+  std::uint64_t tag_modulus() const override { return std::uint64_t{1} << 62; }
+  std::uint64_t message_bytes() const override { return desc_.data_size; }
+  std::string describe() const override { return describe_peer<M>(0, desc_.data_size); }
+  std::string tag_carrier() const override { return "the first 8 bytes of the data"; }
   std::uint64_t dropped() const override { return in_.dropped_count(); }
   std::uint32_t subscribers() const override { return out_.sub_count(); }
   std::uint32_t capacity() const override { return out_.capacity(); }
@@ -273,28 +313,29 @@ class BenchPeerOf final : public BenchPeer {
 
  private:
   static std::uint64_t tag_of(const M& m) {
-    if constexpr (Topic<M>::kPooled) {
-      std::uint64_t t = 0;
-      const auto bytes = m.data();
-      std::memcpy(&t, bytes.data(), std::min<std::size_t>(sizeof t, bytes.size()));
-      return t;
-    } else {
-      return take_tag(m);
-    }
+    std::uint64_t t = 0;
+    const auto bytes = m.data();
+    std::memcpy(&t, bytes.data(), std::min<std::size_t>(sizeof t, bytes.size()));
+    return t;
   }
 
   Topic<M> in_;
   Topic<M> out_;
-  M sample_{};
   typename Topic<M>::descriptor_type desc_{};
-  bool checked_ = false;
 };
+
+// The XCDR1 size of a default M, from the library's table of the type.
+template <class M>
+std::size_t xcdr_size_of() {
+  const M m{};
+  return find_standard_type(type_hash<M>)->xcdr_size(&m);
+}
 
 // Checks the size for M; the error, or empty.
 template <class M>
 std::string check_bench_size(std::uint64_t size) {
   const std::string name(horus::type_name<M>());
-  if constexpr (Topic<M>::kPooled) {
+  if constexpr (is_pool_message<M>) {
     if (size > kMaxBenchPayload)
       return fmt::format("--size {} is beyond the largest slot horus bench uses ({} bytes, LCM's largest message)",
                          size, kMaxBenchPayload);
@@ -311,14 +352,14 @@ std::string check_bench_size(std::uint64_t size) {
     if (size == 0) return {};
     return fmt::format("{} has no payload to size ({}, {} bytes); --size applies to CompressedImage (serialized) "
                        "and the large-data types Image, DepthImage, PointCloud, Tensor (pool)",
-                       name, Topic<M>::kSerialized ? "serialized" : "fixed size", cdr::encoded_size(M{}));
+                       name, is_serialized_message<M> ? "serialized" : "fixed size", xcdr_size_of<M>());
   }
 }
 
 // Opens the peer as M; `error` set on failure.
 template <class M>
 std::unique_ptr<BenchPeer> open_bench_as(const BenchPayload& p, const BenchEndpoints& e, std::string& error) {
-  if constexpr (!Topic<M>::kPooled && !kMsgpackTag<M>) {
+  if constexpr (!is_pool_message<M> && !kMsgpackTag<M>) {
     if (tag_pass<M>() < 0) {
       error = fmt::format("{} has no numeric field to carry the round trip's sequence number",
                           horus::type_name<M>());
@@ -328,24 +369,31 @@ std::unique_ptr<BenchPeer> open_bench_as(const BenchPayload& p, const BenchEndpo
   if (error = check_bench_size<M>(p.size); !error.empty()) return nullptr;
   TopicOptions options;
   options.backend = e.backend;
-  if constexpr (Topic<M>::kPooled) {
+  if constexpr (is_pool_message<M>) {
     options.slot_size = describe_bytes<M>(p.size)->data_size;
   } else if constexpr (kSizedSerialized<M>) {
     // The message and its fixed fields: a slot as large as the message, so the ring gets the
     // depth the message's size gives it (a 2 MiB default slot would leave 4 slots).
     if (p.size > 0) options.slot_size = p.size + kSerializedSlack;
   }
-  auto in = Topic<M>::open(e.in, options);
-  if (!in) {
-    error = fmt::format("topic {}: {}", e.in, in.error().message());
-    return nullptr;
+  auto fail = [&](const std::string& topic, const Error& err) {
+    error = fmt::format("topic {}: {}", topic, err.message());
+    return std::unique_ptr<BenchPeer>();
+  };
+  if constexpr (is_pool_message<M>) {
+    auto in = Topic<M>::open(e.in, options);
+    if (!in) return fail(e.in, in.error());
+    auto out = Topic<M>::open(e.out, options);
+    if (!out) return fail(e.out, out.error());
+    return std::make_unique<PooledBenchPeerOf<M>>(std::move(*in), std::move(*out), p.size);
+  } else {
+    const StandardType* type = find_standard_type(type_hash<M>);
+    auto in = type->open(e.in, options);
+    if (!in) return fail(e.in, in.error());
+    auto out = type->open(e.out, options);
+    if (!out) return fail(e.out, out.error());
+    return std::make_unique<BenchPeerOf<M>>(std::move(*in), std::move(*out), p.size);
   }
-  auto out = Topic<M>::open(e.out, options);
-  if (!out) {
-    error = fmt::format("topic {}: {}", e.out, out.error().message());
-    return nullptr;
-  }
-  return std::make_unique<BenchPeerOf<M>>(std::move(*in), std::move(*out), p.size);
 }
 
 }  // namespace horus::tools::detail

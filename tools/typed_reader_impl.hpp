@@ -5,7 +5,6 @@
 #include "horus/msg/all.hpp"
 #include "horus/standard_types.hpp"
 #include "horus/topic.hpp"
-#include "horus/wire/xcdr1.hpp"
 #include "bench_peer_impl.hpp"
 #include "typed_reader.hpp"
 

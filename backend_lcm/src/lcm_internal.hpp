@@ -8,6 +8,7 @@
 //   lcm_transport.cpp  the endpoint, the transport, the per-URL cache, registration
 #pragma once
 
+#include "horus/export.hpp"
 #include <array>
 #include <cerrno>
 #include <atomic>
@@ -46,8 +47,9 @@ struct UrlInfo {
   bool file_read = true;                  // file: mode r (the default)
 };
 
-/// Checks `url` and says what it is (Errc::Config naming the problem otherwise).
-Result<UrlInfo> parse_url(std::string_view url);
+/// Checks `url` and says what it is (Errc::Config naming the problem otherwise). Exported from
+/// libhorus.so for the fuzzer (fuzz_lcm), not part of the ABI (docs/ABI.md).
+HORUS_API Result<UrlInfo> parse_url(std::string_view url);
 /// What to check when LCM cannot start `url` (empty when there is nothing to add).
 std::string provider_hint(const std::string& url, const UrlInfo& info);
 /// A decimal number 0..max, digits only.

@@ -7,6 +7,7 @@
 #include <span>
 #include <vector>
 
+#include "horus/standard_types.hpp"
 #include "horus/topic.hpp"
 #include "horus/wire/dynamic.hpp"
 #include "horus/wire/lcm.hpp"
@@ -18,6 +19,52 @@ namespace horus_test::detail {
 
 inline std::string short_name(std::string_view q) { return std::string(q.substr(q.rfind("::") + 2)); }
 
+// A topic of T: the library's AnyTopic for a standard message (horus/standard_types.hpp: its
+// Topic<T> compiled once there, not again here), a Topic<T> of its own for the wire test types.
+template <class T, bool kStandard = horus::reflect::StandardMessage<T>>
+class HandleOf;
+
+template <class T>
+class HandleOf<T, true> {
+ public:
+  std::string open(const std::string& name, const horus::TopicOptions& o) {
+    auto t = horus::find_standard_type(horus::type_hash<T>)->open(name, o);
+    if (!t) return t.error().message();
+    topic_ = std::move(*t);
+    return {};
+  }
+  void send(const T& m) { topic_->send(&m); }
+  template <class F>
+  bool take(F&& f) {
+    return topic_->take([&](const void* m) { f(*static_cast<const T*>(m)); });
+  }
+
+ private:
+  std::unique_ptr<horus::AnyTopic> topic_;
+};
+
+template <class T>
+class HandleOf<T, false> {
+ public:
+  std::string open(const std::string& name, const horus::TopicOptions& o) {
+    auto t = horus::Topic<T>::open(name, o);
+    if (!t) return t.error().message();
+    topic_.emplace(std::move(*t));
+    return {};
+  }
+  void send(const T& m) { topic_->send(m); }
+  template <class F>
+  bool take(F&& f) {
+    auto m = topic_->recv();
+    if (!m) return false;
+    f(static_cast<const T&>(*m));
+    return true;
+  }
+
+ private:
+  std::optional<horus::Topic<T>> topic_;
+};
+
 template <class T>
 class TripOf final : public Trip {
  public:
@@ -25,26 +72,22 @@ class TripOf final : public Trip {
     const std::string base = prefix + "." + short_name(horus::type_name<T>());
     horus::TopicOptions o;
     o.backend = mine;
-    auto out = horus::Topic<T>::open(base, o);
-    auto back = horus::Topic<T>::open(base + ".echo", o);
-    if (!out || !back) return (!out ? out.error() : back.error()).message();
-    out_.emplace(std::move(*out));
-    back_.emplace(std::move(*back));
-    return {};
+    if (auto err = out_.open(base, o); !err.empty()) return err;
+    return back_.open(base + ".echo", o);
   }
-  void send() override { out_->send(sent_); }
+  void send() override { out_.send(sent_); }
   bool poll() override {
     bool done = false;
-    while (auto got = back_->recv()) {
-      if (auto same = SameMessage(*got, sent_); !same) failure_ = same.message();
+    while (back_.take([&](const T& got) {
+      if (auto same = SameMessage(got, sent_); !same) failure_ = same.message();
+    }))
       done = true;
-    }
     return done;
   }
   const std::string& failure() const override { return failure_; }
 
  private:
-  std::optional<horus::Topic<T>> out_, back_;
+  HandleOf<T> out_, back_;
   T sent_ = topic_sample<T>();
   std::string failure_;
 };
@@ -54,19 +97,16 @@ class EchoOf final : public Echo {
  public:
   std::string open(const std::string& prefix) override {
     const std::string base = prefix + "." + short_name(horus::type_name<T>());
-    auto in = horus::Topic<T>::open(base);
-    auto out = horus::Topic<T>::open(base + ".echo");
-    if (!in || !out) return (!in ? in.error() : out.error()).message();
-    in_.emplace(std::move(*in));
-    out_.emplace(std::move(*out));
-    return {};
+    if (auto err = in_.open(base, {}); !err.empty()) return err;
+    return out_.open(base + ".echo", {});
   }
   void pump() override {
-    while (auto m = in_->recv()) out_->send(*m);
+    while (in_.take([&](const T& m) { out_.send(m); })) {
+    }
   }
 
  private:
-  std::optional<horus::Topic<T>> in_, out_;
+  HandleOf<T> in_, out_;
 };
 
 // One encoding of a sample against the dynamic decoder: the same JSON as to_json, and every

@@ -21,6 +21,10 @@
 #include "horus/error.hpp"
 #include "horus/network.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 
 /// How far a topic's messages go.
@@ -149,3 +153,5 @@ Result<Backend> backend_from(std::string_view value);
 Result<std::string> wire_name(const Backend& b, std::string_view topic);
 
 }  // namespace horus
+
+HORUS_API_END

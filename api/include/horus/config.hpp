@@ -49,6 +49,10 @@
 #include "horus/names.hpp"  // check_topic_pattern, topic_pattern_matches
 #include "horus/network.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 
 /// Where a topic's setting came from (`horus config explain`).
@@ -233,3 +237,5 @@ struct FleetSettings {
 Result<FleetSettings> fleet_settings();
 
 }  // namespace horus
+
+HORUS_API_END

@@ -47,6 +47,10 @@
 #include "horus/topic.hpp"
 #include "horus/waitset.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 
 /// What Executor::on_deadline_missed reports (as DDS's requested-deadline-missed status).
@@ -200,3 +204,5 @@ class Executor {
 };
 
 }  // namespace horus
+
+HORUS_API_END

@@ -5,6 +5,10 @@
 
 #include "horus/shm/pool.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 
 namespace detail {
@@ -33,3 +37,5 @@ class Loan {
 };
 
 }  // namespace horus
+
+HORUS_API_END

@@ -14,6 +14,10 @@
 #include "horus/byte_buffer.hpp"
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 
 /// A message type Topic<T> can carry: any reflected message. Trivially copyable ones travel
@@ -80,3 +84,5 @@ inline constexpr std::size_t default_slot_bytes = [] {
 }();
 
 }  // namespace horus
+
+HORUS_API_END

@@ -3,6 +3,10 @@
 
 #include <cstdint>
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 
 class TopicMetrics {
@@ -39,3 +43,5 @@ class TopicMetrics {
 };
 
 }  // namespace horus
+
+HORUS_API_END

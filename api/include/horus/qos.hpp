@@ -15,6 +15,10 @@
 
 #include "horus/network.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg {
 class Image;
 struct CompressedImage;
@@ -60,3 +64,5 @@ template <> struct default_qos<msg::OccupancyGrid> : latched_qos {};
 template <> struct default_qos<msg::CostMap> : latched_qos {};
 
 }  // namespace horus::net
+
+HORUS_API_END

@@ -30,6 +30,10 @@
 #include "horus/metrics.hpp"
 #include "horus/waitset.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 
 class AnyTopic;
@@ -129,3 +133,5 @@ const StandardType* find_standard_type(std::uint64_t hash) noexcept;
 const StandardType* find_standard_type_by_lcm_fingerprint(std::uint64_t fingerprint) noexcept;
 
 }  // namespace horus
+
+HORUS_API_END

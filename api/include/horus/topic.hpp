@@ -47,6 +47,10 @@
 #include "horus/names.hpp"
 #include "horus/qos.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 
 class WaitSet;  // horus/waitset.hpp
@@ -448,3 +452,5 @@ class Topic {
 }  // namespace horus
 
 #include "horus/detail/topic_impl.hpp"  // the members defined out of the class
+
+HORUS_API_END

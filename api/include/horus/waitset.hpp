@@ -47,6 +47,10 @@
 #include "horus/error.hpp"
 #include "horus/shm/doorbell.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 
 template <class T>
@@ -127,3 +131,5 @@ class WaitSet {
 };
 
 }  // namespace horus
+
+HORUS_API_END

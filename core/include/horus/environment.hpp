@@ -8,6 +8,10 @@
 
 #include <string>
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 
 struct Environment {
@@ -35,3 +39,5 @@ struct Environment {
 };
 
 }  // namespace horus
+
+HORUS_API_END

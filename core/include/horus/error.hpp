@@ -11,6 +11,10 @@
 #include <string_view>
 #include <utility>
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 
 enum class Errc {
@@ -60,3 +64,5 @@ inline std::unexpected<Error> fail(Errc code, std::string message) {
 }
 
 }  // namespace horus
+
+HORUS_API_END

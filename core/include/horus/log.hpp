@@ -5,6 +5,10 @@
 
 #include <string>
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::detail {
 spdlog::logger& log();
 /// Empty when the library's logger shows lines at `level`; else why not and what to set:
@@ -12,3 +16,5 @@ spdlog::logger& log();
 /// to see them" (a verbose topic at its opening, `horus config explain`).
 std::string hidden_lines(spdlog::level::level_enum level);
 }
+
+HORUS_API_END

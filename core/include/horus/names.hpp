@@ -6,6 +6,10 @@
 
 #include "horus/error.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 
 /// Longest topic name accepted.
@@ -23,3 +27,5 @@ Result<void> check_topic_pattern(std::string_view pattern);
 bool topic_pattern_matches(std::string_view pattern, std::string_view topic) noexcept;
 
 }  // namespace horus
+
+HORUS_API_END

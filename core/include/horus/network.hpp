@@ -20,6 +20,10 @@
 
 #include "horus/error.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::net {
 
 /// Whether a lost sample is sent again (reliable) or not (best effort).
@@ -232,3 +236,5 @@ class Transport {
 };
 
 }  // namespace horus::net
+
+HORUS_API_END

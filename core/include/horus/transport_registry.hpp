@@ -15,6 +15,10 @@
 #include "horus/error.hpp"
 #include "horus/network.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::net {
 
 /// How a transport's samples are encoded; Topic<T>'s bridge encodes and decodes T with it.
@@ -57,3 +61,5 @@ const TransportInfo* find_transport(std::string_view name) noexcept;
 std::vector<std::string> transport_names();
 
 }  // namespace horus::net
+
+HORUS_API_END

@@ -3,6 +3,10 @@
 
 #include <string_view>
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 
 /// The project's version, "major.minor.patch" (CMake's project version).
@@ -14,3 +18,5 @@ std::string_view version_number() noexcept;
 std::string_view version() noexcept;
 
 }  // namespace horus
+
+HORUS_API_END

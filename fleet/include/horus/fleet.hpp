@@ -33,6 +33,10 @@
 
 #include "horus/error.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 
 class Executor;
@@ -150,3 +154,5 @@ void install();
 }  // namespace fleet
 
 }  // namespace horus
+
+HORUS_API_END

@@ -17,6 +17,10 @@
 
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::fleet {
 
 inline constexpr const char* kHeartbeatTopic = "horus.fleet.heartbeat";
@@ -128,3 +132,5 @@ struct Request {
 HORUS_REFLECT(Request, from_host, want_host)
 
 }  // namespace horus::fleet
+
+HORUS_API_END

@@ -32,6 +32,10 @@
 
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 
 class ByteBuffer {
@@ -213,3 +217,5 @@ struct ByteSink {
 };
 
 }  // namespace horus
+
+HORUS_API_END

@@ -12,6 +12,10 @@
 #include <cstring>
 #include <string_view>
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 
 /// The text stored in a fixed field: the bytes up to the first NUL.
@@ -47,3 +51,5 @@ constexpr std::array<char, N> make_fixed_str(std::string_view text) noexcept {
 }
 
 }  // namespace horus
+
+HORUS_API_END

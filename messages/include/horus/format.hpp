@@ -19,6 +19,10 @@
 #include "horus/fixed_string.hpp"
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::reflect::detail {
 
 template <class E>
@@ -143,3 +147,5 @@ struct LogSummaryFn {
 inline constexpr reflect::detail::LogSummaryFn log_summary{};
 
 }  // namespace horus
+
+HORUS_API_END

@@ -21,6 +21,10 @@
 #include "horus/fixed_string.hpp"
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 
 /// Thrown by from_json() with a message that names the offending field.
@@ -169,3 +173,5 @@ T from_json(const nlohmann::json& j) {
 }
 
 }  // namespace horus
+
+HORUS_API_END

@@ -48,6 +48,10 @@
 #define HORUS_PP_FEC_STEP(m, d, a, ...) m(d, a) __VA_OPT__(, HORUS_PP_FEC_AGAIN HORUS_PP_PARENS(m, d, __VA_ARGS__))
 #define HORUS_PP_FEC_AGAIN() HORUS_PP_FEC_STEP
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::reflect {
 
 /// Empty tag that carries a type to ADL-found reflection functions.
@@ -475,3 +479,5 @@ inline constexpr std::uint64_t type_hash = reflect::type_hash<T>;
     HORUS_PP_FOR_EACH(HORUS_MESSAGE_MEMBER_, ~, __VA_ARGS__)       \
   };                                                               \
   HORUS_REFLECT(Name, HORUS_PP_FOR_EACH_COMMA(HORUS_MESSAGE_NAME_, ~, __VA_ARGS__))
+
+HORUS_API_END

@@ -12,6 +12,10 @@
 #include "horus/detail/slots.hpp"
 #include "horus/detail/wire_ops.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::detail {
 
 template <class T>
@@ -97,3 +101,5 @@ const WireOps* wire_ops_of() noexcept {
 }
 
 }  // namespace horus::detail
+
+HORUS_API_END

@@ -14,6 +14,10 @@
 #include "horus/detail/topic_core.hpp"
 #include "horus/shm/ring.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::detail {
 
 /// What one handle counts (TopicMetrics).
@@ -99,3 +103,5 @@ class LocalPort {
 };
 
 }  // namespace horus::detail
+
+HORUS_API_END

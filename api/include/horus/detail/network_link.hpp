@@ -21,6 +21,10 @@
 #include "horus/network.hpp"
 #include "horus/transport_registry.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::detail {
 
 struct TopicCore;
@@ -125,3 +129,5 @@ std::uint64_t network_decode_failures(const TopicCore& core) noexcept;
 void report_network_decode_failure(TopicCore& core, const std::string& what);
 
 }  // namespace horus::detail
+
+HORUS_API_END

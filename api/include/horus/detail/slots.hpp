@@ -30,6 +30,10 @@
 #include "horus/message_traits.hpp"
 #include "horus/wire/local.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::detail {
 
 /// A fixed-size message travels by copy.
@@ -398,3 +402,5 @@ using SlotCodec = std::conditional_t<PoolMessage<T>, PooledSlots<T>,
                                      std::conditional_t<is_serialized_message<T>, SerializedSlots<T>, FixedSlots<T>>>;
 
 }  // namespace horus::detail
+
+HORUS_API_END

@@ -20,6 +20,10 @@
 #include "horus/shm/ring.hpp"
 #include "horus/shm/shm_segment.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::detail {
 
 /// A message type as the topic registry and a segment's header see it.
@@ -141,3 +145,5 @@ void release_pin(const void* core, std::uint64_t slot, std::uint64_t participant
 void release_loan(const void* core, std::uint64_t slot, std::uint64_t gen) noexcept;
 
 }  // namespace horus::detail
+
+HORUS_API_END

@@ -12,6 +12,10 @@
 #include "horus/config.hpp"
 #include "horus/topic.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 
 template <class T>
@@ -84,3 +88,5 @@ Result<void> Topic<T>::send_blocking(const T& msg, std::chrono::nanoseconds time
 }
 
 }  // namespace horus
+
+HORUS_API_END

@@ -15,6 +15,10 @@
 #include "horus/format.hpp"  // horus::log_summary (messages of the user's own)
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 struct TopicChoice;  // horus/config.hpp
 }  // namespace horus
@@ -61,3 +65,5 @@ std::string traffic_summary(const T& m) {
 }
 
 }  // namespace horus::detail
+
+HORUS_API_END

@@ -8,6 +8,10 @@
 #include <cstdint>
 #include <memory>
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::detail {
 
 struct TopicCore;
@@ -30,3 +34,5 @@ bool wait_for_unread(const TopicCore& core, std::uint32_t entry, std::uint64_t t
                      WaitClock::time_point deadline) noexcept;
 
 }  // namespace horus::detail
+
+HORUS_API_END

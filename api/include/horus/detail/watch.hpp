@@ -13,6 +13,10 @@
 #include <cstdint>
 #include <optional>
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 
 /// The Unix time in ns a message carries (its `timestamp_ns` member or method, or `stamp_nanos`),
@@ -128,3 +132,5 @@ class Watch {
 
 }  // namespace detail
 }  // namespace horus
+
+HORUS_API_END

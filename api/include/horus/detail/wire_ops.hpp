@@ -13,6 +13,10 @@
 #include "horus/wire/lcm.hpp"
 #include "horus/wire/xcdr1.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::detail {
 
 template <class T>
@@ -60,3 +64,5 @@ std::expected<T, std::string> wire_decode(net::WireFormat format, const net::Sam
 }
 
 }  // namespace horus::detail
+
+HORUS_API_END

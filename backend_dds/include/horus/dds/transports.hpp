@@ -12,6 +12,10 @@
 #include "horus/error.hpp"
 #include "horus/network.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::dds {
 
 /// The DDS topic name of a horus topic: "horus/" + the name with '.' made '/'
@@ -34,3 +38,5 @@ Result<std::shared_ptr<net::Transport>> cyclone_transport(const net::Config& con
 Result<std::shared_ptr<net::Transport>> fastdds_transport(const net::Config& config, bool control = false);
 
 }  // namespace horus::dds
+
+HORUS_API_END

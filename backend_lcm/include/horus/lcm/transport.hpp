@@ -38,6 +38,10 @@
 #include "horus/error.hpp"
 #include "horus/network.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::lcm {
 
 /// liblcm's own default (used when neither HORUS_LCM_URL nor LCM_DEFAULT_URL is set): multicast
@@ -87,3 +91,5 @@ Result<std::string> channel_name(std::string_view topic);
 void register_lcm();
 
 }  // namespace horus::lcm
+
+HORUS_API_END

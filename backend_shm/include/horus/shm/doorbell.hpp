@@ -54,6 +54,10 @@
 #include <cstdint>
 #include <span>
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::shm {
 
 struct Doorbell {
@@ -142,3 +146,5 @@ inline constexpr std::size_t kMaxWaitItems = 128;
 bool wait_any(std::span<const WaitItem> items, std::chrono::steady_clock::time_point deadline) noexcept;
 
 }  // namespace horus::shm
+
+HORUS_API_END

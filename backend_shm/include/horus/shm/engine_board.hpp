@@ -49,6 +49,10 @@
 
 #include "horus/shm/shm_segment.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::shm {
 
 inline constexpr std::uint32_t kEngineSlots = 128;       // engines (processes x transports) per host
@@ -154,3 +158,5 @@ class EngineBell {
 std::string engine_board_name(const std::string& ns);
 
 }  // namespace horus::shm
+
+HORUS_API_END

@@ -8,6 +8,10 @@
 #include <cstddef>
 #include <utility>
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::shm {
 
 class HeapRegion {
@@ -34,3 +38,5 @@ class HeapRegion {
 };
 
 }  // namespace horus::shm
+
+HORUS_API_END

@@ -41,6 +41,10 @@
 
 #include "horus/shm/ring.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::shm {
 
 /// Processes that can attach to one topic at once (the participant table and the pins).
@@ -155,3 +159,5 @@ class Pool {
 };
 
 }  // namespace horus::shm
+
+HORUS_API_END

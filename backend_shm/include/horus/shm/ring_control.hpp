@@ -73,6 +73,10 @@
 
 #include "horus/shm/ring_layout.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::shm {
 
 /// A non-owning view of a formatted ring region. Copyable; all state lives in the region.
@@ -159,3 +163,5 @@ class Ring {
 };
 
 }  // namespace horus::shm
+
+HORUS_API_END

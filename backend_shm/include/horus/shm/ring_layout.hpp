@@ -26,6 +26,10 @@
 
 #include "horus/shm/doorbell.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::shm {
 
 inline constexpr std::size_t kCacheLine = 64;
@@ -109,3 +113,5 @@ struct RingConfig {
 };
 
 }  // namespace horus::shm
+
+HORUS_API_END

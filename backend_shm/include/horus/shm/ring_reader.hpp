@@ -17,6 +17,10 @@
 #include "horus/shm/ring_layout.hpp"
 #include "horus/shm/seqlock_slot.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::shm {
 
 /// The receiving side of one handle: a cursor per lane. Not thread-safe.
@@ -330,3 +334,5 @@ class RingReader {
 };
 
 }  // namespace horus::shm
+
+HORUS_API_END

@@ -16,6 +16,10 @@
 #include "horus/shm/ring_layout.hpp"
 #include "horus/shm/seqlock_slot.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::shm {
 
 /// The sending side of one handle: owns a lane once it has sent. Not thread-safe.
@@ -252,3 +256,5 @@ class RingWriter {
 };
 
 }  // namespace horus::shm
+
+HORUS_API_END

@@ -33,6 +33,10 @@
 #include <span>
 #include <type_traits>
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::shm {
 
 /// A hint to the CPU inside a spin loop.
@@ -236,3 +240,5 @@ inline bool slot_has(const std::byte* slot, std::uint64_t seq) noexcept {
 }
 
 }  // namespace horus::shm
+
+HORUS_API_END

@@ -36,6 +36,10 @@
 #include "horus/shm/pool.hpp"
 #include "horus/shm/ring.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::shm {
 
 inline constexpr std::uint64_t kSegmentMagic = 0x3147'4553'5355'524FULL;  // "ORUSSEG1"
@@ -288,3 +292,5 @@ std::vector<SegmentInfo> list_segments(std::string_view ns);
 std::vector<std::string> clean_stale_segments(std::string_view ns);
 
 }  // namespace horus::shm
+
+HORUS_API_END

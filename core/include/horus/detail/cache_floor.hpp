@@ -32,6 +32,10 @@
 #include <cstdint>
 #include <string_view>
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::bench {
 
 /// Pins the calling thread to one CPU (false when that CPU is not available).
@@ -97,3 +101,5 @@ inline void floor_echo(FloorLines& l, FloorMode m, std::uint64_t n) noexcept {
 }
 
 }  // namespace horus::bench
+
+HORUS_API_END

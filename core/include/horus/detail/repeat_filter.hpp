@@ -15,6 +15,10 @@
 
 #include <spdlog/common.h>
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::detail {
 
 class RepeatFilter {
@@ -56,3 +60,5 @@ void log_transport_line(spdlog::level::level_enum level, std::string_view source
 void open_transport_log();
 
 }  // namespace horus::detail
+
+HORUS_API_END

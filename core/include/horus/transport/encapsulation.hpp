@@ -11,6 +11,10 @@
 
 #include "horus/network.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::net::encapsulation {
 
 inline constexpr std::size_t kHeaderSize = 4;
@@ -33,3 +37,5 @@ void write_header_and_padding(std::span<std::byte> serialized, std::size_t body_
 std::variant<Sample, std::string> parse(std::span<const std::byte> serialized);
 
 }  // namespace horus::net::encapsulation
+
+HORUS_API_END

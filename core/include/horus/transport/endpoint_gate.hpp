@@ -24,6 +24,10 @@
 
 #include "horus/network.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::net {
 
 class EndpointGate {
@@ -119,3 +123,5 @@ class EndpointGate {
 };
 
 }  // namespace horus::net
+
+HORUS_API_END

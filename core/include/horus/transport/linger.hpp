@@ -17,6 +17,10 @@
 #include <chrono>
 #include <cstdint>
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::net {
 
 class Linger {
@@ -46,3 +50,5 @@ inline Linger& process_linger() noexcept {
 }
 
 }  // namespace horus::net
+
+HORUS_API_END

@@ -21,6 +21,10 @@
 #include <string_view>
 #include <vector>
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::net {
 
 class RemoteTypes {
@@ -70,3 +74,5 @@ class RemoteTypes {
 };
 
 }  // namespace horus::net
+
+HORUS_API_END

@@ -35,6 +35,10 @@
 
 #include "horus/error.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::net {
 
 class SharedCacheBase;
@@ -111,3 +115,5 @@ class SharedCache final : public SharedCacheBase {
 };
 
 }  // namespace horus::net
+
+HORUS_API_END

@@ -30,6 +30,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::wire {
 
 /// A parsed type signature: a tree of these.
@@ -74,3 +78,5 @@ std::expected<nlohmann::json, std::string> decode_json(const DynType& type, DynF
                                                        std::span<const std::byte> body, bool little_endian = true);
 
 }  // namespace horus::wire
+
+HORUS_API_END

@@ -35,6 +35,10 @@
 #include "horus/wire/reader.hpp"
 #include "horus/wire/walk.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::lcm {
 
 namespace detail {
@@ -407,3 +411,5 @@ std::expected<T, std::string> decode(std::span<const std::byte> in, const ByteSi
 }
 
 }  // namespace horus::lcm
+
+HORUS_API_END

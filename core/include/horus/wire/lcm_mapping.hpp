@@ -42,6 +42,10 @@
 #include <cstdint>
 #include <string_view>
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::idlgen::lcm {
 
 // ---------------------------------------------------------------------------------------------
@@ -162,3 +166,5 @@ constexpr std::string_view integer_type(std::size_t size, bool is_signed) noexce
 inline constexpr std::size_t kMaxLength = 0x7fffffff;
 
 }  // namespace horus::idlgen::lcm
+
+HORUS_API_END

@@ -37,6 +37,10 @@
 #include "horus/wire/reader.hpp"
 #include "horus/wire/walk.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::codec {
 
 static_assert(std::endian::native == std::endian::little, "the local wire format assumes a little-endian host");
@@ -193,3 +197,5 @@ std::expected<T, std::string> decode(std::span<const std::byte> in) {
 }
 
 }  // namespace horus::codec
+
+HORUS_API_END

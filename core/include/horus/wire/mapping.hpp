@@ -27,6 +27,10 @@
 
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::idlgen {
 
 /// True when enum E maps to an IDL enum: reflected, with enumerators 0, 1, ..., N-1 in order.
@@ -50,3 +54,5 @@ constexpr std::size_t idl_enum_count() {
 }
 
 }  // namespace horus::idlgen
+
+HORUS_API_END

@@ -23,6 +23,10 @@
 
 #include "horus/byte_buffer.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::wire {
 
 /// Where a value sits in the message: a field name (or the type name at the root) or an
@@ -174,3 +178,5 @@ inline bool get_strict_bool(Reader& r, bool& v, const Path& path, std::string_vi
 }
 
 }  // namespace horus::wire
+
+HORUS_API_END

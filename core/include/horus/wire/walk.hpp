@@ -52,6 +52,10 @@
 #include "horus/reflect.hpp"
 #include "horus/wire/reader.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::wire {
 
 using reflect::detail::is_std_array;
@@ -280,3 +284,5 @@ std::expected<T, std::string> decode_message(Reader& r, std::size_t in_size) {
 }
 
 }  // namespace horus::wire
+
+HORUS_API_END

@@ -38,6 +38,10 @@
 #include "horus/wire/reader.hpp"
 #include "horus/wire/walk.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::cdr {
 
 static_assert(std::endian::native == std::endian::little, "horus::cdr encodes on a little-endian host");
@@ -203,3 +207,5 @@ std::expected<T, std::string> decode(std::span<const std::byte> in, bool little_
 }
 
 }  // namespace horus::cdr
+
+HORUS_API_END

@@ -16,6 +16,10 @@
 #include <string_view>
 #include <vector>
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::discovery {
 
 /// A process attached to a topic.
@@ -101,3 +105,5 @@ std::expected<TopicEntry, std::string> find_topic(std::string_view ns, std::stri
 std::vector<std::string> clean(std::string_view ns);
 
 }  // namespace horus::discovery
+
+HORUS_API_END

@@ -12,8 +12,14 @@
 #include "horus/idlgen/emit.hpp"
 #include "horus/idlgen/model.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::idlgen {
 
 int run_cli(const Model& model, int argc, char** argv, const IdlOptions& options = {});
 
 }  // namespace horus::idlgen
+
+HORUS_API_END

@@ -17,6 +17,10 @@
 
 #include "horus/idlgen/model.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::idlgen {
 
 /// Bumped whenever the emitted text of an existing type changes.
@@ -74,3 +78,5 @@ std::string idl_identifier(std::string_view name);
 std::uint64_t fingerprint(std::string_view text) noexcept;
 
 }  // namespace horus::idlgen
+
+HORUS_API_END

@@ -27,6 +27,10 @@
 #include "horus/wire/dynamic.hpp"
 #include "horus/wire/mapping.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::idlgen {
 
 /// Wire primitives (see mapping.hpp).
@@ -203,3 +207,5 @@ std::vector<std::string> module_path(std::string_view qualified);
 std::string_view short_name(std::string_view qualified) noexcept;
 
 }  // namespace horus::idlgen
+
+HORUS_API_END

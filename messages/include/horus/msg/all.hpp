@@ -12,6 +12,10 @@
 
 #include "horus/messages.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg {
 
 template <class... T>
@@ -86,3 +90,5 @@ void for_each_message(F&& f) {
 }
 
 }  // namespace horus::msg
+
+HORUS_API_END

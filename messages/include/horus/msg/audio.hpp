@@ -21,6 +21,10 @@
 #include "horus/fixed_string.hpp"
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg {
 
 /// Most samples one AudioFrame holds (all channels together).
@@ -133,3 +137,5 @@ static_assert(horus::reflect::is_fixed_size<AudioFrame>, "AudioFrame must be tri
 HORUS_STANDARD_MESSAGES(AudioFrame)
 
 }  // namespace horus::msg
+
+HORUS_API_END

@@ -17,6 +17,10 @@
 #include "horus/msg/geometry.hpp"
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg {
 
 // ---------------------------------------------------------------------------
@@ -308,3 +312,5 @@ HORUS_STANDARD_MESSAGES(MotorCommand, DifferentialDriveCommand, ServoCommand, Jo
                         TrajectoryPoint)
 
 }  // namespace horus::msg
+
+HORUS_API_END

@@ -26,6 +26,10 @@
 #include "horus/fixed_string.hpp"
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg {
 
 // ---------------------------------------------------------------------------
@@ -229,3 +233,5 @@ static_assert(horus::reflect::is_fixed_size<Detection3D>, "Detection3D must be t
 HORUS_STANDARD_MESSAGES(BoundingBox2D, BoundingBox3D, Detection, Detection3D)
 
 }  // namespace horus::msg
+
+HORUS_API_END

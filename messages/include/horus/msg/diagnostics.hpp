@@ -26,6 +26,10 @@
 #include "horus/fixed_string.hpp"
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg {
 
 // ---------------------------------------------------------------------------
@@ -603,3 +607,5 @@ HORUS_STANDARD_MESSAGES(Heartbeat, NodeHeartbeat, Status, DiagnosticStatus, Emer
                         ResourceUsage, DiagnosticValue, DiagnosticReport)
 
 }  // namespace horus::msg
+
+HORUS_API_END

@@ -17,6 +17,10 @@
 
 #include "horus/msg/geometry.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg {
 
 inline Eigen::Vector3d to_eigen(const Point3& p) { return Eigen::Vector3d(p.x, p.y, p.z); }
@@ -67,3 +71,5 @@ inline Pose2D pose2d_from_eigen(const Eigen::Isometry2d& t, std::uint64_t timest
 }
 
 }  // namespace horus::msg
+
+HORUS_API_END

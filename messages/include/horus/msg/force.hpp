@@ -27,6 +27,10 @@
 #include "horus/msg/geometry.hpp"
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg {
 
 namespace detail {
@@ -368,3 +372,5 @@ static_assert(horus::reflect::is_fixed_size<HapticFeedback>,
 HORUS_STANDARD_MESSAGES(WrenchStamped, ImpedanceParameters, ForceCommand, ContactInfo, HapticFeedback)
 
 }  // namespace horus::msg
+
+HORUS_API_END

@@ -36,6 +36,10 @@
 #include "horus/fixed_string.hpp"
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg {
 
 namespace detail {
@@ -209,3 +213,5 @@ static_assert(sizeof(GenericMessage) == 4364, "GenericMessage must have HORUS's 
 HORUS_STANDARD_MESSAGES(GenericMessage)
 
 }  // namespace horus::msg
+
+HORUS_API_END

@@ -27,6 +27,10 @@
 #include "horus/msg/generic.hpp"
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg::detail {
 
 inline std::string_view generic_msgpack_type_name(msgpack::type::object_type t) noexcept {
@@ -102,3 +106,5 @@ struct GenericValue {
 };
 
 }  // namespace horus::msg::detail
+
+HORUS_API_END

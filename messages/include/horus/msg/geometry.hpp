@@ -26,6 +26,10 @@
 #include "horus/fixed_string.hpp"
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg {
 
 /// Wraps an angle into [-pi, pi]. Uses the IEEE remainder, which is exact, so
@@ -482,3 +486,5 @@ HORUS_STANDARD_MESSAGES(CmdVel, Twist, Pose2D, Pose3D, Point3, Vector3, Quaterni
                         AccelStamped, PoseWithCovariance, TwistWithCovariance)
 
 }  // namespace horus::msg
+
+HORUS_API_END

@@ -27,6 +27,10 @@
 #include "horus/msg/tensor.hpp"
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg {
 
 // ---------------------------------------------------------------------------
@@ -408,3 +412,5 @@ HORUS_REFLECT_AS(Image, (width, width_), (height, height_), (encoding, encoding_
 HORUS_STANDARD_MESSAGES(Image, ImageDescriptor)
 
 }  // namespace horus::msg
+
+HORUS_API_END

@@ -18,6 +18,10 @@
 #include "horus/fixed_string.hpp"
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg {
 
 // ---------------------------------------------------------------------------
@@ -188,3 +192,5 @@ static_assert(horus::reflect::is_fixed_size<KeyboardInput>,
 HORUS_STANDARD_MESSAGES(JoystickInput, KeyboardInput)
 
 }  // namespace horus::msg
+
+HORUS_API_END

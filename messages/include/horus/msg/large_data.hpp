@@ -28,6 +28,10 @@
 #include "horus/fixed_string.hpp"
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg {
 
 /// Largest data block of one large-data message (Image, PointCloud, DepthImage,
@@ -90,3 +94,5 @@ constexpr bool has_terminator(const std::array<char, N>& field) noexcept {
 }  // namespace detail
 
 }  // namespace horus::msg
+
+HORUS_API_END

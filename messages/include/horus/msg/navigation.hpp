@@ -35,6 +35,10 @@
 #include "horus/msg/navigation_maps.hpp"  // OccupancyGrid, CostMap
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg {
 
 // ---------------------------------------------------------------------------
@@ -502,3 +506,5 @@ static_assert(horus::reflect::is_fixed_size<VelocityObstacles>,
 HORUS_STANDARD_MESSAGES(Goal, GoalResult, Waypoint, Path, NavPath, PathPlan, VelocityObstacle, VelocityObstacles)
 
 }  // namespace horus::msg
+
+HORUS_API_END

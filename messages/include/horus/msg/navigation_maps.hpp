@@ -21,6 +21,10 @@
 #include "horus/msg/geometry.hpp"
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg {
 
 // ---------------------------------------------------------------------------
@@ -267,3 +271,5 @@ HORUS_REFLECT(CostMap, occupancy_grid, costs, inflation_radius, cost_scaling_fac
 HORUS_STANDARD_MESSAGES(OccupancyGrid, CostMap)
 
 }  // namespace horus::msg
+
+HORUS_API_END

@@ -34,6 +34,10 @@
 #include "horus/msg/tensor.hpp"
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg {
 
 // ---------------------------------------------------------------------------
@@ -338,3 +342,5 @@ HORUS_REFLECT_AS(DepthImage, (width, width_), (height, height_), (dtype, dtype_)
 HORUS_STANDARD_MESSAGES(DepthImage, DepthImageDescriptor)
 
 }  // namespace horus::msg
+
+HORUS_API_END

@@ -27,6 +27,10 @@
 #include "horus/msg/tensor.hpp"
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg {
 
 // ---------------------------------------------------------------------------
@@ -407,3 +411,5 @@ HORUS_REFLECT_AS(PointCloud, (point_count, point_count_), (fields_per_point, fie
 HORUS_STANDARD_MESSAGES(PointCloud, PointXYZ, PointXYZRGB, PointXYZI, PointCloudDescriptor)
 
 }  // namespace horus::msg
+
+HORUS_API_END

@@ -21,6 +21,10 @@
 #include "horus/msg/geometry.hpp"
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg {
 
 namespace detail {
@@ -441,3 +445,5 @@ static_assert(horus::reflect::is_fixed_size<NavSatFix>, "NavSatFix must be trivi
 HORUS_STANDARD_MESSAGES(LaserScan, Imu, Odometry, Range, BatteryState, NavSatFix, JointState)
 
 }  // namespace horus::msg
+
+HORUS_API_END

@@ -42,6 +42,10 @@
 #include "horus/msg/large_data.hpp"
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg {
 
 
@@ -597,3 +601,5 @@ HORUS_REFLECT_AS(Tensor, (shape, shape_), (strides, strides_), (ndim, ndim_), (d
 HORUS_STANDARD_MESSAGES(Tensor, Device, TensorDescriptor)
 
 }  // namespace horus::msg
+
+HORUS_API_END

@@ -18,6 +18,10 @@
 #include "horus/fixed_string.hpp"
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg {
 
 // ---------------------------------------------------------------------------
@@ -138,3 +142,5 @@ static_assert(horus::reflect::is_fixed_size<TimeReference>,
 HORUS_STANDARD_MESSAGES(Clock, TimeReference)
 
 }  // namespace horus::msg
+
+HORUS_API_END

@@ -23,6 +23,10 @@
 #include "horus/msg/detection.hpp"
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg {
 
 // ---------------------------------------------------------------------------
@@ -497,3 +501,5 @@ static_assert(sizeof(Landmark) == 16 && sizeof(Landmark3D) == 20, "landmark reco
 HORUS_STANDARD_MESSAGES(SegmentationMask, Landmark, Landmark3D, LandmarkArray, TrackedObject, TrackingHeader)
 
 }  // namespace horus::msg
+
+HORUS_API_END

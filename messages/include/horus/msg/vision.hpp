@@ -31,6 +31,10 @@
 #include "horus/fixed_string.hpp"
 #include "horus/reflect.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg {
 
 // ---------------------------------------------------------------------------
@@ -246,3 +250,5 @@ static_assert(!horus::reflect::is_fixed_size<CompressedImage>,
 HORUS_STANDARD_MESSAGES(CompressedImage, CameraInfo, StereoInfo, RegionOfInterest)
 
 }  // namespace horus::msg
+
+HORUS_API_END

@@ -21,6 +21,10 @@
 
 #include "horus/error.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::lcmlog {
 
 inline constexpr std::uint32_t kSync = 0xEDA1DA01u;
@@ -83,3 +87,5 @@ class Reader {
 bool looks_like_log(const std::string& path);
 
 }  // namespace horus::lcmlog
+
+HORUS_API_END

@@ -26,6 +26,10 @@
 
 #include "horus/error.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::mcap {
 
 enum class Compression : std::uint8_t { None, Zstd, Lz4 };
@@ -156,3 +160,5 @@ class Reader {
 std::uint32_t crc32(std::span<const std::byte> bytes, std::uint32_t crc = 0) noexcept;
 
 }  // namespace horus::mcap
+
+HORUS_API_END

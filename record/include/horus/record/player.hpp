@@ -28,6 +28,10 @@
 #include "horus/error.hpp"
 #include "horus/record/recorder.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 
 /// One recorded topic.
@@ -159,3 +163,5 @@ class Player {
 };
 
 }  // namespace horus
+
+HORUS_API_END

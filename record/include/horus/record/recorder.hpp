@@ -47,6 +47,10 @@
 #include "horus/wire/lcm.hpp"
 #include "horus/wire/xcdr1.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 
 enum class RecordFormat : std::uint8_t { Mcap, Lcm };
@@ -223,3 +227,5 @@ class Recorder {
 };
 
 }  // namespace horus
+
+HORUS_API_END

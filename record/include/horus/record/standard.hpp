@@ -13,6 +13,10 @@
 #include "horus/record/player.hpp"
 #include "horus/record/recorder.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus {
 
 /// A recorder's source for topic `name` of the standard message called `type_name` (qualified,
@@ -29,3 +33,5 @@ Result<std::unique_ptr<PlaySink>> open_standard_sink(std::string_view type_name,
                                                      const TopicOptions& options = {});
 
 }  // namespace horus
+
+HORUS_API_END

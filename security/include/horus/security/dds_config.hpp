@@ -13,6 +13,10 @@
 
 #include "horus/security/keystore.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::security {
 
 /// DDS-Security's built-in plug-ins (PKI-DH, Access-Permissions, AES-GCM-GMAC) and the files, as
@@ -36,3 +40,5 @@ std::string cyclone_security_xml(const ParticipantFiles& files, const std::files
 Result<std::string> third_party_config(const ParticipantFiles& files, std::string_view library);
 
 }  // namespace horus::security
+
+HORUS_API_END

@@ -24,6 +24,10 @@
 #include "horus/network.hpp"
 #include "horus/security/policy.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::security {
 
 using Clock = std::chrono::system_clock;
@@ -120,3 +124,5 @@ std::string not_permitted(const net::Security& security, std::string_view action
 std::string file_uri(const std::filesystem::path& file);
 
 }  // namespace horus::security
+
+HORUS_API_END

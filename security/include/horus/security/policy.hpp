@@ -20,6 +20,10 @@
 #include "horus/error.hpp"
 #include "horus/network.hpp"
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::security {
 
 /// The DDS topic-name expressions (fnmatch) of a horus pattern (checked with
@@ -69,3 +73,5 @@ struct PermissionsSpec {
 Result<std::string> permissions_xml(const PermissionsSpec& spec);
 
 }  // namespace horus::security
+
+HORUS_API_END

@@ -15,6 +15,10 @@
 #include <sstream>
 #include <string>
 
+#include "horus/export.hpp"
+
+HORUS_API_BEGIN
+
 namespace horus::msg::detail {
 
 class MsgpackText {
@@ -154,3 +158,5 @@ class MsgpackText {
 };
 
 }  // namespace horus::msg::detail
+
+HORUS_API_END
