@@ -5,8 +5,11 @@
 #   libhorus-dev   headers, CMake package (find_package(horus)), horus.pc, horus-idlgen, IDL/LCM files
 #   horus-tools    the horus command line and its bash completion
 #   python3-horus  the module horus for Debian's python3
+# and the Python wheel horus-<version>-cp311-cp311-linux_x86_64.whl (packaging/python: the module
+# and libhorus.so.0 beside it, NumPy declared; `pip install` it into a venv or another CPython
+# 3.11), made with Debian's python3-build (`python3 -m build --no-isolation`: no index needed).
 #
-#   scripts/package.sh [--build-dir DIR] [--no-build] [--no-lintian]
+#   scripts/package.sh [--build-dir DIR] [--no-build] [--no-lintian] [--no-wheel]
 #
 # The packages land in DIR/packages (DIR: build/default). Each declares the Debian packages its
 # files link (dpkg-shlibdeps), so `apt install ./DIR/packages/*.deb` on a robot pulls what is
@@ -16,13 +19,15 @@ cd "$(dirname "$0")/.."
 dir=build/default
 build=1
 lint=1
+wheel=1
 while [[ $# -gt 0 ]]; do
   case $1 in
     --build-dir) dir=$2; shift 2 ;;
     --no-build) build=0; shift ;;
     --no-lintian) lint=0; shift ;;
-    -h|--help) sed -n '2,15p' "$0"; exit 0 ;;
-    *) echo "usage: $0 [--build-dir DIR] [--no-build] [--no-lintian]" >&2; exit 2 ;;
+    --no-wheel) wheel=0; shift ;;
+    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
+    *) echo "usage: $0 [--build-dir DIR] [--no-build] [--no-lintian] [--no-wheel]" >&2; exit 2 ;;
   esac
 done
 
@@ -41,6 +46,15 @@ debs=("$dir"/packages/*.deb)
 for d in "${debs[@]}"; do
   echo "$(basename "$d"): $(dpkg-deb -f "$d" Depends)"
 done
+
+if [[ $wheel == 1 ]]; then
+  py=python3
+  [[ -x /usr/bin/python3 ]] && py=/usr/bin/python3  # Debian's, with python3-build
+  HORUS_BUILD_DIR=$(cd "$dir" && pwd) "$py" -m build --no-isolation --wheel --outdir "$dir/packages" packaging/python \
+    >"$dir/wheel.log" 2>&1 || { tail -n 30 "$dir/wheel.log" >&2; exit 1; }
+  rm -rf packaging/python/build packaging/python/stage packaging/python/*.egg-info
+  echo "$(basename "$dir"/packages/horus-*.whl): $(unzip -p "$dir"/packages/horus-*.whl '*.dist-info/METADATA' | grep '^Requires-Dist' | tr '\n' ' ')"
+fi
 
 if [[ $lint == 1 ]]; then
   if ! command -v lintian >/dev/null; then

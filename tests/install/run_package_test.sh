@@ -6,7 +6,10 @@
 # 3. from the unpacked files only (LD_LIBRARY_PATH=root/usr/lib...): a project that uses
 #    find_package(horus) and one built with `pkg-config --cflags --libs horus`, built and run;
 #    the packaged `horus --version`; `python3 -c "import horus"` from the packaged module;
-# 4. every file each package lists removed (what `dpkg --purge` removes): nothing is left.
+# 4. every file each package lists removed (what `dpkg --purge` removes): nothing is left;
+# 5. the wheel installed with pip (no index) into a venv of Debian's python3 (NumPy from its
+#    site-packages) and into a venv of another CPython 3.11 when there is one (`python3` on the
+#    PATH, e.g. pyenv's), and imported from there.
 # A real install into a Debian 12 root made by debootstrap (apt, dpkg -i, ldconfig, purge) is
 # opt-in: scripts/package-test-debootstrap.sh.
 set -euo pipefail
@@ -61,3 +64,22 @@ done
 left=$(find "$root" ! -type d)
 [[ -z $left ]] || { echo "files left after removing every packaged file:" >&2; echo "$left" >&2; exit 1; }
 echo "removed: nothing is left in $root"
+
+# The wheel, in venvs.
+unset LD_LIBRARY_PATH
+wheel=("$build"/packages/horus-*.whl)
+[[ -f ${wheel[0]} ]] || { echo "no wheel in $build/packages" >&2; exit 1; }
+"$py" -m venv --system-site-packages "$work/venv-debian"
+"$work/venv-debian/bin/pip" install -q --no-index "${wheel[0]}"
+got=$(cd "$work" && "$work/venv-debian/bin/python" -c 'import horus, numpy; print(horus.__version__, horus.__file__)')
+[[ $got == *"$work/venv-debian/"* ]] || { echo "the Debian venv imported: $got" >&2; exit 1; }
+echo "wheel in a venv of $("$py" --version): $got"
+other=$(command -v python3 || true)
+if [[ -n $other && $other != /usr/bin/python3 ]] && "$other" -c 'import sys; sys.exit(sys.version_info[:2] != (3, 11))'; then
+  "$other" -m venv "$work/venv-other"
+  # NumPy is declared; this interpreter may have none and no index is reachable: --no-deps.
+  "$work/venv-other/bin/pip" install -q --no-index --no-deps "${wheel[0]}"
+  got=$(cd "$work" && "$work/venv-other/bin/python" -c 'import horus; print(horus.__version__, horus.__file__)')
+  [[ $got == *"$work/venv-other/"* ]] || { echo "the other interpreter's venv imported: $got" >&2; exit 1; }
+  echo "wheel in a venv of $("$other" --version) ($other): $got"
+fi
