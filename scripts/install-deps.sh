@@ -26,6 +26,7 @@ packages=(
   pybind11-dev python3-dev python3-numpy python3-pytest   # the Python package horus (python/) and its tests
   dpkg-dev lintian   # scripts/package.sh: the Debian packages (dpkg-shlibdeps) and their check
   python3-build python3-wheel python3-setuptools python3-venv unzip   # scripts/package.sh: the wheel, and the venvs that test it
+  debootstrap   # scripts/package-test-debootstrap.sh (opt-in): the packages installed into a Debian 12 root
 )
 
 missing=()
