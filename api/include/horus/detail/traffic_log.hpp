@@ -48,7 +48,7 @@ void write_traffic(const TopicCore& core, const TrafficLogSettings& s, Traffic w
 void report_held_traffic(const TopicCore& core) noexcept;
 
 /// horus::log_summary of the standard message with this type hash, compiled once in the library
-/// (api/src/standard_summaries.cpp); nothing for another hash.
+/// (api/src/standard_types*.cpp: the StandardType tables); nothing for another hash.
 std::optional<std::string> standard_summary(std::uint64_t type_hash, const void* msg);
 
 /// The summary a traffic line shows: horus::log_summary(m) (the message's own overload or
