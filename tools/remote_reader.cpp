@@ -17,10 +17,10 @@ namespace {
 
 constexpr std::size_t kQueue = 4096;
 
-class Reader final : public RemoteReader, public net::Listener {
+class NetworkReader final : public RemoteReader, public net::Listener {
  public:
-  Reader(wire::DynType type, net::WireFormat format) : type_(std::move(type)), format_(format) {}
-  ~Reader() override { endpoint_.reset(); }  // no callback after this
+  NetworkReader(wire::DynType type, net::WireFormat format) : type_(std::move(type)), format_(format) {}
+  ~NetworkReader() override { endpoint_.reset(); }  // no callback after this
 
   bool start(const net::TransportInfo& info, const net::EndpointSpec& spec, std::string& error) {
     auto config = net::config_from_environment();
@@ -132,7 +132,7 @@ std::unique_ptr<RemoteReader> RemoteReader::open(const std::string& topic, const
   spec.type_hash = type_hash;
   spec.qos.reliability = net::Reliability::BestEffort;  // matches reliable and best-effort writers
   spec.qos.depth = 64;
-  auto r = std::make_unique<Reader>(std::move(*type), info->format);
+  auto r = std::make_unique<NetworkReader>(std::move(*type), info->format);
   if (!r->start(*info, spec, error)) return nullptr;
   return r;
 }

@@ -11,9 +11,9 @@ namespace horus::tools {
 
 namespace {
 
-class Reader final : public TypedReader {
+class AnyTopicReader final : public TypedReader {
  public:
-  explicit Reader(std::unique_ptr<AnyTopic> topic) : topic_(std::move(topic)) {}
+  explicit AnyTopicReader(std::unique_ptr<AnyTopic> topic) : topic_(std::move(topic)) {}
   std::optional<std::string> recv_text(bool json) override {
     std::optional<std::string> out;
     const StandardType& type = topic_->type();
@@ -72,7 +72,7 @@ std::string standard_type(std::string_view type_name) {
 std::unique_ptr<TypedReader> open_reader(std::string_view type_name, const std::string& name, const Backend& backend,
                                          std::string& error) {
   auto topic = open_any(type_name, name, backend, error);
-  return topic ? std::make_unique<Reader>(std::move(topic)) : nullptr;
+  return topic ? std::make_unique<AnyTopicReader>(std::move(topic)) : nullptr;
 }
 
 std::unique_ptr<TypedWriter> open_writer(std::string_view type_name, const std::string& name,

@@ -37,8 +37,9 @@ Result<void> connect_network(TopicCore& core, const WireOps& ops, const net::Qos
 Result<void> connect_topic(TopicCore& core, const WireOps* ops, net::Qos type_qos, const TopicOptions& options,
                            std::string_view type_name) {
   if (ops == nullptr)
-    return fail(Errc::TypeMismatch, fmt::format("topic '{}': the horus library has no network codec for {} (its "
-                                                "headers and library are of different versions)",
+    return fail(Errc::TypeMismatch, fmt::format("topic '{}': the horus library has no network codec for {} (it was "
+                                                "built with HORUS_STANDARD_TYPES=OFF, or its headers and library "
+                                                "are of different versions)",
                                                 core.name, type_name));
   net::Qos qos = type_qos;
   qos.reliability = options.reliability.value_or(type_qos.reliability);

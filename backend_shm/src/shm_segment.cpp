@@ -58,7 +58,7 @@ std::uint64_t now_unix_ns() {
 
 namespace {
 
-std::uint64_t align_up(std::uint64_t v, std::uint64_t a) { return (v + a - 1) / a * a; }
+std::uint64_t round_up_to(std::uint64_t v, std::uint64_t a) { return (v + a - 1) / a * a; }
 
 std::string errno_text(int err) { return std::strerror(err); }
 
@@ -85,7 +85,7 @@ bool name_is_this_file(int fd, const std::string& name) {
 // A header's ring must be where this version puts it, inside the file, and agree with it.
 // Where the ring starts: after the header and the type's signature, on a page.
 std::uint64_t ring_offset_for(std::uint64_t signature_size) noexcept {
-  return align_up(sizeof(SegmentHeader) + signature_size, kPage);
+  return round_up_to(sizeof(SegmentHeader) + signature_size, kPage);
 }
 
 bool ring_consistent(const SegmentHeader& h, const void* base, std::size_t size) {
@@ -98,7 +98,7 @@ bool ring_consistent(const SegmentHeader& h, const void* base, std::size_t size)
   if (rh->payload_size != h.payload_size || rh->capacity != h.capacity || rh->type_hash != h.type_hash) return false;
   if (h.pool_offset == 0) return h.pool_slot_bytes == 0;
   const std::uint64_t expected_pool =
-      align_up(h.ring_offset + Ring::required_size({h.capacity, h.payload_size, h.type_hash}), kPage);
+      round_up_to(h.ring_offset + Ring::required_size({h.capacity, h.payload_size, h.type_hash}), kPage);
   if (h.pool_offset != expected_pool || h.pool_offset >= size) return false;
   const auto* pool_base = static_cast<const std::byte*>(base) + h.pool_offset;
   if (Pool::validate(pool_base, size - h.pool_offset)) return false;
@@ -268,7 +268,7 @@ std::expected<ShmSegment, SegmentError> ShmSegment::open(std::string_view ns, st
                                             std::to_string(spec.signature.size()) + " bytes; at most " +
                                             std::to_string(kMaxSignature) + " fit a segment"});
   const std::uint64_t ring_offset = ring_offset_for(spec.signature.size());
-  const std::uint64_t pool_offset = pooled ? align_up(ring_offset + Ring::required_size(cfg), kPage) : 0;
+  const std::uint64_t pool_offset = pooled ? round_up_to(ring_offset + Ring::required_size(cfg), kPage) : 0;
   const std::uint64_t total = pooled ? pool_offset + Pool::required_size(pool_cfg) : ring_offset + Ring::required_size(cfg);
   const pid_t self = ::getpid();
   const std::uint64_t self_start = process_start_time(self);

@@ -46,16 +46,21 @@ using Clock = std::chrono::steady_clock;
 using fleet::Announcement;
 using fleet::Heartbeat;
 using fleet::Request;
+}  // namespace
 
+// What Fleet::State knows of a host. (Not in the anonymous namespace: a member of Fleet::State,
+// which has linkage, may not have a type without it. The library exports none of this.)
+namespace fleet_view {
 struct Record {
   FleetHost host;
   fleet::detail::LinkStats link;
-  Clock::time_point last_seen{};
+  std::chrono::steady_clock::time_point last_seen{};
   std::uint64_t version_have = 0;     // of the announcement we hold
   std::uint64_t version_wanted = 0;   // the latest heartbeat's
-  Clock::time_point last_request{};
+  std::chrono::steady_clock::time_point last_request{};
 };
-}  // namespace
+}  // namespace fleet_view
+using fleet_view::Record;
 
 struct Fleet::State {
   std::string transport;

@@ -241,11 +241,6 @@ class FileEmitter {
   bool bare_;
 };
 
-bool wanted(const IdlOptions& options, const std::string& file) {
-  return options.only_files.empty() ||
-         std::find(options.only_files.begin(), options.only_files.end(), file) != options.only_files.end();
-}
-
 }  // namespace
 
 std::string idl_identifier(std::string_view name) {
@@ -270,7 +265,7 @@ std::vector<OutputFile> emit_idl(const Model& model, const IdlOptions& options) 
   std::vector<OutputFile> out;
   model.structs();  // builds pending roots (and so the file list)
   for (const auto& file : model.files())
-    if (wanted(options, file)) out.push_back(OutputFile{file + ".idl", FileEmitter(model, file, options).run()});
+    if (options.wants(file)) out.push_back(OutputFile{file + ".idl", FileEmitter(model, file, options).run()});
   return out;
 }
 
@@ -290,7 +285,7 @@ std::vector<Definition> idl_definitions(const Model& model, const IdlOptions& op
   std::vector<Definition> out;
   model.structs();
   for (const auto& file : model.files())
-    if (wanted(options, file)) FileEmitter(model, file, options, &out).run();
+    if (options.wants(file)) FileEmitter(model, file, options, &out).run();
   return out;
 }
 

@@ -235,11 +235,6 @@ class LcmFileEmitter {
   std::vector<Definition>* definitions_;
 };
 
-bool wanted(const IdlOptions& options, const std::string& file) {
-  return options.only_files.empty() ||
-         std::find(options.only_files.begin(), options.only_files.end(), file) != options.only_files.end();
-}
-
 }  // namespace
 
 std::string lcm_package(std::string_view qualified) {
@@ -262,7 +257,7 @@ std::vector<OutputFile> emit_lcm(const Model& model, const IdlOptions& options) 
   std::vector<OutputFile> out;
   model.structs();
   for (const auto& file : model.files())
-    if (wanted(options, file)) out.push_back(OutputFile{file + ".lcm", LcmFileEmitter(model, file, nullptr).run()});
+    if (options.wants(file)) out.push_back(OutputFile{file + ".lcm", LcmFileEmitter(model, file, nullptr).run()});
   return out;
 }
 
@@ -270,7 +265,7 @@ std::vector<Definition> lcm_definitions(const Model& model, const IdlOptions& op
   std::vector<Definition> out;
   model.structs();
   for (const auto& file : model.files())
-    if (wanted(options, file)) LcmFileEmitter(model, file, &out).run();
+    if (options.wants(file)) LcmFileEmitter(model, file, &out).run();
   return out;
 }
 

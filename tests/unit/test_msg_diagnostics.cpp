@@ -32,23 +32,14 @@
 #include "horus/msg/force.hpp"
 #include "horus/msg/generic.hpp"
 #include "horus/msg/generic_value.hpp"
-
-namespace horus::msg {
-// Lets GoogleTest print messages in failure output (found by ADL).
-template <class T>
-  requires horus::Reflected<T>
-void PrintTo(const T& m, std::ostream* os) {
-  *os << horus::to_string(m);
-}
-}  // namespace horus::msg
+#include "message_test_support.hpp"
 
 namespace {
 
-using namespace horus::msg;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using namespace horus_test::values;
 
-bool contains(std::string_view text, std::string_view part) { return text.find(part) != std::string_view::npos; }
+using namespace horus::msg;
+
 
 // ===========================================================================
 // Enums

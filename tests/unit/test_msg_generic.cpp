@@ -20,6 +20,7 @@
 #include "horus/msg/detail/msgpack_text.hpp"
 #include "horus/msg/generic.hpp"
 #include "horus/msg/generic_value.hpp"
+#include "message_test_support.hpp"
 
 // A user type carried by GenericMessage (packed as a MessagePack array).
 namespace app {
@@ -35,21 +36,22 @@ struct SensorReading {
 
 namespace {
 
+using namespace horus_test::values;
+
 using namespace horus::msg;
 
-std::vector<std::uint8_t> bytes_of(std::size_t n) {
+std::vector<std::uint8_t> pattern_bytes(std::size_t n) {
   std::vector<std::uint8_t> v(n);
   for (std::size_t i = 0; i < n; ++i) v[i] = static_cast<std::uint8_t>((i * 7 + 3) & 0xFF);
   return v;
 }
 
-bool contains(std::string_view text, std::string_view part) { return text.find(part) != std::string_view::npos; }
 
 // ===========================================================================
 // GenericMessage
 
 TEST(GenericMessage, TwoHundredFiftySixBytesStayInline) {
-  const auto bytes = bytes_of(256);
+  const auto bytes = pattern_bytes(256);
   const auto m = GenericMessage::make(bytes);
   ASSERT_TRUE(m.has_value()) << m.error();
   EXPECT_TRUE(m->is_inline());
@@ -60,7 +62,7 @@ TEST(GenericMessage, TwoHundredFiftySixBytesStayInline) {
 }
 
 TEST(GenericMessage, TwoHundredFiftySevenBytesUseTheOverflowBuffer) {
-  const auto bytes = bytes_of(257);
+  const auto bytes = pattern_bytes(257);
   const auto m = GenericMessage::make(bytes);
   ASSERT_TRUE(m.has_value()) << m.error();
   EXPECT_FALSE(m->is_inline());
@@ -73,13 +75,13 @@ TEST(GenericMessage, TwoHundredFiftySevenBytesUseTheOverflowBuffer) {
 }
 
 TEST(GenericMessage, ExactlyFourKilobytesFitAndOneMoreIsRefused) {
-  const auto max = bytes_of(4096);
+  const auto max = pattern_bytes(4096);
   const auto m = GenericMessage::make(max);
   ASSERT_TRUE(m.has_value()) << m.error();
   EXPECT_EQ(m->size(), 4096u);
   EXPECT_EQ(m->data(), max);
 
-  const auto over = GenericMessage::make(bytes_of(4097));
+  const auto over = GenericMessage::make(pattern_bytes(4097));
   ASSERT_FALSE(over.has_value());
   EXPECT_TRUE(contains(over.error(), "4097")) << over.error();
   EXPECT_TRUE(contains(over.error(), "4096")) << over.error();
@@ -94,7 +96,7 @@ TEST(GenericMessage, EmptyPayloadIsAllowedAndEqualsTheDefault) {
 }
 
 TEST(GenericMessage, MetadataUpTo255BytesOfUtf8) {
-  const auto bytes = bytes_of(10);
+  const auto bytes = pattern_bytes(10);
   const auto m = GenericMessage::with_metadata(bytes, "imu/raw");
   ASSERT_TRUE(m.has_value()) << m.error();
   EXPECT_EQ(m->metadata(), "imu/raw");
@@ -119,20 +121,20 @@ TEST(GenericMessage, MetadataUpTo255BytesOfUtf8) {
   const std::string_view utf8 = "caf\xC3\xA9 \xF0\x9F\xA4\x96";  // 2- and 4-byte characters
   EXPECT_EQ(GenericMessage::with_metadata(bytes, utf8)->metadata(), utf8);
   // The payload limit applies too.
-  const auto big = GenericMessage::with_metadata(bytes_of(5000), "ok");
+  const auto big = GenericMessage::with_metadata(pattern_bytes(5000), "ok");
   ASSERT_FALSE(big.has_value());
   EXPECT_TRUE(contains(big.error(), "5000")) << big.error();
 }
 
 TEST(GenericMessage, SetMetadataRefusesBadTextAndEmptyClears) {
-  GenericMessage m = *GenericMessage::with_metadata(bytes_of(3), "first");
+  GenericMessage m = *GenericMessage::with_metadata(pattern_bytes(3), "first");
   EXPECT_FALSE(m.set_metadata(std::string(256, 'x')));
   EXPECT_EQ(m.metadata(), "first");
   EXPECT_TRUE(m.set_metadata("second"));
   EXPECT_EQ(m.metadata(), "second");
   EXPECT_TRUE(m.set_metadata(""));
   EXPECT_EQ(m.metadata(), std::nullopt);
-  EXPECT_EQ(m, *GenericMessage::make(bytes_of(3)));
+  EXPECT_EQ(m, *GenericMessage::make(pattern_bytes(3)));
 }
 
 TEST(GenericMessage, FromValueRoundTripsBuiltInTypes) {
@@ -325,16 +327,16 @@ TEST(GenericMessage, LayoutMatchesHorusAndCopiesByMemcpy) {
   EXPECT_EQ(sizeof(GenericMessage), 4364u);
   static_assert(std::is_trivially_copyable_v<GenericMessage>);
   static_assert(std::is_standard_layout_v<GenericMessage>);
-  const GenericMessage original = *GenericMessage::with_metadata(bytes_of(1000), "copy");
+  const GenericMessage original = *GenericMessage::with_metadata(pattern_bytes(1000), "copy");
   GenericMessage copy{};
   std::memcpy(&copy, &original, sizeof copy);
-  EXPECT_EQ(copy.data(), bytes_of(1000));
+  EXPECT_EQ(copy.data(), pattern_bytes(1000));
   EXPECT_EQ(copy.metadata(), "copy");
   EXPECT_EQ(copy, original);
 }
 
 TEST(GenericMessage, CorruptLengthsAreClampedToTheBuffers) {
-  GenericMessage m = *GenericMessage::with_metadata(bytes_of(10), std::string(255, 'm'));
+  GenericMessage m = *GenericMessage::with_metadata(pattern_bytes(10), std::string(255, 'm'));
   nlohmann::json j = horus::to_json(m);
   j["inline_len"] = 60000;
   j["overflow_len"] = 4000000000u;
@@ -348,13 +350,13 @@ TEST(GenericMessage, CorruptLengthsAreClampedToTheBuffers) {
 
 // A received message is not validated: metadata() checks the stored bytes.
 TEST(GenericMessage, ReceivedMetadataThatIsNotUtf8IsNullopt) {
-  const GenericMessage good = *GenericMessage::with_metadata(bytes_of(3), "imu");
+  const GenericMessage good = *GenericMessage::with_metadata(pattern_bytes(3), "imu");
   nlohmann::json j = horus::to_json(good);
   j["metadata"] = std::string("ab\xFF");  // a byte UTF-8 never uses
   j["metadata_len"] = 3;
   const GenericMessage bad = horus::from_json<GenericMessage>(j);
   EXPECT_EQ(bad.metadata(), std::nullopt);
-  EXPECT_EQ(bad.data(), bytes_of(3));  // the payload is still readable
+  EXPECT_EQ(bad.data(), pattern_bytes(3));  // the payload is still readable
 
   j["metadata"] = std::string("caf\xC3");  // a 2-byte character cut off
   j["metadata_len"] = 4;
@@ -372,7 +374,7 @@ TEST(GenericMessage, ReceivedMetadataThatIsNotUtf8IsNullopt) {
 }
 
 TEST(GenericMessage, ReceivedMetadataHoldingANulIsNullopt) {
-  const GenericMessage good = *GenericMessage::with_metadata(bytes_of(3), "imu");
+  const GenericMessage good = *GenericMessage::with_metadata(pattern_bytes(3), "imu");
   nlohmann::json j = horus::to_json(good);
   j["metadata_len"] = 5;  // "imu" then two of the NUL padding bytes
   const GenericMessage bad = horus::from_json<GenericMessage>(j);

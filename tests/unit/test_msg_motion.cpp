@@ -32,24 +32,14 @@
 #include "horus/msg/input.hpp"
 #include "horus/msg/sensor.hpp"
 #include "horus/msg/time.hpp"
-
-namespace horus::msg {
-// Lets GoogleTest print messages in failure output (found by ADL).
-template <class T>
-requires horus::Reflected<T>
-void PrintTo(const T& m, std::ostream* os) { *os << horus::to_string(m); }
-}  // namespace horus::msg
+#include "message_test_support.hpp"
 
 namespace {
 
-using namespace horus::msg;
-constexpr double kPi = std::numbers::pi;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr float kNaNf = std::numeric_limits<float>::quiet_NaN();
-constexpr float kInff = std::numeric_limits<float>::infinity();
+using namespace horus_test::values;
 
-bool contains(std::string_view text, std::string_view part) { return text.find(part) != std::string_view::npos; }
+using namespace horus::msg;
+
 
 // ===========================================================================
 // Accel, AccelStamped

@@ -22,22 +22,13 @@
 #include "horus/format.hpp"
 #include "horus/json.hpp"
 #include "horus/messages.hpp"
-
-namespace horus::msg {
-// Lets GoogleTest print messages in failure output (found by ADL).
-template <class T>
-  requires horus::Reflected<T>
-void PrintTo(const T& m, std::ostream* os) {
-  *os << horus::to_string(m);
-}
-}  // namespace horus::msg
+#include "message_test_support.hpp"
 
 namespace {
 
+using namespace horus_test::values;
+
 using namespace horus::msg;
-constexpr double kPi = std::numbers::pi;
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kInf = std::numeric_limits<double>::infinity();
 
 using Cell = std::pair<std::uint32_t, std::uint32_t>;
 

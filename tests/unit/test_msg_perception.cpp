@@ -21,23 +21,14 @@
 #include "horus/format.hpp"
 #include "horus/json.hpp"
 #include "horus/messages.hpp"
-
-namespace horus::msg {
-// Lets GoogleTest print messages in failure output (found by ADL).
-template <class T>
-  requires horus::Reflected<T>
-void PrintTo(const T& m, std::ostream* os) {
-  *os << horus::to_string(m);
-}
-}  // namespace horus::msg
+#include "message_test_support.hpp"
 
 namespace {
 
+using namespace horus_test::values;
+
 using namespace horus::msg;
 using Bytes = std::vector<std::uint8_t>;
-constexpr float kNaNf = std::numeric_limits<float>::quiet_NaN();
-constexpr float kInff = std::numeric_limits<float>::infinity();
-constexpr std::uint32_t kU32Max = std::numeric_limits<std::uint32_t>::max();
 
 Bytes to_bytes(std::span<const std::uint8_t> s) { return Bytes(s.begin(), s.end()); }
 Bytes to_bytes(const std::optional<std::span<const std::uint8_t>>& s) {

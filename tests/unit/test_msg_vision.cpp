@@ -21,22 +21,15 @@
 #include "horus/format.hpp"
 #include "horus/json.hpp"
 #include "horus/messages.hpp"
-
-namespace horus::msg {
-// Lets GoogleTest print messages in failure output (found by ADL).
-template <class T>
-  requires horus::Reflected<T>
-void PrintTo(const T& m, std::ostream* os) {
-  *os << horus::to_string(m);
-}
-}  // namespace horus::msg
+#include "message_test_support.hpp"
 
 namespace {
+
+using namespace horus_test::values;
 
 using namespace horus::msg;
 constexpr float kInfF = std::numeric_limits<float>::infinity();
 constexpr float kNaNF = std::numeric_limits<float>::quiet_NaN();
-constexpr std::uint32_t kU32Max = std::numeric_limits<std::uint32_t>::max();
 
 const std::string k31(31, 'a');
 const std::string k32(32, 'b');

@@ -437,6 +437,7 @@ TEST_F(WaitSetTest, AnExecutorCallbackMaySubscribeAndRemove) {
 
 // -- deadline and lifespan (TopicOptions) ---------------------------------------
 
+namespace {
 namespace deadline_tests {
 
 std::uint64_t unix_ns() {
@@ -552,3 +553,4 @@ TEST_F(WaitSetTest, ALifespanSkipsMessagesOlderThanItAndCountsThem) {
 }
 
 }  // namespace deadline_tests
+}  // namespace

@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "horus/wire/reader.hpp"
+#include "horus/wire/walk.hpp"  // sat_add
 
 namespace horus::wire {
 namespace {
@@ -202,9 +203,6 @@ class Parser {
 
 // -- decoding ---------------------------------------------------------------------------------
 
-constexpr std::size_t sat_add(std::size_t a, std::size_t b) noexcept {
-  return b > std::numeric_limits<std::size_t>::max() - a ? std::numeric_limits<std::size_t>::max() : a + b;
-}
 constexpr std::size_t sat_mul(std::uint64_t a, std::size_t b) noexcept {
   if (a != 0 && b > std::numeric_limits<std::size_t>::max() / a) return std::numeric_limits<std::size_t>::max();
   return static_cast<std::size_t>(a) * b;

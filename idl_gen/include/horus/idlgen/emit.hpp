@@ -10,6 +10,7 @@
 // (the lock test compares it with interfaces.lock).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -35,6 +36,10 @@ struct IdlOptions {
   std::string guard_prefix = "HORUS_MSG";  // include guards: <prefix>_<FILE>_IDL_
   std::vector<std::string> only_files;     // emit these files only (empty: all); the others are
                                            // known to exist (a user's messages #include horus's)
+  /// Whether `file` is to be emitted.
+  bool wants(const std::string& file) const {
+    return only_files.empty() || std::find(only_files.begin(), only_files.end(), file) != only_files.end();
+  }
 };
 
 /// One .idl per file of the model. Throws std::invalid_argument when a name cannot be
