@@ -47,6 +47,19 @@ for d in "${debs[@]}"; do
   echo "$(basename "$d"): $(dpkg-deb -f "$d" Depends)"
 done
 
+# lintian checks the packages while the wheel builds.
+lint_pid=""
+if [[ $lint == 1 ]]; then
+  if ! command -v lintian >/dev/null; then
+    echo "package.sh: no lintian (scripts/install-deps.sh installs it); the packages are not checked" >&2
+    exit 1
+  fi
+  # Errors fail; warnings and notes are shown. (--fail-on error: lintian >= 2.105.)
+  lintian --fail-on error --no-tag-display-limit "${debs[@]}" >"$dir/lintian.log" 2>&1 &
+  lint_pid=$!
+  trap 'if [[ -n $lint_pid ]]; then kill "$lint_pid" 2>/dev/null || true; fi' EXIT
+fi
+
 if [[ $wheel == 1 ]]; then
   py=python3
   [[ -x /usr/bin/python3 ]] && py=/usr/bin/python3  # Debian's, with python3-build
@@ -56,12 +69,16 @@ if [[ $wheel == 1 ]]; then
   echo "$(basename "$dir"/packages/horus-*.whl): $(unzip -p "$dir"/packages/horus-*.whl '*.dist-info/METADATA' | grep '^Requires-Dist' | tr '\n' ' ')"
 fi
 
-if [[ $lint == 1 ]]; then
-  if ! command -v lintian >/dev/null; then
-    echo "package.sh: no lintian (scripts/install-deps.sh installs it); the packages are not checked" >&2
+if [[ -n $lint_pid ]]; then
+  rc=0
+  wait "$lint_pid" || rc=$?
+  lint_pid=""
+  if [[ $rc == 0 ]]; then
+    cat "$dir/lintian.log"
+    echo "package.sh: lintian reports no error"
+  else
+    cat "$dir/lintian.log" >&2
+    echo "package.sh: lintian reports errors (above)" >&2
     exit 1
   fi
-  # Errors fail; warnings and notes are shown. (--fail-on error: lintian >= 2.105.)
-  lintian --fail-on error --no-tag-display-limit "${debs[@]}"
-  echo "package.sh: lintian reports no error"
 fi

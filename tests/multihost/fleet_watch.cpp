@@ -16,12 +16,13 @@
 // --forge-heartbeats sends N heartbeats, each from another forged host id (host "forged-<i>"),
 // 20 000 a second, then prints "forged sent <n>".
 // --memory prints every 500 ms "memory <ms since start> rss_kb <n> hosts <n> malformed <n>".
-// At the end (after <seconds>) it prints each host it knows:
+// At the end (after <seconds>, or at SIGTERM or SIGINT) it prints each host it knows:
 //   host <name> <state> rejoins <n> rtt_us <n|-> processes <n> topics <n> announced <0|1>
 // and "malformed <n>".
 #include <fmt/format.h>
 
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -61,6 +62,9 @@ HORUS_REFLECT(Battery, label, chemistry, cells, history, tag, charge)
 }  // namespace watch
 
 namespace {
+
+volatile std::sig_atomic_t g_stop = 0;
+void on_stop(int) { g_stop = 1; }
 
 std::int64_t unix_ms() {
   return std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::system_clock::now().time_since_epoch())
@@ -245,13 +249,15 @@ int main(int argc, char** argv) {
     if (const int rc = forge_heartbeats(forge); rc != 0) return rc;
   }
 
+  std::signal(SIGTERM, on_stop);
+  std::signal(SIGINT, on_stop);
   const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
   std::set<std::int64_t> got;
   std::int64_t seq = 0;
   auto next_user = std::chrono::steady_clock::now();
   const auto started = std::chrono::steady_clock::now();
   auto next_memory = started;
-  while (std::chrono::steady_clock::now() < end) {
+  while (std::chrono::steady_clock::now() < end && g_stop == 0) {
     if (memory && std::chrono::steady_clock::now() >= next_memory) {
       line(fmt::format("memory {} rss_kb {} hosts {} malformed {}",
                        std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - started).count(),

@@ -256,15 +256,22 @@ TEST_P(Fleet, TheCliSeesAndReachesTopicsOfAnotherHost) {
     }
     EXPECT_EQ(lines, 2) << out;
   }
+  // hz, bw and record run at once (each for a few seconds: the suite's time).
+  const std::string file = "/tmp/horus-fleet-rec-" + std::to_string(::getpid()) + ".mcap";
+  auto hz = lan.spawn(1, {HORUS_CLI, "topic", "hz", count_topic, "--duration", "4.5"}, env);  // the last window counts
+  auto bw = lan.spawn(1, {HORUS_CLI, "topic", "bw", count_topic, "--duration", "3.5"}, env);
+  auto rec = lan.spawn(1, {HORUS_CLI, "record", "-o", file, "--topics", "fleet.**", "--duration", "4"}, env);
   {
-    auto [rc, out] = cli(lan, 1, env, {"topic", "hz", count_topic, "--duration", "4.5"});  // the last window counts
+    const int rc = hz.wait(30s);
+    const std::string out = hz.output();
     ASSERT_EQ(rc, 0) << out;
     const auto at = out.rfind("average rate: ");
     ASSERT_NE(at, std::string::npos) << out;
     EXPECT_NEAR(std::atof(out.c_str() + at + 14), 50.0, 10.0) << out;
   }
   {
-    auto [rc, out] = cli(lan, 1, env, {"topic", "bw", count_topic, "--duration", "3.5"});
+    const int rc = bw.wait(30s);
+    const std::string out = bw.output();
     ASSERT_EQ(rc, 0) << out;
     // Pose2D is 4 doubles: 32 bytes of XCDR1, 40 with LCM's fingerprint.
     const std::string size = GetParam() == horus::Backend::Lcm ? "mean: 40 B" : "mean: 32 B";
@@ -274,8 +281,8 @@ TEST_P(Fleet, TheCliSeesAndReachesTopicsOfAnotherHost) {
   // horus record on host 2 records the topic that only host 1 has (found through the fleet
   // layer); the file reads back with its messages, and a type it lacks is named, not recorded.
   {
-    const std::string file = "/tmp/horus-fleet-rec-" + std::to_string(::getpid()) + ".mcap";
-    auto [rc, out] = cli(lan, 1, env, {"record", "-o", file, "--topics", "fleet.**", "--duration", "4"});
+    const int rc = rec.wait(30s);
+    const std::string out = rec.output();
     ASSERT_EQ(rc, 0) << out;
     EXPECT_NE(out.find("+ " + count_topic + " (horus::msg::Pose2D, fleet)"), std::string::npos) << out;
     EXPECT_NE(out.find("not recording '" + battery_topic + "'"), std::string::npos) << out;
@@ -306,7 +313,9 @@ TEST_P(Fleet, TheCliSeesAndReachesTopicsOfAnotherHost) {
     EXPECT_NE(out3.find(count_topic), std::string::npos) << out3;
   }
   EXPECT_EQ(garbage.wait(30s), 0) << garbage.output();
-  for (auto* p : {&robot, &watcher, &stranger}) (void)p->wait(40s);
+  // Done: the watchers print what they saw and end (SIGTERM ends their 28 s early).
+  for (auto* p : {&robot, &watcher, &stranger}) p->terminate();
+  for (auto* p : {&robot, &watcher, &stranger}) EXPECT_EQ(p->wait(20s), 0) << p->output();
   const std::string robot_out = robot.output(), watcher_out = watcher.output();
   EXPECT_NE(robot_out.find("received 1 first 7 last 7"), std::string::npos) << robot_out;
   const auto at = watcher_out.rfind("malformed ");

@@ -120,6 +120,10 @@ class HostProcess {
     out_.clear();
     return std::exchange(pid_, -1);
   }
+  /// Asks it to end (SIGTERM); wait() for it.
+  void terminate() const {
+    if (pid_ > 0) ::kill(pid_, SIGTERM);
+  }
   /// Its pid (nsenter and env exec the program: the program's own pid); -1 once it ended.
   pid_t pid() const noexcept { return pid_; }
   /// What it printed on stdout and stderr so far.
