@@ -1,6 +1,6 @@
 # The Debian packages (CPack's DEB generator, one package per install component), made by
 # scripts/package.sh from a build configured for /usr:
-#   libhorus0      (lib)     libhorus.so.0: the library, its transports and standard messages
+#   libhorus0      (lib)     libhorus.so.0: the library, LCM and the standard messages; horus0/: the DDS transports' plug-ins
 #   libhorus-dev   (dev)     headers, the CMake package, horus.pc, horus-idlgen, the IDL and LCM files
 #   horus-tools    (tools)   the horus command line, its bash completion, horus-msg-catalogue
 #   python3-horus  (python)  the module horus for Debian's python3

@@ -58,7 +58,13 @@ std::string_view to_string(const Backend& b) noexcept {
 }
 
 bool backend_available(const Backend& b) noexcept {
-  return b.scope() != Scope::Fleet || net::find_transport(b.transport()) != nullptr;
+  if (b.scope() != Scope::Fleet) return true;
+  if (net::find_transport(b.transport()) == nullptr) return false;
+  try {
+    return net::load_transport(b.transport()).has_value();  // a plug-in: whether it loads
+  } catch (...) {
+    return false;
+  }
 }
 
 namespace {

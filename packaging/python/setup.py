@@ -57,7 +57,7 @@ def stage():
         real = link.resolve()
         link.unlink()
         shutil.move(real, link)
-    for f in target.glob("*.so*"):
+    for f in target.rglob("*.so*"):  # the module, the library and the transports' plug-ins (horus0/)
         subprocess.run(["strip", "--strip-debug", str(f)], check=True)
 
 

@@ -27,6 +27,17 @@ root=$work/root
 libdir=$(dirname "$(find "$root/usr/lib" -name 'libhorus.so.0' | head -n 1)")
 [[ -e $libdir/libhorus.so.0 ]] || { echo "no libhorus.so.0 in the packages" >&2; exit 1; }
 readelf -d "$libdir/libhorus.so.0" | grep -q 'SONAME.*\[libhorus\.so\.0\]' || { echo "libhorus.so.0 has no SONAME libhorus.so.0" >&2; exit 1; }
+# The transports' plug-ins the build made, in libhorus0 beside the library (<libdir>/horus0), and
+# libhorus.so.0 itself without the DDS libraries (a program loads them only with a plug-in).
+for plugin in "$build"/horus0/libhorus-*.so; do
+  [[ -e $plugin ]] || continue
+  [[ -f $libdir/horus0/$(basename "$plugin") ]] || { echo "no $(basename "$plugin") in $libdir/horus0" >&2; exit 1; }
+  echo "plug-in packaged: $libdir/horus0/$(basename "$plugin")"
+done
+if readelf -d "$libdir/libhorus.so.0" | grep -E 'NEEDED.*(libfastrtps|libddsc)'; then
+  echo "libhorus.so.0 needs a DDS library (the DDS transports are plug-ins)" >&2
+  exit 1
+fi
 export LD_LIBRARY_PATH=$libdir
 
 # find_package(horus) from the packaged CMake files.

@@ -34,6 +34,7 @@
 
 #include "horus/wire/xcdr1.hpp"
 #include "horus/dds/transports.hpp"
+#include "horus/transport_registry.hpp"
 #include "horus/wire/lcm.hpp"
 #ifdef HORUS_HAVE_LCM
 #include "horus/lcm/transport.hpp"
@@ -126,12 +127,10 @@ int raw_writer(const std::string& wire_topic, const std::string& type, Clock::ti
   const char* backend = std::getenv("HORUS_BACKEND");
   auto config = horus::network_config_from_environment();
   if (!config) return 3;
-#ifdef HORUS_HAVE_CYCLONEDDS
-  if (backend != nullptr && std::string_view(backend) == "cyclonedds") t = horus::dds::cyclone_transport(*config);
-#endif
-#ifdef HORUS_HAVE_FASTDDS
-  if (backend != nullptr && std::string_view(backend) == "fastdds") t = horus::dds::fastdds_transport(*config);
-#endif
+  // The DDS transports through the registry (with libhorus.so they are plug-ins it loads).
+  if (backend != nullptr && (std::string_view(backend) == "cyclonedds" || std::string_view(backend) == "fastdds")) {
+    if (const horus::net::TransportInfo* info = horus::net::find_transport(backend)) t = info->open(*config);
+  }
   const bool lcm = backend != nullptr && std::string_view(backend) == "lcm";
 #ifdef HORUS_HAVE_LCM
   if (lcm) {

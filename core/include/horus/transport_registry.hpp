@@ -54,6 +54,23 @@ struct TransportInfo {
 /// with other functions it is an error (Errc::Config), as is an empty name or a missing function.
 Result<void> register_transport(const TransportInfo& info);
 
+/// Adds a transport whose implementation is a plug-in, a shared object loaded the first time the
+/// transport is opened (libhorus.so's DDS transports: a program that uses none does not load
+/// Fast DDS or Cyclone DDS). `info` gives the name, the format and the wire_name (which must not
+/// need the plug-in); its open functions are the registry's own, which load
+/// `<transport_plugin_directory()>/libhorus-<name>.so` and then call the functions the plug-in
+/// registers with register_transport() under the same name as it loads. `control`: the plug-in
+/// has an open_control.
+Result<void> register_transport_plugin(const TransportInfo& info, bool control);
+
+/// Loads the plug-in of the transport `name` if it is one and not loaded yet. An error names the
+/// file and what dlopen said (Errc::Config); a transport that is no plug-in is loaded already.
+Result<void> load_transport(std::string_view name);
+
+/// Where the transports' plug-ins are: $HORUS_PLUGIN_PATH when set, else the directory "horus0"
+/// beside the library that holds this registry (libhorus.so.0: <libdir>/horus0).
+std::string transport_plugin_directory();
+
 /// The transport registered under `name`, or nullptr.
 const TransportInfo* find_transport(std::string_view name) noexcept;
 

@@ -2,7 +2,9 @@
 // that uses it (released when the last topic closes). Built when the packages are present
 // (HORUS_WITH_CYCLONEDDS, HORUS_WITH_FASTDDS); each registers itself by name
 // (horus/transport_registry.hpp), and Topic<T> reaches it through
-// HORUS_BACKEND=cyclonedds|fastdds or TopicOptions::backend.
+// HORUS_BACKEND=cyclonedds|fastdds or TopicOptions::backend. With libhorus.so (HORUS_SHARED) the
+// two transports are plug-ins (docs/ABI.md): topic_name is in the library, the rest in
+// <libdir>/horus0/libhorus-<name>.so, reached through net::find_transport(name).
 #pragma once
 
 #include <memory>
