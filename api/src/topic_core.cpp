@@ -117,10 +117,15 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
     transport = net::find_transport(backend.transport());
     if (transport != nullptr) backend = Backend::network(transport->name);  // the registry owns the name
   }
-  if (!backend_available(backend))
+  if (is_network(backend) && transport == nullptr)
     return fail(Errc::Config, fmt::format("topic '{}': this build of horus has no {} backend (its Debian package was "
                                           "missing when horus was built)",
                                           name, to_string(backend)));
+  // A transport that is a plug-in loads now; the error names its file and what went wrong.
+  if (transport != nullptr) {
+    if (auto loaded = net::load_transport(transport->name); !loaded)
+      return fail(Errc::Config, fmt::format("topic '{}': {}", name, loaded.error().message()));
+  }
 
   // Topics are told apart by name and namespace: the shared-memory namespace for host and
   // fleet topics (so one process can use a name in two namespaces), "" for in-process ones.

@@ -51,6 +51,8 @@ Plugins& plugins() {
   return p;
 }
 
+// Without the mutex: names are written only by register_transport_plugin, before main() (the
+// composition root), and this runs inside a plug-in's load, which holds the mutex.
 Plugin* plugin_named(std::string_view name) noexcept {
   for (auto& p : plugins().slots)
     if (!p.name.empty() && p.name == name) return &p;
@@ -130,10 +132,11 @@ Result<void> register_transport_plugin(const TransportInfo& info, bool control) 
                                             kPluginSlots));
     all.slots[slot].name = std::string(info.name);
   }
-  TransportInfo stub = info;
-  stub.open = kSlotFunctions[slot].first;
-  stub.open_control = control ? kSlotFunctions[slot].second : nullptr;
-  return register_transport(stub);
+  // The registry's entry: the caller's name, format and wire_name, the slot's loading functions.
+  TransportInfo loading = info;
+  loading.open = kSlotFunctions[slot].first;
+  loading.open_control = control ? kSlotFunctions[slot].second : nullptr;
+  return register_transport(loading);
 }
 
 Result<void> load_transport(std::string_view name) {

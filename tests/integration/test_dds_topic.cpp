@@ -19,6 +19,7 @@
 
 #include "horus/msg/all.hpp"
 #include "horus/topic.hpp"
+#include "horus/transport_registry.hpp"
 #include "dds_support.hpp"
 #include "message_samples.hpp"
 #include "process_support.hpp"
@@ -358,6 +359,39 @@ TEST_F(DdsTest, BackendNamesAreCheckedInTheEnvironment) {
     }
   }
   ::unsetenv("HORUS_BACKEND");
+}
+
+// With libhorus.so the DDS transports are plug-ins (docs/ABI.md): one that is not where the
+// library looks is a clear error naming its file and HORUS_PLUGIN_PATH, not a crash. In a child
+// forked before anything loaded the plug-in (ctest runs each test in a process of its own).
+TEST(DdsPlugins, AMissingPlugInIsAnErrorThatNamesItsFile) {
+  const std::string file = horus::net::transport_plugin_directory() + "/libhorus-cyclonedds.so";
+  if (::access(file.c_str(), F_OK) != 0) GTEST_SKIP() << "this build has no plug-in " << file << " (a static build?)";
+  int fds[2];
+  ASSERT_EQ(::pipe(fds), 0);
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    ::close(fds[0]);
+    ::setenv("HORUS_PLUGIN_PATH", "/nonexistent/horus-plugins", 1);
+    ::setenv("HORUS_DDS_LOCALHOST", "1", 1);
+    horus::TopicOptions o;
+    o.backend = Backend::CycloneDds;
+    auto t = horus::Topic<horus::msg::Pose2D>::open("plugin.missing", o);
+    const std::string why = t ? std::string("opened") : t.error().message();
+    (void)!::write(fds[1], why.data(), why.size());
+    ::_exit(t ? 1 : 0);
+  }
+  ::close(fds[1]);
+  std::string why;
+  char buf[512];
+  for (ssize_t n; (n = ::read(fds[0], buf, sizeof buf)) > 0;) why.append(buf, static_cast<std::size_t>(n));
+  ::close(fds[0]);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "the topic opened without its plug-in: " << why;
+  EXPECT_NE(why.find("/nonexistent/horus-plugins/libhorus-cyclonedds.so"), std::string::npos) << why;
+  EXPECT_NE(why.find("HORUS_PLUGIN_PATH"), std::string::npos) << why;
 }
 
 }  // namespace
