@@ -98,6 +98,10 @@ bool network_holds_bridge(const TopicCore& core) noexcept {
   return static_cast<int>(core.segment->bridge().owner.load(std::memory_order_acquire) >> 32) == current_pid();
 }
 
+void network_publisher(TopicCore& core) noexcept {
+  if (core.net) core.net->on_publisher();
+}
+
 std::uint64_t network_errors(const TopicCore& core) noexcept { return core.net ? core.net->errors() : 0; }
 
 std::uint64_t network_decode_failures(const TopicCore& core) noexcept {

@@ -17,7 +17,7 @@
 namespace horus::shm {
 
 namespace {
-std::uint64_t bridge_word(pid_t pid, std::uint32_t slot) noexcept {
+std::uint64_t claim_word(pid_t pid, std::uint32_t slot) noexcept {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(pid)) << 32) | (slot + 1u);
 }
 
@@ -35,7 +35,7 @@ bool bridge_holder_alive(const SegmentHeader& h, std::uint64_t word) noexcept {
 
 ShmSegment::BridgeClaim ShmSegment::claim_bridge() noexcept {
   if (header_ == nullptr || slot_ >= kMaxParticipants) return BridgeClaim::Held;
-  const std::uint64_t mine = bridge_word(::getpid(), slot_);
+  const std::uint64_t mine = claim_word(::getpid(), slot_);
   BridgeState& b = header_->bridge;
   std::uint64_t cur = b.owner.load(std::memory_order_acquire);
   for (;;) {
@@ -52,10 +52,28 @@ ShmSegment::BridgeClaim ShmSegment::claim_bridge() noexcept {
 
 void ShmSegment::release_bridge() noexcept {
   if (header_ == nullptr || slot_ >= kMaxParticipants) return;
-  std::uint64_t mine = bridge_word(::getpid(), slot_);
+  std::uint64_t mine = claim_word(::getpid(), slot_);
   // Watchers of other processes see a release on the engine board (a holder that exits is
   // seen through its pidfd instead).
   if (header_->bridge.owner.compare_exchange_strong(mine, 0, std::memory_order_acq_rel)) note_bridge_released();
+}
+
+std::uint64_t ShmSegment::bridge_word() const noexcept {
+  return header_ == nullptr || slot_ >= kMaxParticipants ? 0 : claim_word(::getpid(), slot_);
+}
+
+bool ShmSegment::bridge_word_alive(std::uint64_t word) const noexcept {
+  return header_ != nullptr && word != 0 && bridge_holder_alive(*header_, word);
+}
+
+bool ShmSegment::transfer_bridge(std::uint64_t to) noexcept {
+  if (header_ == nullptr || slot_ >= kMaxParticipants || to == 0) return false;
+  std::uint64_t mine = claim_word(::getpid(), slot_);
+  if (!header_->bridge.owner.compare_exchange_strong(mine, to, std::memory_order_acq_rel)) return false;
+  header_->bridge.claims.fetch_add(1, std::memory_order_relaxed);
+  header_->bridge.claimed_unix_ns.store(detail::now_unix_ns(), std::memory_order_relaxed);
+  note_bridge_released();  // the host's watchers look again (they watch the new holder from now on)
+  return true;
 }
 
 void ShmSegment::record_bridge_export(std::uint32_t entry, std::uint64_t token) noexcept {

@@ -102,6 +102,11 @@ for round in $(seq "$rounds"); do
       hs=$(line host hostsub) ls=$(line local local) rs=$(line remote remote)
       note=""
       [ "$held" = 1 ] || note=" (the $h did not hold the bridge)"
+      # The bridge follows the host's publisher (fleet/README.md, the hand-over): who held it at the end.
+      moved=$(sed -n 's/^sent [0-9]* bridge=\([01]\).*/\1/p' "$run.pub" | head -1)
+      if [ "$h" != publisher ]; then
+        if [ "$moved" = 1 ]; then note="$note (handed over to the publisher)"; else note="$note (not handed over)"; fi
+      fi
       printf "%-10s %-10s %5s | %-20s | %-20s | %-20s%s\n" "$b" "$h" "$round" "$hs" "$ls" "$rs" "$note"
       echo "$b $h $round $hs $ls $rs" >> "$results"
     done

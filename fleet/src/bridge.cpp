@@ -218,12 +218,9 @@ void Bridge::leave() noexcept {
   }
   if (attached_.exchange(false))
     shm::engine_leave(core_.ring.doorbell(), core_.ring.subscriber(port_->entry()).waiting, forward_);
-  {
-    std::lock_guard receiving(receiving_mutex_);  // no opening handle is inside update_receiving()
-    std::lock_guard lock(endpoint_mutex_);        // the import pump is not inside take_held()
-    endpoint_ready_.store(false, std::memory_order_release);
-    endpoint_.reset();  // no callback after this
-  }
+  close_endpoint();
+  if (std::uint64_t mine = segment().bridge_word(); mine != 0)  // it had asked for the bridge
+    state().handover.compare_exchange_strong(mine, 0, std::memory_order_acq_rel);
   if (holder_.load(std::memory_order_relaxed)) {
     state().matched_publishers.store(0, std::memory_order_relaxed);
     state().matched_subscribers.store(0, std::memory_order_relaxed);
@@ -242,6 +239,15 @@ Result<void> Bridge::join(const TopicOptions& options) {
 // --- becoming the holder -------------------------------------------------------------------
 
 Result<void> Bridge::become_holder(bool takeover) {
+  becoming_.store(true, std::memory_order_release);
+  struct Done {
+    std::atomic<bool>& flag;
+    ~Done() { flag.store(false, std::memory_order_release); }
+  } done{becoming_};
+  if (port_stale_) {  // handed over before: the old port's entry and lane are someone else's now
+    retired_ports_.push_back(std::move(port_));
+    port_stale_ = false;
+  }
   if (!port_) port_ = ops_.make_port(core_);
   const std::uint32_t readers_before = state().matched_subscribers.load(std::memory_order_relaxed);
   bool inherited = false;
@@ -265,25 +271,18 @@ Result<void> Bridge::become_holder(bool takeover) {
   segment().record_bridge_export(port_->entry(), port_->entry_token());
   segment().record_bridge_import(port_->lane(), port_->lane_token());
   export_lost_seen_ = port_->export_lost();
-  net::EndpointSpec spec;
-  spec.topic = core_.name;
-  spec.wire_topic = wire_topic_;
-  spec.type_name = core_.type_name;
-  spec.type_hash = core_.type_hash;
-  spec.qos = qos_;
-  spec.max_message_bytes = core_.pool ? core_.pool.slot_bytes() : core_.ring.payload_size();
-  receiving_.store(host_subscribers() != 0, std::memory_order_relaxed);
-  spec.receive = receiving_.load(std::memory_order_relaxed);
-  auto endpoint = transport_->open(spec, *this);
-  if (!endpoint) {
-    port_->leave();  // recorded: the next holder adopts them
-    return std::unexpected(std::move(endpoint.error()));
+  // An endpoint opened for a hand-over matched what the predecessor's had: no gate.
+  const bool prematched = prematched_ && endpoint_ != nullptr;
+  prematched_ = false;
+  if (!prematched) {
+    if (auto ok = open_endpoint(host_subscribers() != 0); !ok) {
+      port_->leave();  // recorded: the next holder adopts them
+      return ok;
+    }
+  } else {
+    receiving_.store(true, std::memory_order_relaxed);  // as it was opened; update_receiving() follows
   }
-  {
-    std::lock_guard lock(endpoint_mutex_);
-    endpoint_ = std::move(*endpoint);
-  }
-  if ((takeover || inherited) && readers_before != 0) {
+  if (!prematched && (takeover || inherited) && readers_before != 0) {
     // The readers that matched the predecessor's writer must match ours before the backlog
     // goes out, or a volatile reader would miss it (bounded: a reader may have left). The
     // control thread opens the gate (control()).
@@ -294,7 +293,32 @@ Result<void> Bridge::become_holder(bool takeover) {
   holder_.store(true, std::memory_order_release);
   endpoint_ready_.store(true, std::memory_order_release);
   publish_matches();
+  if (prematched) update_receiving();
   return {};
+}
+
+Result<void> Bridge::open_endpoint(bool receive) {
+  net::EndpointSpec spec;
+  spec.topic = core_.name;
+  spec.wire_topic = wire_topic_;
+  spec.type_name = core_.type_name;
+  spec.type_hash = core_.type_hash;
+  spec.qos = qos_;
+  spec.max_message_bytes = core_.pool ? core_.pool.slot_bytes() : core_.ring.payload_size();
+  receiving_.store(receive, std::memory_order_relaxed);
+  spec.receive = receive;
+  auto endpoint = transport_->open(spec, *this);
+  if (!endpoint) return std::unexpected(std::move(endpoint.error()));
+  std::lock_guard lock(endpoint_mutex_);
+  endpoint_ = std::move(*endpoint);
+  return {};
+}
+
+void Bridge::close_endpoint() noexcept {
+  std::lock_guard receiving(receiving_mutex_);  // no opening handle is inside update_receiving()
+  std::lock_guard lock(endpoint_mutex_);        // the import pump is not inside take_held()
+  endpoint_ready_.store(false, std::memory_order_release);
+  endpoint_.reset();  // no callback after this
 }
 
 void Bridge::attach() noexcept {
@@ -312,6 +336,7 @@ void Bridge::attach() noexcept {
 void Bridge::service() noexcept {
   if (!attached_.load(std::memory_order_acquire)) return;
   shm::arm_bridge(core_.ring.doorbell());  // armed again, then look: a later send wakes us
+  if (state().handover.load(std::memory_order_acquire) != 0 && hand_over()) return;
   if (!gated_.load(std::memory_order_acquire) && !export_busy_.exchange(true, std::memory_order_acquire)) {
     drain();
     release_export();
@@ -342,23 +367,38 @@ Clock::time_point Bridge::control(Clock::time_point now, bool gone) noexcept {
   // given up on the host, or it was just added; it looks at the claim word and claims when
   // nobody (alive) holds the bridge.
   const std::uint64_t owner = state().owner.load(std::memory_order_acquire);
-  if (retry_claim_ && now < retry_at_) return retry_at_;
-  if (owner != 0 && owner == seen_owner_ && !gone && !retry_claim_) return Clock::time_point::max();
+  const std::uint64_t mine = segment().bridge_word();
+  // A watcher that publishes asks for the bridge (the hand-over); the holder hands it over by
+  // writing our word into the claim (Ours below).
+  auto next = Clock::time_point::max();
+  if (owner != mine && (ask_ != Ask::Idle || publishes_.load(std::memory_order_relaxed)))
+    next = handover_step(now, owner);
+  if (retry_claim_ && now < retry_at_) return std::min(next, retry_at_);
+  if (owner != 0 && owner != mine && owner == seen_owner_ && !gone && !retry_claim_) return next;
   seen_owner_ = owner;
   const auto claim = segment().claim_bridge();
-  if (claim == shm::ShmSegment::BridgeClaim::Held) return Clock::time_point::max();
+  if (claim == shm::ShmSegment::BridgeClaim::Held) return next;
   const bool takeover = claim == shm::ShmSegment::BridgeClaim::TookOver;
+  const bool handed = claim == shm::ShmSegment::BridgeClaim::Ours;
   if (auto ok = become_holder(takeover); !ok) {
     log().error("topic '{}': this process could not take over the host's bridge to {}: {}; retrying in 1 s",
                 core_.name, info_.name, ok.error().message());
     segment().release_bridge();
+    if (ask_ != Ask::Idle) cancel_ask();
     retry_claim_ = true;
     retry_at_ = now + std::chrono::seconds(1);
     return retry_at_;
   }
   retry_claim_ = false;
+  if (ask_ != Ask::Idle) {
+    ask_ = Ask::Idle;
+    std::uint64_t asked = mine;
+    state().handover.compare_exchange_strong(asked, 0, std::memory_order_acq_rel);
+  }
   log().info("topic '{}': this process (pid {}) now bridges the host to {}{}", core_.name, ::getpid(), info_.name,
-             takeover ? " (it took over from a process that is gone)" : "");
+             takeover ? " (it took over from a process that is gone)"
+             : handed ? " (handed over by a process that does not publish on it: its sends export inline)"
+                      : "");
   attach();
   return gated_.load() ? now + std::chrono::milliseconds(1) : Clock::time_point::max();
 }
@@ -366,6 +406,193 @@ Clock::time_point Bridge::control(Clock::time_point now, bool gone) noexcept {
 pid_t Bridge::watched_pid() const noexcept {
   if (holder_.load(std::memory_order_acquire)) return 0;
   return static_cast<pid_t>(state().owner.load(std::memory_order_acquire) >> 32);
+}
+
+// --- the hand-over (bridge.hpp): the bridge follows the host's publisher ------------------------
+
+namespace {
+constexpr auto kQuiet = std::chrono::milliseconds(200);       // no import for this long: a hand-over loses nothing
+constexpr auto kAskLook = std::chrono::milliseconds(200);     // a publishing watcher looks this often
+constexpr auto kAskBackOff = std::chrono::seconds(5);         // after a hand-over that did not happen
+constexpr auto kAskPoll = std::chrono::milliseconds(1);       // matching, asked: how often it looks
+constexpr auto kAskWait = std::chrono::seconds(1);            // how long the holder may take to answer
+constexpr auto kRingAgain = std::chrono::milliseconds(50);    // ring the holder again (it was busy)
+}  // namespace
+
+// A user thread, at a handle's first send: the engine's control thread takes it from here.
+void Bridge::on_publisher() noexcept {
+  if (horus::detail::current_pid() != creator_pid_ || core_.name.starts_with(kFleetTopicPrefix)) return;
+  if (holder_.load(std::memory_order_acquire) || publishes_.exchange(true, std::memory_order_acq_rel)) return;
+  try {
+    engine_->look(*this);
+  } catch (...) {  // out of memory: the bridge stays where it is
+  }
+}
+
+// Whether process `pid` owns a publisher lane of the topic (`skip_import`: the bridge's import
+// lane, which the holder owns, not counted).
+bool Bridge::owns_lane(pid_t pid, bool skip_import) const noexcept {
+  const std::uint32_t hwm = std::min(core_.ring.header().lane_hwm.load(std::memory_order_acquire), shm::kMaxPublishers);
+  const std::uint64_t import_token = state().import_token.load(std::memory_order_acquire);
+  for (std::uint32_t l = 0; l < hwm; ++l) {
+    const std::uint64_t token = core_.ring.lane(l).owner.load(std::memory_order_acquire);
+    if (token == 0 || shm::token_pid(token) != pid) continue;
+    if (skip_import && token == import_token) continue;
+    return true;
+  }
+  return false;
+}
+
+// The control thread, for a watcher whose process publishes on the topic: looks whether the
+// holder publishes too and whether imports are quiet, opens this process's endpoint and waits
+// until it matched what the holder's did, then asks (the segment's `handover` word) and rings
+// the holder's engine (the bridge class of the doorbell); the holder answers by handing the claim
+// over, which control() sees as Ours. Returns when it wants to be called again.
+Clock::time_point Bridge::handover_step(Clock::time_point now, std::uint64_t owner) noexcept {
+  const std::uint64_t mine = segment().bridge_word();
+  const bool holder_alive = owner != 0 && segment().bridge_word_alive(owner);
+  switch (ask_) {
+    case Ask::Idle: {
+      if (now < ask_next_) return ask_next_;
+      ask_next_ = now + kAskLook;
+      if (!owns_lane(::getpid(), false)) {  // its publishers closed: nothing to follow
+        publishes_.store(false, std::memory_order_release);
+        return Clock::time_point::max();
+      }
+      if (!holder_alive || mine == 0) return ask_next_;  // nobody holds it: the claim takes it
+      if (owns_lane(static_cast<pid_t>(owner >> 32), true)) {
+        ask_next_ = now + kAskBackOff;  // the holder publishes too: it keeps the bridge
+        return ask_next_;
+      }
+      const std::uint64_t imported = state().imported.load(std::memory_order_relaxed);
+      if (imported != quiet_imported_) {
+        quiet_imported_ = imported;
+        quiet_since_ = now;
+        return ask_next_;
+      }
+      if (now - quiet_since_ < kQuiet) return ask_next_;
+      if (auto ok = open_endpoint(true); !ok) {
+        log().warn("topic '{}': this process publishes on it but could not open its {} endpoint to take the "
+                   "host's bridge over ({}); the bridge stays with pid {}",
+                   core_.name, info_.name, ok.error().message(), owner >> 32);
+        ask_next_ = now + kAskBackOff;
+        return ask_next_;
+      }
+      ask_ = Ask::Matching;
+      ask_until_ = now + kMatchWait;
+      return now + kAskPoll;
+    }
+    case Ask::Matching: {
+      if (!holder_alive) {
+        cancel_ask();
+        return now;
+      }
+      std::uint32_t readers = 0, writers = 0;
+      try {
+        readers = endpoint_->matched_subscribers();
+        writers = endpoint_->matched_publishers();
+      } catch (...) {
+      }
+      // The holder's counts include this endpoint, ours the holder's (DDS): equal counts mean
+      // every remote endpoint matched ours too. LCM has none: 0 and 0.
+      if (now < ask_until_ && (readers < state().matched_subscribers.load(std::memory_order_relaxed) ||
+                               writers < state().matched_publishers.load(std::memory_order_relaxed)))
+        return now + kAskPoll;
+      std::uint64_t other = 0;
+      if (!state().handover.compare_exchange_strong(other, mine, std::memory_order_acq_rel) &&
+          segment().bridge_word_alive(other) && other != mine) {
+        cancel_ask();  // another process asks: one at a time
+        return ask_next_;
+      }
+      state().handover.store(mine, std::memory_order_release);
+      prematched_ = true;
+      ask_ = Ask::Asked;
+      ask_until_ = now + kAskWait;
+      rang_at_ = now;
+      (void)core_.ring.wake_waiters(shm::Doorbell::kArmedBridge);
+      return now + kAskPoll;
+    }
+    case Ask::Asked: {
+      if (!holder_alive || now >= ask_until_ || state().handover.load(std::memory_order_acquire) != mine) {
+        log().debug("topic '{}': the host's bridge stays with pid {} (it did not hand it over)", core_.name,
+                    owner >> 32);
+        cancel_ask();
+        return ask_next_;
+      }
+      if (now - rang_at_ >= kRingAgain) {  // the holder was busy (exporting): ring again
+        rang_at_ = now;
+        (void)core_.ring.wake_waiters(shm::Doorbell::kArmedBridge);
+      }
+      return now + kAskPoll;
+    }
+  }
+  return Clock::time_point::max();
+}
+
+// Gives up asking: the request word and this process's endpoint go; a look again later.
+void Bridge::cancel_ask() noexcept {
+  if (std::uint64_t mine = segment().bridge_word(); mine != 0)
+    state().handover.compare_exchange_strong(mine, 0, std::memory_order_acq_rel);
+  close_endpoint();
+  prematched_ = false;
+  ask_ = Ask::Idle;
+  ask_next_ = Clock::now() + kAskBackOff;
+}
+
+// The holder's export thread, asked for the bridge (service()): hands it over when this process
+// publishes nothing on the topic, the asker lives, the import was quiet for kQuiet and nothing
+// waits (the gate, a stash, the budget's newest message, samples the transport holds). Exports
+// what the host's publishers wrote so far, closes the endpoint, records the entry and the lane
+// for the asker and writes its word into the claim. Returns true when it gave the bridge away.
+bool Bridge::hand_over() noexcept {
+  const std::uint64_t to = state().handover.load(std::memory_order_acquire);
+  const std::uint64_t mine = segment().bridge_word();
+  if (to == 0 || to == mine || !holder_.load(std::memory_order_acquire)) return false;
+  // At most one look per kRingAgain (the asker rings again): a refused or dead asker's word
+  // costs no look at /proc per message.
+  const std::int64_t now = now_ns();
+  if (now - handover_looked_ns_ < std::chrono::duration_cast<Clock::duration>(kRingAgain).count() / 2) return false;
+  handover_looked_ns_ = now;
+  if (!segment().bridge_word_alive(to)) {
+    std::uint64_t gone = to;
+    state().handover.compare_exchange_strong(gone, 0, std::memory_order_acq_rel);
+    return false;
+  }
+  if (owns_lane(::getpid(), true) ||
+      now - last_import_ns_.load(std::memory_order_relaxed) < std::chrono::duration_cast<Clock::duration>(kQuiet).count())
+    return false;  // the asker gives up after kAskWait and looks again later
+  if (export_busy_.exchange(true, std::memory_order_acquire)) return false;  // rung again in 50 ms
+  if (gated_.load(std::memory_order_acquire) || backlog_.load(std::memory_order_acquire) || has_latest_ ||
+      held_.load(std::memory_order_acquire)) {
+    release_export();
+    return false;
+  }
+  core_.inline_export.active.store(false, std::memory_order_release);
+  drain();
+  if (backlog_.load(std::memory_order_acquire) || has_latest_) {  // a write timed out: keep it
+    if (attached_.load(std::memory_order_acquire)) activate_inline();
+    release_export();
+    return false;
+  }
+  if (attached_.exchange(false))
+    shm::engine_leave(core_.ring.doorbell(), core_.ring.subscriber(port_->entry()).waiting, forward_);
+  close_endpoint();
+  // The entry and the lane stay as recorded in the segment for the asker, who adopts them (their
+  // owner tokens become its own). The port stays too: a publishing thread of this process that
+  // raced the hand-over may still look at it (release_export), and finds it no longer owns them.
+  holder_.store(false, std::memory_order_release);
+  port_stale_ = true;
+  gated_.store(false, std::memory_order_relaxed);
+  held_.store(false, std::memory_order_relaxed);
+  export_busy_.store(false, std::memory_order_release);
+  if (!segment().transfer_bridge(to)) segment().release_bridge();
+  log().info("topic '{}': this process (pid {}) hands the host's bridge to {} over to pid {}, which publishes on it",
+             core_.name, ::getpid(), info_.name, to >> 32);
+  try {
+    engine_->look(*this);  // a watcher from now on
+  } catch (...) {
+  }
+  return true;
 }
 
 // --- exporting -------------------------------------------------------------------------------
@@ -384,6 +611,10 @@ void Bridge::activate_inline() noexcept {
 void Bridge::export_inline() noexcept {
   if (backlog_.load(std::memory_order_acquire)) return;  // the engine retries the stash
   if (export_busy_.exchange(true, std::memory_order_acquire)) return;
+  if (!holder_.load(std::memory_order_acquire)) {  // handed over meanwhile (hand_over() held export_busy_)
+    export_busy_.store(false, std::memory_order_release);
+    return;
+  }
   drain();
   release_export();
 }
@@ -400,9 +631,14 @@ void Bridge::release_export() noexcept {
 #if !defined(__SANITIZE_THREAD__)
     std::atomic_thread_fence(std::memory_order_seq_cst);
 #endif
-    if (gated_.load(std::memory_order_acquire) || backlog_.load(std::memory_order_acquire) || !has_export_work())
+    if (!holder_.load(std::memory_order_acquire) || gated_.load(std::memory_order_acquire) ||
+        backlog_.load(std::memory_order_acquire) || !has_export_work())
       return;
     if (export_busy_.exchange(true, std::memory_order_acquire)) return;
+    if (!holder_.load(std::memory_order_acquire)) {  // handed over meanwhile
+      export_busy_.store(false, std::memory_order_release);
+      return;
+    }
     drain();
   }
 }
@@ -574,7 +810,15 @@ bool Bridge::send(const void* msg) {
 // --- receiving -------------------------------------------------------------------------------
 
 void Bridge::on_sample(const net::Sample& sample) {
+  if (!holder_.load(std::memory_order_acquire)) [[unlikely]] {
+    // An endpoint opened for a hand-over: the holder imports until it hands the bridge over.
+    // A sample that comes after that and before this process holds it is not imported: counted.
+    if (state().owner.load(std::memory_order_acquire) == segment().bridge_word())
+      state().dropped.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
   if (loopback_ && ledger_.consume(body_hash(sample.body))) return;  // our own, back
+  last_import_ns_.store(now_ns(), std::memory_order_relaxed);
   if (!port_->deliver(format_, sample)) return;
   state().imported.fetch_add(1, std::memory_order_relaxed);
   // The import wakes the host's handles, not the export (it skips these messages); once they
@@ -599,7 +843,7 @@ std::uint64_t Bridge::import_lag() const noexcept {
 // subscriber that leaves the lane full for kImportWait is stuck (stopped, in a debugger): then
 // its oldest messages are overwritten (counted in its dropped_count) until it reads again.
 std::size_t Bridge::room() {
-  if (!hold_) return SIZE_MAX;
+  if (!hold_ || !holder_.load(std::memory_order_acquire)) return SIZE_MAX;
   const std::size_t r = port_->import_room();
   if (r > 0) {  // the subscribers read: not stuck
     stalled_.store(false, std::memory_order_relaxed);
@@ -625,13 +869,15 @@ bool Bridge::pump_held() noexcept {
                  n);
   }
   std::lock_guard lock(endpoint_mutex_);
-  if (!endpoint_) return true;  // not open yet: try again
+  if (!endpoint_)  // not open yet: try again (a bridge handed over has nothing to pump)
+    return holder_.load(std::memory_order_acquire) || becoming_.load(std::memory_order_acquire);
   held_.store(false, std::memory_order_release);  // room() sets it again if it must hold on
   endpoint_->take_held();
   return held_.load(std::memory_order_acquire);
 }
 
 void Bridge::on_lost(std::uint64_t count) {
+  if (!holder_.load(std::memory_order_acquire)) return;  // a hand-over's endpoint: the holder counts
   const auto before = state().dropped.fetch_add(count, std::memory_order_relaxed);
   // Log the first loss, then at most once per 1024 more (the count is in dropped_count()).
   if (before == 0 || before / 1024 != (before + count) / 1024)
@@ -687,7 +933,8 @@ std::uint64_t Bridge::dropped() const noexcept { return state().dropped.load(std
 // process, read from the segment (published by the holder's engine) in the others.
 std::uint32_t Bridge::remote(bool writers) const noexcept {
   if (endpoint_ready_.load(std::memory_order_acquire)) {
-    try {
+    std::lock_guard lock(endpoint_mutex_);  // a hand-over closes it on the export thread
+    if (endpoint_) try {
       return writers ? endpoint_->matched_publishers() : endpoint_->matched_subscribers();
     } catch (...) {
     }

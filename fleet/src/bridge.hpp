@@ -15,6 +15,15 @@
 // receiving (Endpoint::set_receiving); a subscribing handle rings the doorbell, which wakes the
 // engine to resume at once; in this process the handle's open() resumes it itself.
 //
+// The hand-over. The bridge follows the host's publisher: a process that publishes on the topic
+// asks the holder, which does not, for the bridge, so that its sends export inline (no wake-up
+// of another process between a send and the network). The asker opens its endpoint first and
+// waits until it matched what the holder's did; the holder then exports what the ring holds,
+// closes its endpoint, records its entry and lane and hands the claim word over (no other
+// process can claim in between); the asker adopts them. Only while the topic's import is quiet
+// (200 ms without a sample from the network): a sample the holder no longer takes and the asker
+// does not take yet is counted as dropped, and there is none when nothing comes.
+//
 // Takeover. Watchers (every other process with the topic open) let their engine's control
 // thread watch the holder: a pidfd per holder process, and the host's count of claims given up
 // (a holder that closes the topic and lives on; engine_board.hpp). The successor adopts the entry and the lane its
@@ -81,6 +90,7 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
   std::uint32_t remote_publishers() const noexcept override { return remote(true); }
   std::uint32_t remote_subscribers() const noexcept override { return remote(false); }
   std::uint64_t errors() const noexcept override { return errors_.load(std::memory_order_relaxed); }
+  void on_publisher() noexcept override;
 
   // -- net::Listener (the transport's threads) --------------------------------------
   void on_sample(const net::Sample& sample) override;
@@ -125,6 +135,15 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
   void publish_matches() noexcept;
   std::uint32_t remote(bool writers) const noexcept;  // remote writers (true) or readers matched
 
+  // The hand-over: the bridge follows the host's publisher (bridge.cpp, "the hand-over").
+  enum class Ask { Idle, Matching, Asked };
+  Clock::time_point handover_step(Clock::time_point now, std::uint64_t owner) noexcept;  // a publishing watcher
+  void cancel_ask() noexcept;
+  bool hand_over() noexcept;  // the holder, asked: true when it gave the bridge away
+  bool owns_lane(pid_t pid, bool skip_import) const noexcept;
+  Result<void> open_endpoint(bool receive);
+  void close_endpoint() noexcept;
+
   // Export: one exporter at a time; the one that stops looks again (release_export).
   static void export_inline_trampoline(void* self) noexcept;
   void activate_inline() noexcept;
@@ -157,7 +176,7 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
   std::atomic<bool> receiving_{true};          // what the endpoint was told
   std::atomic<std::int64_t> paused_at_ns_{0};  // when it was told to stop receiving (steady clock)
   std::atomic<bool> endpoint_ready_{false};    // endpoint_ is set (user threads may ask it for counts)
-  std::mutex endpoint_mutex_;                  // endpoint_ set or reset, against the import pump
+  mutable std::mutex endpoint_mutex_;                // endpoint_ set or reset, against the import pump
   bool loopback_ = false;                      // the transport delivers our own samples back (LCM)
   EchoLedger ledger_;
   std::atomic<bool> stop_{false};
@@ -208,6 +227,20 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
   std::atomic<std::int64_t> held_since_ns_{0};  // since when (steady clock)
   std::atomic<bool> stalled_{false};            // a subscriber let kImportWait pass: overwrite
   std::atomic<std::uint64_t> import_stalls_{0}; // for the log's rate
+  // The hand-over. The control thread's, but publishes_ (set by a user thread's first send).
+  std::atomic<bool> publishes_{false};          // a handle of this process took a lane
+  std::atomic<bool> becoming_{false};           // become_holder() runs (the import pump waits for it)
+  Ask ask_ = Ask::Idle;
+  Clock::time_point ask_next_{};                // when a publishing watcher looks again
+  Clock::time_point ask_until_{};               // when matching or asking gives up
+  Clock::time_point rang_at_{};                 // when it last rang the holder
+  std::uint64_t quiet_imported_ = ~std::uint64_t{0};  // the segment's import count at the last look
+  Clock::time_point quiet_since_{};
+  bool prematched_ = false;                     // the endpoint matched before the bridge came: no gate
+  bool port_stale_ = false;                     // handed over: port_'s entry and lane went with the claim
+  std::vector<std::unique_ptr<horus::detail::BridgePort>> retired_ports_;  // freed with the bridge
+  std::atomic<std::int64_t> last_import_ns_{0}; // the holder's last import (steady clock)
+  std::int64_t handover_looked_ns_ = 0;         // the export thread's: its last look at a request
   Presence presence_;                           // released last in ~Bridge (after leave())
 };
 

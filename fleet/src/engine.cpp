@@ -183,6 +183,14 @@ void Engine::kick() noexcept {
   (void)!::write(event_fd_, &one, sizeof(one));
 }
 
+void Engine::look(const Bridge& b) {
+  {
+    std::lock_guard lock(mutex_);
+    added_.push_back(b.serial);  // due at the control thread's next pass, as a new bridge is
+  }
+  kick();
+}
+
 template <class Pick>
 std::vector<Bridge*> Engine::pinned(Pick&& pick) {
   std::vector<Bridge*> out;

@@ -76,6 +76,8 @@ class Engine {
   void pump(Bridge& b);
   /// Wakes the control thread (a watcher should look at its claim now).
   void kick() noexcept;
+  /// Makes `b` due on the control thread now (Bridge::control: a hand-over to look at).
+  void look(const Bridge& b);
 
   /// A send of topic `topic` failed in the transport (Errc::Io: the network refused it, a link
   /// is down): logged once for the transport, not per topic and message; the messages are

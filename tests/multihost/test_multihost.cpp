@@ -250,6 +250,58 @@ TEST_P(MultiHost, KillingTheBridgeHandsItOverWithNoDuplicateAndEveryLossCounted)
                               << pub_out;
 }
 
+// The bridge follows the host's publisher (fleet/README.md, the hand-over): on host 1 a listener
+// opens the topic first and holds the bridge, then a publisher of the host sends; the listener,
+// which publishes nothing, hands the bridge over while messages flow, so that the publisher's
+// sends export inline. Every message reaches the other host exactly once and in order across the
+// hand-over, and the other host's messages, sent after it, reach both processes of host 1 (the
+// import moved with the bridge).
+TEST_P(MultiHost, TheBridgeFollowsTheHostsPublisherWithEveryMessageOnceBothWays) {
+  if (!horus::backend_available(GetParam()))
+    GTEST_SKIP() << "this build has no " << horus::to_string(GetParam()) << " backend";
+  horus_test::NetnsLan lan(2);
+  if (!lan.ok()) GTEST_SKIP() << "no namespace hosts: " << lan.why();
+  const std::vector<std::string> env = fleet_env(GetParam());
+  const std::string topic = "fleet.follow_" + std::to_string(::getpid());
+  const std::string start = unix_ms_from_now(std::chrono::milliseconds(4000));  // after discovery
+  const std::string far_start = unix_ms_from_now(std::chrono::milliseconds(7000));
+  auto member = [&](int host, const char* id, const std::string& at) {
+    return lan.spawn(host, {FLEET_MEMBER, topic, "fleet", id, "300", at, "2", "30", "period=5"}, env);
+  };
+  auto listener = member(0, "0", start);
+  // The listener holds host 1's bridge before the publisher opens the topic.
+  pid_t holder = 0;
+  for (auto until = std::chrono::steady_clock::now() + 10s; std::chrono::steady_clock::now() < until;) {
+    HostSegment seg(lan.holder(0), topic);
+    if (seg.ok() && (holder = seg.bridge_pid()) != 0) break;
+    std::this_thread::sleep_for(20ms);
+  }
+  ASSERT_EQ(holder, listener.pid()) << "the listener did not hold the bridge; it said:\n" << listener.output();
+  auto publisher = member(0, "1", start);
+  auto far = member(1, "2", far_start);
+  HostSegment seg(lan.holder(0), topic);
+  ASSERT_TRUE(seg.ok());
+  bool handed = false;  // within 3 s of the first send (it takes a few hundred ms)
+  for (auto until = std::chrono::steady_clock::now() + 7s; !handed && std::chrono::steady_clock::now() < until;) {
+    handed = seg.bridge_pid() == publisher.pid();
+    std::this_thread::sleep_for(5ms);
+  }
+  EXPECT_TRUE(handed) << "host 1's bridge stayed with pid " << seg.bridge_pid() << " (the publisher is pid "
+                      << publisher.pid() << ")";
+  struct Member {
+    horus_test::HostProcess* p;
+    const char* what;
+  } members[] = {{&listener, "the listener of host 1"}, {&publisher, "the publisher of host 1"},
+                 {&far, "the publisher of host 2"}};
+  for (auto& m : members) {
+    const int rc = m.p->wait(60s);
+    const std::string out = m.p->output();
+    EXPECT_EQ(rc, 0) << m.what << " said:\n" << out;
+    EXPECT_NE(out.find("received 600 from 2 publishers; duplicates 0; out of order 0; missing 0"), std::string::npos)
+        << m.what << " said:\n" << out;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Backends, MultiHost, ::testing::Values(horus::Backend::CycloneDds, horus::Backend::FastDds,
                                                                      horus::Backend::Lcm),
                          [](const auto& param_info) { return std::string(horus::to_string(param_info.param)); });

@@ -20,6 +20,8 @@ HORUS_API_BEGIN
 
 namespace horus::detail {
 
+void network_publisher(TopicCore& core) noexcept;  // network_link.hpp
+
 /// What one handle counts (TopicMetrics).
 struct HandleCounters {
   std::uint64_t send_failures = 0;
@@ -81,6 +83,7 @@ class LocalPort {
   [[gnu::noinline]] bool become_publisher() {
     if (writer_.ensure_lane()) {
       if (!receives()) reader_.unsubscribe();  // a pure publisher: stop counting as a subscriber
+      if (is_network(core_->backend)) network_publisher(*core_);  // the bridge may follow it here
       return true;
     }
     if (!no_lane_reported_) report_no_lane(*core_);

@@ -95,6 +95,9 @@ class NetworkLink {
   virtual std::uint32_t remote_subscribers() const noexcept = 0;
   /// Problems this process's bridge reported (incompatible endpoints).
   virtual std::uint64_t errors() const noexcept = 0;
+  /// A handle of this process took a publisher lane (its first send): the bridge may move to
+  /// this process (the hand-over: a publisher's sends export inline).
+  virtual void on_publisher() noexcept {}
 };
 
 /// What the fleet layer installs: makes the bridge of a fleet topic's first handle in this
@@ -122,6 +125,8 @@ std::uint32_t network_subscribers(const TopicCore& core) noexcept;  // remote re
 std::uint64_t network_errors(const TopicCore& core) noexcept;
 /// True when this process holds the host's bridge of the topic (a fleet topic).
 bool network_holds_bridge(const TopicCore& core) noexcept;
+/// A handle of a fleet topic took a publisher lane (LocalPort: its first send).
+void network_publisher(TopicCore& core) noexcept;
 /// Threads blocked on the topic's doorbell on this host, the bridge's own registration not counted.
 std::uint32_t network_waiters(const TopicCore& core) noexcept;
 std::uint64_t network_decode_failures(const TopicCore& core) noexcept;

@@ -85,6 +85,10 @@ struct alignas(kCacheLine) BridgeState {
   // Messages the egress budget (TopicOptions::max_rate_hz / max_bandwidth) kept from the
   // network. (It fills bytes that were padding, zero in older segments: the layout is unchanged.)
   std::atomic<std::uint64_t> budget_dropped;
+  // A process that publishes on the topic asks the holder, which does not, for the bridge (its
+  // claim word, as `owner`; 0: nobody asks): the bridge follows the host's publisher, so that
+  // its sends export inline (fleet/src/bridge.cpp, the hand-over). Padding in older segments.
+  std::atomic<std::uint64_t> handover;
 };
 static_assert(sizeof(BridgeState) == 2 * kCacheLine, "BridgeState keeps its size (the segment layout)");
 
@@ -206,6 +210,14 @@ class ShmSegment {
   void release_bridge() noexcept;
   /// The live process that holds the bridge, or 0.
   pid_t bridge_holder() const noexcept;
+  /// This attachment's claim word (what `owner` holds while it holds the bridge).
+  std::uint64_t bridge_word() const noexcept;
+  /// Whether the live process and attachment that claim word `word` names is attached still.
+  bool bridge_word_alive(std::uint64_t word) const noexcept;
+  /// Hands the bridge this attachment holds to the attachment whose claim word is `to` (the
+  /// hand-over: no other process can claim it in between); watchers see it as a release.
+  /// False when this attachment does not hold it.
+  bool transfer_bridge(std::uint64_t to) noexcept;
   /// The holder records the subscriber entry it exports from and the lane it imports into
   /// (token 0: none); the reaper leaves them for a successor.
   void record_bridge_export(std::uint32_t entry, std::uint64_t token) noexcept;
