@@ -22,6 +22,19 @@ namespace {
 constexpr auto kMatchWait = std::chrono::seconds(1);          // a successor waits for the readers
 constexpr auto kImportWait = std::chrono::milliseconds(100);  // a reliable import holds samples for room
 constexpr auto kEchoTtl = std::chrono::seconds(2);            // how long our own sample may take to come back
+// The hand-over (bridge.hpp):
+constexpr auto kQuiet = std::chrono::milliseconds(200);      // no import for this long before a hand-over
+constexpr auto kAskLook = std::chrono::milliseconds(200);    // a publishing watcher looks this often
+constexpr auto kAskBackOff = std::chrono::seconds(5);        // after a refusal (doubles, up to kAskBackOffMax)
+constexpr auto kAskBackOffMax = std::chrono::seconds(60);
+constexpr auto kAskPoll = std::chrono::milliseconds(1);      // matching, asked: how often it looks
+constexpr auto kAskWait = std::chrono::seconds(1);           // how long the holder may take to answer
+constexpr auto kAcceptedWait = std::chrono::seconds(3);      // accepted: how long the closing may take
+constexpr auto kRingAgain = std::chrono::milliseconds(50);   // ring the holder again (it was exporting)
+constexpr auto kSettle = std::chrono::milliseconds(20);      // closed: what it sent reaches the asker first
+// The holder accepted (the `handover` word's low half carries the asker's participant + 1, far
+// below this bit): it has stopped exporting and closes its endpoint; the asker waits for the claim.
+constexpr std::uint64_t kAccepted = std::uint64_t{1} << 31;
 
 std::atomic<int> g_network_pid{0};  // the process that created this process's transports
 
@@ -219,8 +232,15 @@ void Bridge::leave() noexcept {
   if (attached_.exchange(false))
     shm::engine_leave(core_.ring.doorbell(), core_.ring.subscriber(port_->entry()).waiting, forward_);
   close_endpoint();
-  if (std::uint64_t mine = segment().bridge_word(); mine != 0)  // it had asked for the bridge
-    state().handover.compare_exchange_strong(mine, 0, std::memory_order_acq_rel);
+  if (const std::uint64_t mine = segment().bridge_word(); mine != 0) {  // it had asked for the bridge
+    std::uint64_t w = mine;
+    state().handover.compare_exchange_strong(w, 0, std::memory_order_acq_rel);
+  }
+  if (handing_to_ != 0) finish_hand_over();  // closing while it hands the bridge over: hand it now
+  // Handed over: the entry and the lane are the new holder's (or recorded for it): let go of
+  // them without freeing them.
+  if (port_stale_ && port_) port_->leave();
+  for (auto& p : retired_ports_) p->leave();
   if (holder_.load(std::memory_order_relaxed)) {
     state().matched_publishers.store(0, std::memory_order_relaxed);
     state().matched_subscribers.store(0, std::memory_order_relaxed);
@@ -336,7 +356,17 @@ void Bridge::attach() noexcept {
 void Bridge::service() noexcept {
   if (!attached_.load(std::memory_order_acquire)) return;
   shm::arm_bridge(core_.ring.doorbell());  // armed again, then look: a later send wakes us
-  if (state().handover.load(std::memory_order_acquire) != 0 && hand_over()) return;
+  if (state().handover.load(std::memory_order_relaxed) != 0) [[unlikely]] {
+    // Asked for the bridge: the control thread answers (it may close the endpoint, which waits).
+    const std::int64_t now = now_ns();
+    if (now - handover_looked_ns_ > std::chrono::duration_cast<Clock::duration>(std::chrono::milliseconds(20)).count()) {
+      handover_looked_ns_ = now;
+      try {
+        engine_->look(*this);
+      } catch (...) {
+      }
+    }
+  }
   if (!gated_.load(std::memory_order_acquire) && !export_busy_.exchange(true, std::memory_order_acquire)) {
     drain();
     release_export();
@@ -347,6 +377,15 @@ void Bridge::service() noexcept {
 
 Clock::time_point Bridge::control(Clock::time_point now, bool gone) noexcept {
   if (stop_.load(std::memory_order_relaxed)) return Clock::time_point::max();
+  if (holder_.load(std::memory_order_acquire) && state().handover.load(std::memory_order_acquire) != 0) {
+    const auto at = hand_over(now);
+    if (!holder_.load(std::memory_order_acquire)) return at;  // accepted: handing_to_ from here on
+    if (at != Clock::time_point::max()) return at;
+  }
+  if (handing_to_ != 0) {
+    if (now < handing_at_) return handing_at_;
+    finish_hand_over();
+  }
   if (holder_.load(std::memory_order_acquire)) {
     if (gated_.load(std::memory_order_acquire)) {
       std::uint32_t matched = 0;
@@ -384,16 +423,19 @@ Clock::time_point Bridge::control(Clock::time_point now, bool gone) noexcept {
     log().error("topic '{}': this process could not take over the host's bridge to {}: {}; retrying in 1 s",
                 core_.name, info_.name, ok.error().message());
     segment().release_bridge();
-    if (ask_ != Ask::Idle) cancel_ask();
+    if (ask_ != Ask::Idle) cancel_ask(false);
     retry_claim_ = true;
     retry_at_ = now + std::chrono::seconds(1);
     return retry_at_;
   }
   retry_claim_ = false;
-  if (ask_ != Ask::Idle) {
+  if (handed || ask_ != Ask::Idle) {
     ask_ = Ask::Idle;
-    std::uint64_t asked = mine;
-    state().handover.compare_exchange_strong(asked, 0, std::memory_order_acq_rel);
+    ask_backoff_ = kAskBackOff;
+    for (std::uint64_t asked : {mine | kAccepted, mine}) {
+      std::uint64_t w = asked;
+      state().handover.compare_exchange_strong(w, 0, std::memory_order_acq_rel);
+    }
   }
   log().info("topic '{}': this process (pid {}) now bridges the host to {}{}", core_.name, ::getpid(), info_.name,
              takeover ? " (it took over from a process that is gone)"
@@ -410,18 +452,14 @@ pid_t Bridge::watched_pid() const noexcept {
 
 // --- the hand-over (bridge.hpp): the bridge follows the host's publisher ------------------------
 
-namespace {
-constexpr auto kQuiet = std::chrono::milliseconds(200);       // no import for this long: a hand-over loses nothing
-constexpr auto kAskLook = std::chrono::milliseconds(200);     // a publishing watcher looks this often
-constexpr auto kAskBackOff = std::chrono::seconds(5);         // after a hand-over that did not happen
-constexpr auto kAskPoll = std::chrono::milliseconds(1);       // matching, asked: how often it looks
-constexpr auto kAskWait = std::chrono::seconds(1);            // how long the holder may take to answer
-constexpr auto kRingAgain = std::chrono::milliseconds(50);    // ring the holder again (it was busy)
-}  // namespace
 
 // A user thread, at a handle's first send: the engine's control thread takes it from here.
+// Not for the fleet layer's own topics, nor transient-local ones (a writer's history is what a
+// late joiner gets: it must not go with a hand-over).
 void Bridge::on_publisher() noexcept {
-  if (horus::detail::current_pid() != creator_pid_ || core_.name.starts_with(kFleetTopicPrefix)) return;
+  if (horus::detail::current_pid() != creator_pid_ || core_.name.starts_with(kFleetTopicPrefix) ||
+      qos_.durability == net::Durability::TransientLocal)
+    return;
   if (holder_.load(std::memory_order_acquire) || publishes_.exchange(true, std::memory_order_acq_rel)) return;
   try {
     engine_->look(*this);
@@ -445,12 +483,14 @@ bool Bridge::owns_lane(pid_t pid, bool skip_import) const noexcept {
 
 // The control thread, for a watcher whose process publishes on the topic: looks whether the
 // holder publishes too and whether imports are quiet, opens this process's endpoint and waits
-// until it matched what the holder's did, then asks (the segment's `handover` word) and rings
-// the holder's engine (the bridge class of the doorbell); the holder answers by handing the claim
-// over, which control() sees as Ours. Returns when it wants to be called again.
+// until it matched what the holder's did (and the holder's matched it), then asks (the segment's
+// `handover` word) and rings the holder's engine (the bridge class of the doorbell). The holder
+// accepts or refuses in the word, then writes our word into the claim, which control() sees as
+// Ours. Returns when it wants to be called again.
 Clock::time_point Bridge::handover_step(Clock::time_point now, std::uint64_t owner) noexcept {
   const std::uint64_t mine = segment().bridge_word();
   const bool holder_alive = owner != 0 && segment().bridge_word_alive(owner);
+  const bool discovery = info_.format != net::WireFormat::Lcm;  // LCM matches nothing: counts stay 0
   switch (ask_) {
     case Ask::Idle: {
       if (now < ask_next_) return ask_next_;
@@ -471,11 +511,12 @@ Clock::time_point Bridge::handover_step(Clock::time_point now, std::uint64_t own
         return ask_next_;
       }
       if (now - quiet_since_ < kQuiet) return ask_next_;
+      ask_readers_ = state().matched_subscribers.load(std::memory_order_relaxed);
       if (auto ok = open_endpoint(true); !ok) {
         log().warn("topic '{}': this process publishes on it but could not open its {} endpoint to take the "
                    "host's bridge over ({}); the bridge stays with pid {}",
                    core_.name, info_.name, ok.error().message(), owner >> 32);
-        ask_next_ = now + kAskBackOff;
+        ask_next_ = now + kAskBackOffMax;
         return ask_next_;
       }
       ask_ = Ask::Matching;
@@ -484,7 +525,7 @@ Clock::time_point Bridge::handover_step(Clock::time_point now, std::uint64_t own
     }
     case Ask::Matching: {
       if (!holder_alive) {
-        cancel_ask();
+        cancel_ask(false);
         return now;
       }
       std::uint32_t readers = 0, writers = 0;
@@ -493,19 +534,24 @@ Clock::time_point Bridge::handover_step(Clock::time_point now, std::uint64_t own
         writers = endpoint_->matched_publishers();
       } catch (...) {
       }
-      // The holder's counts include this endpoint, ours the holder's (DDS): equal counts mean
-      // every remote endpoint matched ours too. LCM has none: 0 and 0.
-      if (now < ask_until_ && (readers < state().matched_subscribers.load(std::memory_order_relaxed) ||
-                               writers < state().matched_publishers.load(std::memory_order_relaxed)))
-        return now + kAskPoll;
+      // DDS: the holder's endpoint matched ours (its count of readers grew) and ours matched as
+      // many as the holder's (each counts the other): every remote endpoint matched ours too.
+      const std::uint32_t holder_readers = state().matched_subscribers.load(std::memory_order_relaxed);
+      const bool matched = !discovery || (holder_readers > ask_readers_ && readers >= holder_readers &&
+                                          writers >= state().matched_publishers.load(std::memory_order_relaxed));
+      if (!matched && now < ask_until_) return now + kAskPoll;
       std::uint64_t other = 0;
-      if (!state().handover.compare_exchange_strong(other, mine, std::memory_order_acq_rel) &&
-          segment().bridge_word_alive(other) && other != mine) {
-        cancel_ask();  // another process asks: one at a time
-        return ask_next_;
+      if (!state().handover.compare_exchange_strong(other, mine, std::memory_order_acq_rel)) {
+        if (segment().bridge_word_alive(other & ~kAccepted) && (other & ~kAccepted) != mine) {
+          cancel_ask(false);  // another process asks: one at a time
+          return ask_next_;
+        }
+        if (!state().handover.compare_exchange_strong(other, mine, std::memory_order_acq_rel)) {
+          cancel_ask(false);
+          return ask_next_;
+        }
       }
-      state().handover.store(mine, std::memory_order_release);
-      prematched_ = true;
+      prematched_ = matched;  // else the gate waits for the readers, as after a takeover
       ask_ = Ask::Asked;
       ask_until_ = now + kAskWait;
       rang_at_ = now;
@@ -513,86 +559,99 @@ Clock::time_point Bridge::handover_step(Clock::time_point now, std::uint64_t own
       return now + kAskPoll;
     }
     case Ask::Asked: {
-      if (!holder_alive || now >= ask_until_ || state().handover.load(std::memory_order_acquire) != mine) {
-        log().debug("topic '{}': the host's bridge stays with pid {} (it did not hand it over)", core_.name,
-                    owner >> 32);
-        cancel_ask();
-        return ask_next_;
+      const std::uint64_t word = state().handover.load(std::memory_order_acquire);
+      if (word == (mine | kAccepted)) {  // the holder closes its endpoint; the claim comes next
+        if (now < ask_until_ + kAcceptedWait) return now + kAskPoll;
+      } else if (word == mine && holder_alive && now < ask_until_) {
+        if (now - rang_at_ >= kRingAgain) {  // the holder was exporting: ring again
+          rang_at_ = now;
+          (void)core_.ring.wake_waiters(shm::Doorbell::kArmedBridge);
+        }
+        return now + kAskPoll;
       }
-      if (now - rang_at_ >= kRingAgain) {  // the holder was busy (exporting): ring again
-        rang_at_ = now;
-        (void)core_.ring.wake_waiters(shm::Doorbell::kArmedBridge);
-      }
-      return now + kAskPoll;
+      log().debug("topic '{}': the host's bridge stays with pid {} (it did not hand it over)", core_.name,
+                  owner >> 32);
+      cancel_ask(true);
+      return ask_next_;
     }
   }
   return Clock::time_point::max();
 }
 
-// Gives up asking: the request word and this process's endpoint go; a look again later.
-void Bridge::cancel_ask() noexcept {
+// Gives up asking: the request word (unless accepted) and this process's endpoint go; looks again
+// later, after a longer while each time the holder refused (`refused`).
+void Bridge::cancel_ask(bool refused) noexcept {
   if (std::uint64_t mine = segment().bridge_word(); mine != 0)
     state().handover.compare_exchange_strong(mine, 0, std::memory_order_acq_rel);
   close_endpoint();
   prematched_ = false;
   ask_ = Ask::Idle;
-  ask_next_ = Clock::now() + kAskBackOff;
+  ask_backoff_ = refused ? std::min<Clock::duration>(ask_backoff_ * 2, kAskBackOffMax) : ask_backoff_;
+  ask_next_ = Clock::now() + ask_backoff_;
 }
 
-// The holder's export thread, asked for the bridge (service()): hands it over when this process
-// publishes nothing on the topic, the asker lives, the import was quiet for kQuiet and nothing
-// waits (the gate, a stash, the budget's newest message, samples the transport holds). Exports
-// what the host's publishers wrote so far, closes the endpoint, records the entry and the lane
-// for the asker and writes its word into the claim. Returns true when it gave the bridge away.
-bool Bridge::hand_over() noexcept {
-  const std::uint64_t to = state().handover.load(std::memory_order_acquire);
+// The holder's control thread, asked for the bridge (service() saw the word): refuses (clears the
+// word: the asker learns at once) unless this process publishes nothing on the topic, the asker
+// lives, the import was quiet for kQuiet and nothing waits here (the gate, a stashed reliable
+// write, the budget's newest message, samples the transport holds). Accepting, it stops exporting
+// (what it did not export stays in the ring for the asker, who adopts the entry), closes its
+// endpoint and, kSettle later (what it sent reaches the asker's reader before the asker imports),
+// writes the asker's word into the claim (control(), handing_to_). Returns when to look again.
+Clock::time_point Bridge::hand_over(Clock::time_point now) noexcept {
+  const std::uint64_t word = state().handover.load(std::memory_order_acquire);
+  const std::uint64_t to = word & ~kAccepted;
   const std::uint64_t mine = segment().bridge_word();
-  if (to == 0 || to == mine || !holder_.load(std::memory_order_acquire)) return false;
-  // At most one look per kRingAgain (the asker rings again): a refused or dead asker's word
-  // costs no look at /proc per message.
-  const std::int64_t now = now_ns();
-  if (now - handover_looked_ns_ < std::chrono::duration_cast<Clock::duration>(kRingAgain).count() / 2) return false;
-  handover_looked_ns_ = now;
-  if (!segment().bridge_word_alive(to)) {
-    std::uint64_t gone = to;
-    state().handover.compare_exchange_strong(gone, 0, std::memory_order_acq_rel);
-    return false;
-  }
-  if (owns_lane(::getpid(), true) ||
-      now - last_import_ns_.load(std::memory_order_relaxed) < std::chrono::duration_cast<Clock::duration>(kQuiet).count())
-    return false;  // the asker gives up after kAskWait and looks again later
-  if (export_busy_.exchange(true, std::memory_order_acquire)) return false;  // rung again in 50 ms
+  auto refuse = [&] {
+    std::uint64_t w = word;
+    state().handover.compare_exchange_strong(w, 0, std::memory_order_acq_rel);
+    return Clock::time_point::max();
+  };
+  if (to == 0 || to == mine) return Clock::time_point::max();
+  // Accepted by a holder before us, whose asker did not take the claim (it died): stale.
+  if ((word & kAccepted) != 0 || !segment().bridge_word_alive(to) || qos_.durability == net::Durability::TransientLocal ||
+      owns_lane(::getpid(), true) ||
+      now_ns() - last_import_ns_.load(std::memory_order_relaxed) <
+          std::chrono::duration_cast<Clock::duration>(kQuiet).count())
+    return refuse();
+  if (export_busy_.exchange(true, std::memory_order_acquire)) return now + kAskPoll;  // exporting now
   if (gated_.load(std::memory_order_acquire) || backlog_.load(std::memory_order_acquire) || has_latest_ ||
       held_.load(std::memory_order_acquire)) {
     release_export();
-    return false;
+    return refuse();
+  }
+  std::uint64_t w = word;
+  if (!state().handover.compare_exchange_strong(w, to | kAccepted, std::memory_order_acq_rel)) {
+    release_export();
+    return Clock::time_point::max();
   }
   core_.inline_export.active.store(false, std::memory_order_release);
-  drain();
-  if (backlog_.load(std::memory_order_acquire) || has_latest_) {  // a write timed out: keep it
-    if (attached_.load(std::memory_order_acquire)) activate_inline();
-    release_export();
-    return false;
-  }
+  holder_.store(false, std::memory_order_release);  // no export from here on (export_inline, release_export)
+  export_busy_.store(false, std::memory_order_release);
   if (attached_.exchange(false))
     shm::engine_leave(core_.ring.doorbell(), core_.ring.subscriber(port_->entry()).waiting, forward_);
   close_endpoint();
   // The entry and the lane stay as recorded in the segment for the asker, who adopts them (their
   // owner tokens become its own). The port stays too: a publishing thread of this process that
   // raced the hand-over may still look at it (release_export), and finds it no longer owns them.
-  holder_.store(false, std::memory_order_release);
   port_stale_ = true;
   gated_.store(false, std::memory_order_relaxed);
   held_.store(false, std::memory_order_relaxed);
-  export_busy_.store(false, std::memory_order_release);
+  handing_to_ = to;
+  handing_at_ = Clock::now() + kSettle;
+  return handing_at_;
+}
+
+// The control thread, kSettle after hand_over() closed the endpoint: the claim goes to the asker.
+void Bridge::finish_hand_over() noexcept {
+  const std::uint64_t to = std::exchange(handing_to_, 0);
+  const bool alive = segment().bridge_word_alive(to);
   if (!segment().transfer_bridge(to)) segment().release_bridge();
-  log().info("topic '{}': this process (pid {}) hands the host's bridge to {} over to pid {}, which publishes on it",
-             core_.name, ::getpid(), info_.name, to >> 32);
-  try {
-    engine_->look(*this);  // a watcher from now on
-  } catch (...) {
+  if (!alive) {  // it died meanwhile: nobody clears its word; a watcher takes the claim over
+    std::uint64_t w = to | kAccepted;
+    state().handover.compare_exchange_strong(w, 0, std::memory_order_acq_rel);
   }
-  return true;
+  log().info("topic '{}': this process (pid {}) handed the host's bridge to {} over to pid {}, which publishes on it",
+             core_.name, ::getpid(), info_.name, to >> 32);
 }
 
 // --- exporting -------------------------------------------------------------------------------
@@ -715,6 +774,9 @@ bool Bridge::flush_latest() noexcept {
 }
 
 void Bridge::drain() noexcept {
+  // Under export_busy_: a hand-over (control thread) sets holder_ false while it holds it, then
+  // closes the endpoint; an exporter that got export_busy_ after that exports nothing.
+  if (!holder_.load(std::memory_order_acquire)) return;
   const horus::detail::ExportSink sink{this, [](void* c, const void* msg) { return static_cast<Bridge*>(c)->send(msg); }};
   try {
     if (!flush_stash()) return;
@@ -818,8 +880,8 @@ void Bridge::on_sample(const net::Sample& sample) {
     return;
   }
   if (loopback_ && ledger_.consume(body_hash(sample.body))) return;  // our own, back
-  last_import_ns_.store(now_ns(), std::memory_order_relaxed);
   if (!port_->deliver(format_, sample)) return;
+  last_import_ns_.store(now_ns(), std::memory_order_relaxed);
   state().imported.fetch_add(1, std::memory_order_relaxed);
   // The import wakes the host's handles, not the export (it skips these messages); once they
   // fill half the ring, let the engine pass over them, so that the export cursor never falls a
@@ -918,6 +980,8 @@ void Bridge::update_receiving() noexcept {
 
 void Bridge::publish_matches() noexcept {
   if (!endpoint_ready_.load(std::memory_order_acquire)) return;
+  std::lock_guard lock(endpoint_mutex_);  // a hand-over closes it on the control thread
+  if (!endpoint_ || !holder_.load(std::memory_order_acquire)) return;
   try {
     state().matched_publishers.store(endpoint_->matched_publishers(), std::memory_order_relaxed);
     state().matched_subscribers.store(endpoint_->matched_subscribers(), std::memory_order_relaxed);

@@ -138,8 +138,9 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
   // The hand-over: the bridge follows the host's publisher (bridge.cpp, "the hand-over").
   enum class Ask { Idle, Matching, Asked };
   Clock::time_point handover_step(Clock::time_point now, std::uint64_t owner) noexcept;  // a publishing watcher
-  void cancel_ask() noexcept;
-  bool hand_over() noexcept;  // the holder, asked: true when it gave the bridge away
+  void cancel_ask(bool refused) noexcept;
+  Clock::time_point hand_over(Clock::time_point now) noexcept;  // the holder, asked (control thread)
+  void finish_hand_over() noexcept;
   bool owns_lane(pid_t pid, bool skip_import) const noexcept;
   Result<void> open_endpoint(bool receive);
   void close_endpoint() noexcept;
@@ -234,13 +235,17 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
   Clock::time_point ask_next_{};                // when a publishing watcher looks again
   Clock::time_point ask_until_{};               // when matching or asking gives up
   Clock::time_point rang_at_{};                 // when it last rang the holder
+  Clock::duration ask_backoff_ = std::chrono::seconds(5);  // grows with each refusal
+  std::uint32_t ask_readers_ = 0;               // the holder's matched readers when we opened
+  std::uint64_t handing_to_ = 0;                // the holder, accepted: whom the claim goes to
+  Clock::time_point handing_at_{};              // and when (the settle after its endpoint closed)
   std::uint64_t quiet_imported_ = ~std::uint64_t{0};  // the segment's import count at the last look
   Clock::time_point quiet_since_{};
   bool prematched_ = false;                     // the endpoint matched before the bridge came: no gate
   bool port_stale_ = false;                     // handed over: port_'s entry and lane went with the claim
   std::vector<std::unique_ptr<horus::detail::BridgePort>> retired_ports_;  // freed with the bridge
   std::atomic<std::int64_t> last_import_ns_{0}; // the holder's last import (steady clock)
-  std::int64_t handover_looked_ns_ = 0;         // the export thread's: its last look at a request
+  std::int64_t handover_looked_ns_ = 0;         // the export thread's: when it last passed a request on
   Presence presence_;                           // released last in ~Bridge (after leave())
 };
 
