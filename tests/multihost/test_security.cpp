@@ -118,8 +118,10 @@ TEST_P(SecureFleet, AuthenticatedHostsExchangeAndOthersNeitherReadNorInject) {
   const Keystores& k = Keystores::get();
   const std::string topic = "sec.pose";
   const long long start = unix_ms() + 3000;
-  // a stays 7 s (publishers -1), so that b's view below finds it alive.
-  auto pub = lan.spawn(0, member(topic, 1, start, -1, 7, {"await-reader"}), env(backend(), "a", k.fleet));
+  // a stays 12 s (publishers -1), so that b's view below finds it alive, and publishes once b's
+  // reader matched: on a loaded machine Fast DDS's authentication took more than the 4 s after
+  // the start that a 7 s stay left (CI, 2026-11-29: a never published).
+  auto pub = lan.spawn(0, member(topic, 1, start, -1, 12, {"await-reader"}), env(backend(), "a", k.fleet));
   auto sub = lan.spawn(1, member(topic, 0, start, 1, 15), env(backend(), "b", k.fleet));
   // The intruders publish too (20 ms apart, overlapping a's messages) and expect two publishers.
   auto plain = lan.spawn(2, member(topic, 2, start, 2, 5, {"period=20"}), env(backend()));
