@@ -41,6 +41,8 @@
 #include <deque>
 #include <memory>
 #include <mutex>
+#include <span>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -75,6 +77,13 @@ using Presence = std::shared_ptr<void>;
 inline constexpr std::chrono::milliseconds kLinkTolerance{50};
 inline constexpr std::chrono::milliseconds kLinkLowTolerance{10};
 Presence acquire_presence(const std::string& transport);
+
+/// A successor (after a takeover) waits this long at most for the remote readers to match.
+inline constexpr auto kMatchWait = std::chrono::seconds(1);
+/// A 64-bit hash of a sample's bytes (the echo ledger; bridge.cpp).
+std::uint64_t body_hash(std::span<const std::byte> b) noexcept;
+/// The steady clock in ns (the bridge's timestamps).
+inline std::int64_t now_ns() noexcept { return Clock::now().time_since_epoch().count(); }
 
 class Bridge final : public horus::detail::NetworkLink, public net::Listener {
  public:
@@ -141,6 +150,8 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
   void cancel_ask(bool refused) noexcept;
   Clock::time_point hand_over(Clock::time_point now) noexcept;  // the holder, asked (control thread)
   void finish_hand_over() noexcept;
+  std::optional<Clock::time_point> hand_over_due(Clock::time_point now) noexcept;
+  void asked_done() noexcept;
   bool owns_lane(pid_t pid, bool skip_import) const noexcept;
   Result<void> open_endpoint(bool receive);
   void close_endpoint() noexcept;

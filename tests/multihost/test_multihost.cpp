@@ -22,6 +22,7 @@
 #include "horus/shm/shm_segment.hpp"
 #include "horus/topic.hpp"
 #include "netns.hpp"
+#include "test_support.hpp"
 
 namespace {
 
@@ -162,6 +163,19 @@ class HostSegment {
   const horus::shm::SegmentHeader* header_ = nullptr;
 };
 
+// Waits until the process holding `topic`'s bridge on a namespace host (through its holder
+// `ns_holder`) is `want`, or `timeout` passed; returns the holder seen last (0: none). The claim
+// word lives in the other host's /dev/shm and nothing there wakes this process: it is looked at
+// every millisecond until the deadline.
+pid_t await_bridge_holder(pid_t ns_holder, const std::string& topic, pid_t want, std::chrono::milliseconds timeout) {
+  pid_t seen = 0;
+  for (horus_test::Deadline d(timeout); !d.expired(); std::this_thread::sleep_for(1ms)) {
+    HostSegment seg(ns_holder, topic);  // mapped again until the topic's segment exists
+    if (seg.ok() && (seen = seg.bridge_pid()) == want) break;
+  }
+  return seen;
+}
+
 // A number after `key` in `text` ("missing 3" -> 3), or -1.
 long long number_after(const std::string& text, const std::string& key) {
   const auto at = text.rfind(key);
@@ -270,24 +284,13 @@ TEST_P(MultiHost, TheBridgeFollowsTheHostsPublisherWithEveryMessageOnceBothWays)
   };
   auto listener = member(0, "0", start);
   // The listener holds host 1's bridge before the publisher opens the topic.
-  pid_t holder = 0;
-  for (auto until = std::chrono::steady_clock::now() + 10s; std::chrono::steady_clock::now() < until;) {
-    HostSegment seg(lan.holder(0), topic);
-    if (seg.ok() && (holder = seg.bridge_pid()) != 0) break;
-    std::this_thread::sleep_for(20ms);
-  }
+  const pid_t holder = await_bridge_holder(lan.holder(0), topic, listener.pid(), 10s);
   ASSERT_EQ(holder, listener.pid()) << "the listener did not hold the bridge; it said:\n" << listener.output();
   auto publisher = member(0, "1", start);
   auto far = member(1, "2", far_start);
-  HostSegment seg(lan.holder(0), topic);
-  ASSERT_TRUE(seg.ok());
-  bool handed = false;  // within 3 s of the first send (it takes a few hundred ms)
-  for (auto until = std::chrono::steady_clock::now() + 7s; !handed && std::chrono::steady_clock::now() < until;) {
-    handed = seg.bridge_pid() == publisher.pid();
-    std::this_thread::sleep_for(5ms);
-  }
-  EXPECT_TRUE(handed) << "host 1's bridge stayed with pid " << seg.bridge_pid() << " (the publisher is pid "
-                      << publisher.pid() << ")";
+  // Handed over within 3 s of the first send (it takes a few hundred ms).
+  const pid_t after = await_bridge_holder(lan.holder(0), topic, publisher.pid(), 7s);
+  EXPECT_EQ(after, publisher.pid()) << "host 1's bridge stayed with pid " << after;
   struct Member {
     horus_test::HostProcess* p;
     const char* what;
