@@ -14,11 +14,13 @@
 // Each process prints `ready bridge=0|1` once its topic is open (bridge: it holds the host's
 // bridge of the fleet topic). The publisher waits for FILE to exist before it sends: warmup
 // messages first (x < 0: not counted; discovery and matching settle), then --count messages.
-// A subscriber prints `LABEL p50_us p99_us p999_us received` and exits after --count messages or
-// 5 s without one. The transport is HORUS_BACKEND's (cyclonedds, fastdds or lcm).
+// A subscriber prints `LABEL p50_us p99_us p999_us received bridge=0|1 csw=N` and exits after
+// --count messages or 5 s without one; the publisher ends with `sent N bridge=0|1 csw=N` (csw: the
+// process's context switches, every thread's: what its wake-ups cost). The transport is HORUS_BACKEND's (cyclonedds, fastdds or lcm).
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
+#include <sys/resource.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -61,6 +63,13 @@ horus::TopicOptions options(bool fleet) {
   return o;
 }
 
+// The process's context switches so far (every thread's, voluntary and not): what its wake-ups cost.
+long context_switches() {
+  rusage u{};
+  ::getrusage(RUSAGE_SELF, &u);
+  return u.ru_nvcsw + u.ru_nivcsw;
+}
+
 void ready(const horus::Topic<Pose2D>& t) {
   fmt::print("ready bridge={}\n", t.is_bridge() ? 1 : 0);
   std::fflush(stdout);
@@ -97,7 +106,7 @@ int run_pub(const std::string& fleet_name, const std::string& host_name, int cou
   }
   // The last messages reach the network before the bridge (if this process holds it) closes.
   std::this_thread::sleep_for(500ms);
-  fmt::print("sent {} bridge={}\n", count, fleet->is_bridge() ? 1 : 0);
+  fmt::print("sent {} bridge={} csw={}\n", count, fleet->is_bridge() ? 1 : 0, context_switches());
   return 0;
 }
 
@@ -130,7 +139,8 @@ int run_sub(const std::string& name, bool fleet_scope, int count, const std::str
     return 0;
   }
   const auto p = hb::percentiles(us);
-  fmt::print("{} {:.1f} {:.1f} {:.1f} {} bridge={}\n", label, p.p50, p.p99, p.p999, n, bridge ? 1 : 0);
+  fmt::print("{} {:.1f} {:.1f} {:.1f} {} bridge={} csw={}\n", label, p.p50, p.p99, p.p999, n, bridge ? 1 : 0,
+             context_switches());
   return 0;
 }
 

@@ -126,6 +126,33 @@ class HostProcess {
   }
   /// Its pid (nsenter and env exec the program: the program's own pid); -1 once it ended.
   pid_t pid() const noexcept { return pid_; }
+  /// What a shell command printed (stdout and what it sends there).
+  static std::string command_output(const std::string& cmd) {
+    std::string text;
+    if (FILE* p = ::popen(cmd.c_str(), "r")) {
+      char buf[4096];
+      std::size_t n;
+      while ((n = std::fread(buf, 1, sizeof(buf), p)) > 0) text.append(buf, n);
+      ::pclose(p);
+    }
+    return text;
+  }
+  /// What each of its threads is doing, for a failure message about a process that does not
+  /// end: gdb's backtraces when gdb is installed, else each thread's name, state and kernel wait
+  /// channel from /proc. Empty once it ended.
+  std::string stacks() const {
+    if (pid_ <= 0) return {};
+    const std::string pid = std::to_string(pid_);
+    if (::access("/usr/bin/gdb", X_OK) == 0) {
+      const std::string cmd = "timeout 20 /usr/bin/gdb -p " + pid +
+                              " -batch -nx -ex 'set pagination off' -ex 'thread apply all bt 30' 2>&1";
+      return "--- threads of pid " + pid + " (gdb):\n" + command_output(cmd);
+    }
+    const std::string cmd = "cd /proc/" + pid + "/task 2>/dev/null && for t in *; do "
+                            "printf '%s %s %s %s\\n' \"$t\" \"$(cat $t/comm)\" "
+                            "\"$(cut -d' ' -f3 $t/stat)\" \"$(cat $t/wchan)\"; done";
+    return "--- threads of pid " + pid + " (tid name state wait channel; no gdb):\n" + command_output(cmd);
+  }
   /// What it printed on stdout and stderr so far.
   std::string output() const {
     std::string text;
