@@ -9,6 +9,8 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
+#include <type_traits>
 #include <utility>
 
 #include "horus/config.hpp"
@@ -90,17 +92,29 @@ int print_security(std::string_view topic, const horus::Backend& backend, const 
   return 0;
 }
 
-// Whether the topic's sends and receives are logged, and why; the level and rate of its lines,
-// and whether HORUS_LOG_LEVEL hides them.
-void print_traffic_log(const horus::TopicChoice& c) {
-  fmt::print("  log         {:<16} {}\n", c.verbose ? "on" : "off", horus::verbose_origin(c));
-  if (!c.verbose && !c.log_level && !c.log_rate_hz) return;
-  const horus::LogLevel level = c.log_level.value_or(horus::LogLevel::Info);
-  fmt::print("  log_level   {:<16} {}\n", horus::to_string(level), from_where(c.log_level_from, c));
-  const double hz = c.log_rate_hz.value_or(horus::kDefaultLogRateHz);
-  fmt::print("  log_rate_hz {:<16} {}\n", hz > 0 ? fmt::format("{:g}", hz) : "0 (every message)",
-             from_where(c.log_rate_hz_from, c));
+// A setting of the table: its value (or its default value, or what unset means) and its source.
+template <class K, class D>
+void print_setting(std::string_view key, K of, const std::optional<typename K::type>& v, const D& default_value,
+                   std::string_view unset, const std::string& from) {
+  std::string value(unset);
+  if (v) value = horus::setting::format(of, *v);
+  else if constexpr (!std::is_same_v<D, std::nullopt_t>) value = horus::setting::format(of, typename K::type(default_value));
+  fmt::print("  {:<11} {:<16} {}\n", key, value, from);
+}
+
+// The settings of the table (horus/topic_options.hpp), in its order. The scope and backend
+// come first (above); a topic whose traffic is not logged shows no level or rate unless set.
+void print_settings(const horus::TopicChoice& c) {
+  const auto shown = [&](std::string_view key, bool set) { return set || c.verbose || !key.starts_with("log_"); };
+#define HORUS_EXPLAIN_ROW(member, Kind, Rule, key, example, dflt, unset, doc)                             \
+  if (std::string_view(#member) == "verbose")                                                              \
+    fmt::print("  {:<11} {:<16} {}\n", key, c.verbose ? "on" : "off", horus::verbose_origin(c));          \
+  HORUS_SETTING_IF_PLAIN_##Rule(if (shown(key, c.member.has_value())) print_setting(                      \
+      key, horus::setting::Kind{}, c.member, dflt, unset, from_where(c.member##_from, c));)
+  HORUS_TOPIC_SETTINGS(HORUS_EXPLAIN_ROW)
+#undef HORUS_EXPLAIN_ROW
   // The CLI's logger reads the same HORUS_LOG_LEVEL as the program would.
+  const horus::LogLevel level = c.log_level.value_or(horus::LogLevel::Info);
   if (const std::string hidden = horus::detail::hidden_lines(static_cast<spdlog::level::level_enum>(level));
       c.verbose && !hidden.empty())
     fmt::print("  (hidden: {})\n", hidden);
@@ -146,22 +160,7 @@ int cmd_config_explain(const std::string& topic, const std::string& file) {
     if (auto wire = horus::wire_name(c.backend, topic)) fmt::print("  wire name   {}\n", *wire);
     if (const int rc = print_security(topic, c.backend, config); rc != 0) return rc;
   }
-  fmt::print("  capacity    {:<16} {}\n", c.capacity ? std::to_string(*c.capacity) : "type default",
-             from_where(c.capacity_from, c));
-  fmt::print("  reliability {:<16} {}\n", c.reliability ? std::string(horus::net::to_string(*c.reliability)) : "type default",
-             from_where(c.reliability_from, c));
-  fmt::print("  durability  {:<16} {}\n", c.durability ? std::string(horus::net::to_string(*c.durability)) : "type default",
-             from_where(c.durability_from, c));
-  auto ms = [](const std::optional<std::chrono::nanoseconds>& d, std::string_view none) {
-    return d ? fmt::format("{} ms", static_cast<double>(d->count()) / 1e6) : std::string(none);
-  };
-  fmt::print("  deadline    {:<16} {}\n", ms(c.deadline, "none"), from_where(c.deadline_from, c));
-  fmt::print("  lifespan    {:<16} {}\n", ms(c.lifespan, "none"), from_where(c.lifespan_from, c));
-  if (c.priority) fmt::print("  priority    {:<16} {}\n", horus::to_string(*c.priority), from_where(c.priority_from, c));
-  if (c.max_rate_hz) fmt::print("  max_rate_hz {:<16} {}\n", *c.max_rate_hz, from_where(c.max_rate_hz_from, c));
-  if (c.max_bandwidth)
-    fmt::print("  max_bandwidth {:<14} {}\n", fmt::format("{} B/s", *c.max_bandwidth), from_where(c.max_bandwidth_from, c));
-  print_traffic_log(c);
+  print_settings(c);
   return 0;
 }
 

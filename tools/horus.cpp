@@ -151,6 +151,7 @@ int main(int argc, char** argv) {
   auto* explain = config->add_subcommand("explain", "what a topic name gets, and from where");
   explain->add_option("name", name, "topic name")->required();
   explain->add_option("--file", config_file, "the YAML file (default: HORUS_CONFIG's)");
+  auto* settings = config->add_subcommand("settings", "the per-topic settings: file keys, code, examples (Markdown)");
 
   horus::tools::RecordArgs rec;
   auto* record = app.add_subcommand("record", "record topics into an MCAP file (or an LCM log)");
@@ -253,6 +254,10 @@ int main(int argc, char** argv) {
   if (*recover) return horus::tools::cmd_record_recover(record_file, recover_out);
   if (*check) return horus::tools::cmd_config_check(config_file);
   if (*explain) return horus::tools::cmd_config_explain(name, config_file);
+  if (*settings) {
+    fmt::print("{}", horus::settings_table());
+    return 0;
+  }
   // The environment as programs read it: a bad HORUS_BACKEND or HORUS_CONFIG is an error here too
   // (a CLI that ignored it would show another fleet than the programs it watches see).
   if (auto b = horus::backend_from_environment(); !b) {

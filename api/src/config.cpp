@@ -45,14 +45,20 @@ constexpr std::array<std::string_view, 6> kFleetKeys{"announce", "heartbeat_ms",
                                                       "forget_after"};
 constexpr std::array<std::string_view, 6> kNetworkKeys{"backend", "domain_id",     "localhost_only",
                                                        "lcm_url", "peers", "max_bandwidth"};
-constexpr std::array<std::string_view, 15> kRuleKeys{
-    "match",    "scope",    "backend",    "reliability", "durability", "capacity",  "max_rate_hz", "max_bandwidth",
-    "priority", "deadline", "lifespan",   "protection",  "log",        "log_level", "log_rate_hz"};
+// A rule's keys: its own and the settings' (horus/topic_options.hpp), as README's table lists them.
+const std::vector<std::string_view>& rule_key_names() {
+  static const std::vector<std::string_view> names = [] {
+    std::vector<std::string_view> out;
+    for (const RuleKey& k : rule_keys()) out.push_back(k.key);
+    return out;
+  }();
+  return names;
+}
 
-template <std::size_t N>
-std::string one_of(const std::array<std::string_view, N>& names) {
+std::string one_of(std::span<const std::string_view> names) {
   std::string out;
-  for (std::size_t i = 0; i < N; ++i) out += (i == 0 ? "" : (i + 1 == N ? " or " : ", ")) + std::string(names[i]);
+  for (std::size_t i = 0; i < names.size(); ++i)
+    out += (i == 0 ? "" : (i + 1 == names.size() ? " or " : ", ")) + std::string(names[i]);
   return out;
 }
 
@@ -85,8 +91,7 @@ class Parser {
     return n.Scalar();
   }
 
-  template <std::size_t N>
-  Result<void> known_keys(const YAML::Node& map, std::string_view where, const std::array<std::string_view, N>& keys) const {
+  Result<void> known_keys(const YAML::Node& map, std::string_view where, std::span<const std::string_view> keys) const {
     std::set<std::string> seen;
     for (const auto& kv : map) {
       if (!kv.first.IsScalar()) return bad(kv.first, where, "a key must be a plain name");
@@ -111,15 +116,19 @@ class Parser {
     return static_cast<std::uint32_t>(v);
   }
 
-  // A rate in Hz up to 1e9: above 0, or also 0 when `zero_ok`.
-  Result<double> rate(const YAML::Node& n, std::string_view key, bool zero_ok, std::string_view expected) const {
-    auto s = scalar(n, key, expected);
+  // The setting `key` of the map `n` (at `where`), of kind K, into `out` when present.
+  template <class K>
+  Result<void> value_at(const YAML::Node& n, const std::string& where, std::string_view key, std::string_view doc, K of,
+                        std::optional<typename K::type>& out) const {
+    const auto v = n[std::string(key)];
+    if (!v) return {};
+    const std::string path = where + "." + std::string(key);
+    auto s = scalar(v, path, setting::expected(of, doc));
     if (!s) return std::unexpected(s.error());
-    double hz = 0;
-    const auto [end, ec] = std::from_chars(s->data(), s->data() + s->size(), hz);
-    if (ec != std::errc{} || end != s->data() + s->size() || !(hz > 0 || (zero_ok && hz == 0)) || hz > 1e9)
-      return bad(n, key, fmt::format("'{}' is not a rate; expected {}", *s, expected));
-    return hz;
+    auto value = setting::parse(of, *s, doc);
+    if (const auto* why = std::get_if<std::string>(&value)) return bad(v, path, *why);
+    out = std::get<0>(value);
+    return {};
   }
 
   Result<bool> boolean(const YAML::Node& n, std::string_view key) const {
@@ -274,7 +283,7 @@ class Parser {
       return bad(n, where, fmt::format("expected a rule (a map with match and any of scope, backend, reliability, "
                                        "durability, capacity), found {}",
                                        kind(n)));
-    if (auto ok = known_keys(n, where, kRuleKeys); !ok) return std::unexpected(ok.error());
+    if (auto ok = known_keys(n, where, rule_key_names()); !ok) return std::unexpected(ok.error());
     TopicRule r;
     r.line = n.Mark().line + 1;
     const auto m = n["match"];
@@ -303,56 +312,12 @@ class Parser {
     }
     if (r.scope == Scope::Fleet && !r.backend && !net_section.backend)
       return bad(n, where, "scope fleet needs a network backend: set this rule's 'backend' or 'network.backend'");
-    if (const auto v = n["reliability"]) {
-      auto s = scalar(v, where + ".reliability", "best_effort or reliable");
-      if (!s) return std::unexpected(s.error());
-      if (*s == "reliable") r.reliability = net::Reliability::Reliable;
-      else if (*s == "best_effort") r.reliability = net::Reliability::BestEffort;
-      else return bad(v, where + ".reliability", fmt::format("unknown reliability '{}'; expected best_effort or reliable", *s));
-    }
-    if (const auto v = n["durability"]) {
-      auto s = scalar(v, where + ".durability", "volatile or transient_local");
-      if (!s) return std::unexpected(s.error());
-      if (*s == "volatile") r.durability = net::Durability::Volatile;
-      else if (*s == "transient_local") r.durability = net::Durability::TransientLocal;
-      else return bad(v, where + ".durability", fmt::format("unknown durability '{}'; expected volatile or transient_local", *s));
-    }
-    if (const auto v = n["capacity"]) {
-      auto c = integer(v, where + ".capacity", 1, shm::kMaxCapacity,
-                       fmt::format("a capacity; expected a power of two from 1 to {} (slots per publisher)", shm::kMaxCapacity));
-      if (!c) return std::unexpected(c.error());
-      if ((*c & (*c - 1)) != 0)
-        return bad(v, where + ".capacity",
-                   fmt::format("{} is not a power of two; expected a power of two from 1 to {} (slots per publisher)", *c,
-                               shm::kMaxCapacity));
-      r.capacity = *c;
-    }
-    if (const auto v = n["max_rate_hz"]) {
-      auto hz = rate(v, where + ".max_rate_hz", false,
-                     "messages per second the host's bridge sends at most, a number above 0 (such as 5 or 0.5)");
-      if (!hz) return std::unexpected(hz.error());
-      r.max_rate_hz = *hz;
-    }
-    if (const auto v = n["max_bandwidth"]) {
-      auto b = quantity(v, where + ".max_bandwidth", "a bandwidth such as \"2 MB/s\"", parse_bandwidth);
-      if (!b) return std::unexpected(b.error());
-      r.max_bandwidth = *b;
-    }
-    if (const auto v = n["priority"]) {
-      auto s = scalar(v, where + ".priority", "high, normal or low");
-      if (!s) return std::unexpected(s.error());
-      if (*s == "high") r.priority = Priority::High;
-      else if (*s == "normal") r.priority = Priority::Normal;
-      else if (*s == "low") r.priority = Priority::Low;
-      else return bad(v, where + ".priority", fmt::format("unknown priority '{}'; expected high, normal or low", *s));
-    }
-    for (const char* key : {"deadline", "lifespan"}) {
-      const auto v = n[key];
-      if (!v) continue;
-      auto d = quantity(v, where + "." + key, "a duration such as \"100ms\"", parse_duration);
-      if (!d) return std::unexpected(d.error());
-      (std::string_view(key) == "deadline" ? r.deadline : r.lifespan) = *d;
-    }
+    // The settings of the table with the plain precedence, each by its kind.
+#define HORUS_PARSE_SETTING(member, Kind, Rule, key, example, dflt, unset, doc) \
+  HORUS_SETTING_IF_PLAIN_##Rule(if (auto ok = value_at(n, where, key, doc, setting::Kind{}, r.member); !ok) return std::unexpected(ok.error());)
+    HORUS_TOPIC_SETTINGS(HORUS_PARSE_SETTING)
+#undef HORUS_PARSE_SETTING
+    if (auto ok = value_at(n, where, "log", "", setting::Boolean{}, r.log); !ok) return std::unexpected(ok.error());
     if (const auto v = n["protection"]) {
       auto s = scalar(v, where + ".protection", "encrypt or sign");
       if (!s) return std::unexpected(s.error());
@@ -366,25 +331,6 @@ class Parser {
       if (r.scope && *r.scope != Scope::Fleet)
         return bad(v, where + ".protection",
                    fmt::format("protection applies to fleet topics (DDS-Security); this rule's scope is {}", to_string(*r.scope)));
-    }
-    if (const auto v = n["log"]) {
-      auto b = boolean(v, where + ".log");
-      if (!b) return std::unexpected(b.error());
-      r.log = *b;
-    }
-    if (const auto v = n["log_level"]) {
-      constexpr std::string_view kLevels = "trace, debug, info, warn or error";
-      auto s = scalar(v, where + ".log_level", kLevels);
-      if (!s) return std::unexpected(s.error());
-      const auto level = log_level_from(*s);
-      if (!level) return bad(v, where + ".log_level", fmt::format("unknown level '{}'; expected {}", *s, kLevels));
-      r.log_level = *level;
-    }
-    if (const auto v = n["log_rate_hz"]) {
-      auto hz = rate(v, where + ".log_rate_hz", true,
-                     "lines per second the topic logs at most, a number such as 5 or 0.5 (0: every message)");
-      if (!hz) return std::unexpected(hz.error());
-      r.log_rate_hz = *hz;
     }
     if ((r.max_rate_hz || r.max_bandwidth || r.priority) && r.scope && *r.scope != Scope::Fleet)
       return bad(n, where, fmt::format("max_rate_hz, max_bandwidth and priority are budgets of the network (fleet topics); "
@@ -560,16 +506,10 @@ Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code, con
   };
   static const TopicRule kNoRule{};
   const TopicRule& rule = r != nullptr ? *r : kNoRule;
-  pick(code.capacity, rule.capacity, c.capacity, c.capacity_from);
-  pick(code.reliability, rule.reliability, c.reliability, c.reliability_from);
-  pick(code.durability, rule.durability, c.durability, c.durability_from);
-  pick(code.max_rate_hz, rule.max_rate_hz, c.max_rate_hz, c.max_rate_hz_from);
-  pick(code.max_bandwidth, rule.max_bandwidth, c.max_bandwidth, c.max_bandwidth_from);
-  pick(code.priority, rule.priority, c.priority, c.priority_from);
-  pick(code.deadline, rule.deadline, c.deadline, c.deadline_from);
-  pick(code.lifespan, rule.lifespan, c.lifespan, c.lifespan_from);
-  pick(code.log_level, rule.log_level, c.log_level, c.log_level_from);
-  pick(code.log_rate_hz, rule.log_rate_hz, c.log_rate_hz, c.log_rate_hz_from);
+#define HORUS_PICK_SETTING(member, Kind, Rule, key, example, dflt, unset, doc) \
+  HORUS_SETTING_IF_PLAIN_##Rule(pick(code.member, rule.member, c.member, c.member##_from);)
+  HORUS_TOPIC_SETTINGS(HORUS_PICK_SETTING)
+#undef HORUS_PICK_SETTING
   // Traffic logging: the code's verbose, else the first HORUS_LOG_TOPICS entry that matches,
   // else the rule's log.
   if (code.verbose) {
@@ -600,17 +540,11 @@ Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code) {
 TopicOptions options_of(const TopicChoice& c, const TopicOptions& code) {
   TopicOptions out = code;
   out.backend = c.backend;
-  out.capacity = c.capacity;
-  out.reliability = c.reliability;
-  out.durability = c.durability;
-  out.max_rate_hz = c.max_rate_hz;
-  out.max_bandwidth = c.max_bandwidth;
-  out.priority = c.priority;
-  out.deadline = c.deadline;
-  out.lifespan = c.lifespan;
   out.verbose = c.verbose;
-  out.log_level = c.log_level;
-  out.log_rate_hz = c.log_rate_hz;
+#define HORUS_CHOSEN_SETTING(member, Kind, Rule, key, example, dflt, unset, doc) \
+  HORUS_SETTING_IF_PLAIN_##Rule(out.member = c.member;)
+  HORUS_TOPIC_SETTINGS(HORUS_CHOSEN_SETTING)
+#undef HORUS_CHOSEN_SETTING
   return out;
 }
 

@@ -7,6 +7,7 @@
 #include <atomic>
 #include <memory>
 #include <set>
+#include <type_traits>
 #include <string>
 
 #include "gil.hpp"
@@ -57,6 +58,22 @@ FleetPtr open_fleet(std::optional<std::string> transport, std::optional<std::uin
   return FleetPtr(f->release());
 }
 
+// A chosen setting's value in Python: numbers as numbers, durations in seconds, named values as
+// the file writes them; an unset one is its default value, or None when it has none.
+template <class K, class D>
+py::object chosen(K of, const std::optional<typename K::type>& v, const D& default_value) {
+  using T = typename K::type;
+  std::optional<T> x = v;
+  if constexpr (!std::is_same_v<D, std::nullopt_t>)
+    if (!x) x = T(default_value);
+  if (!x) return py::none();
+  if constexpr (std::is_same_v<T, std::chrono::nanoseconds>) return py::float_(static_cast<double>(x->count()) / 1e9);
+  else if constexpr (std::is_same_v<T, bool>) return py::bool_(*x);
+  else if constexpr (std::is_floating_point_v<T>) return py::float_(*x);
+  else if constexpr (std::is_integral_v<T>) return py::int_(*x);
+  else return py::str(setting::format(of, *x));
+}
+
 py::dict config_explain(const std::string& topic, const std::optional<std::string>& file) {
   if (auto ok = validate_topic_name(topic); !ok) raise(ok.error());
   std::optional<Config> own;
@@ -79,8 +96,6 @@ py::dict config_explain(const std::string& topic, const std::optional<std::strin
     d["from"] = std::move(source);
     return d;
   };
-  auto opt = [](const auto& v, auto&& f) { return v ? py::object(f(*v)) : py::object(py::none()); };
-  auto secs = [](std::chrono::nanoseconds d) { return py::float_(static_cast<double>(d.count()) / 1e9); };
   py::dict out;
   out["topic"] = topic;
   out["file"] = config != nullptr ? py::object(py::str(config->file())) : py::object(py::none());
@@ -88,16 +103,11 @@ py::dict config_explain(const std::string& topic, const std::optional<std::strin
   out["scope"] = entry(py::str(std::string(to_string(c.backend.scope()))), from(c.backend_from));
   out["backend"] = entry(py::str(std::string(to_string(c.backend))), from(c.backend_from));
   if (auto wire = wire_name(c.backend, topic)) out["wire_name"] = *wire;
-  out["capacity"] = entry(opt(c.capacity, [](auto v) { return py::int_(v); }), from(c.capacity_from));
-  out["reliability"] =
-      entry(opt(c.reliability, [](auto v) { return py::str(std::string(net::to_string(v))); }), from(c.reliability_from));
-  out["durability"] =
-      entry(opt(c.durability, [](auto v) { return py::str(std::string(net::to_string(v))); }), from(c.durability_from));
-  out["deadline"] = entry(opt(c.deadline, secs), from(c.deadline_from));
-  out["lifespan"] = entry(opt(c.lifespan, secs), from(c.lifespan_from));
   out["verbose"] = entry(py::bool_(c.verbose), verbose_origin(c));
-  out["log_level"] = entry(py::str(std::string(to_string(c.log_level.value_or(LogLevel::Info)))), from(c.log_level_from));
-  out["log_rate_hz"] = entry(py::float_(c.log_rate_hz.value_or(kDefaultLogRateHz)), from(c.log_rate_hz_from));
+#define HORUS_EXPLAIN_SETTING(member, Kind, Rule, key, example, dflt, unset, doc) \
+  HORUS_SETTING_IF_PLAIN_##Rule(out[#member] = entry(chosen(setting::Kind{}, c.member, dflt), from(c.member##_from));)
+  HORUS_TOPIC_SETTINGS(HORUS_EXPLAIN_SETTING)
+#undef HORUS_EXPLAIN_SETTING
   if (is_network(c.backend)) {
     const auto net = ok_or_raise(net::config_from_environment(config));
     py::dict s;

@@ -4,6 +4,8 @@
 #include <fmt/format.h>
 
 #include <string>
+#include <type_traits>
+#include <variant>
 
 #include "fields.hpp"
 #include "horus/config.hpp"
@@ -39,6 +41,43 @@ Backend fleet_backend() {
                             "HORUS_BACKEND or the configuration file's network.backend"));
 }
 
+Backend value_from(setting::BackendName, pybind11::handle v, const char* key) {
+  auto b = backend_from(text(v, key, "a str"));
+  if (!b) raise(b.error());
+  return *b;
+}
+
+// A value of each other kind of setting from Python: a str in the file's form for the named kinds,
+// a number for numbers, seconds (a float) for durations, a bool for booleans.
+template <class K>
+typename K::type value_from(K of, pybind11::handle v, const char* key) {
+  using T = typename K::type;
+  if constexpr (std::is_same_v<K, setting::Duration>) {
+    return seconds(v, key);
+  } else if constexpr (std::is_same_v<K, setting::Boolean>) {
+    if (!pybind11::isinstance<pybind11::bool_>(v)) type_error(key, "a bool", v);
+    return v.cast<bool>();
+  } else if constexpr (std::is_arithmetic_v<T>) {
+    return number_from<T>(v, key);
+  } else {
+    const std::string expected = setting::expected(of);
+    const auto s = text(v, key, expected.c_str());
+    auto value = setting::parse(of, s);
+    if (std::holds_alternative<std::string>(value)) bad(key, s, expected.c_str());
+    return std::get<T>(value);
+  }
+}
+
+// The keywords: the settings of the table that code chooses (the backend also by scope=).
+std::string keyword_list() {
+  std::string out;
+#define HORUS_KEYWORD(member, Kind, Rule, key, example, dflt, unset, doc) \
+  if (std::string_view(#member) != "backend") out += #member ", ";
+  HORUS_TOPIC_SETTINGS(HORUS_KEYWORD)
+#undef HORUS_KEYWORD
+  return out + "scope, backend";
+}
+
 }  // namespace
 
 TopicOptions topic_options(const pybind11::kwargs& kw) {
@@ -47,56 +86,18 @@ TopicOptions topic_options(const pybind11::kwargs& kw) {
   for (const auto& [k, v] : kw) {
     const auto key = k.cast<std::string>();
     if (v.is_none()) continue;
-    if (key == "capacity") {
-      o.capacity = number_from<std::uint32_t>(v, "capacity");
-    } else if (key == "slot_size") {
-      o.slot_size = number_from<std::size_t>(v, "slot_size");
-    } else if (key == "scope") {
+    if (key == "scope") {
       scope = text(v, "scope", "'process', 'host' or 'fleet'");
-    } else if (key == "backend") {
-      auto b = backend_from(text(v, "backend", "a str"));
-      if (!b) raise(b.error());
-      o.backend = *b;
-    } else if (key == "reliability") {
-      const auto s = text(v, "reliability", "'reliable' or 'best_effort'");
-      if (s == "reliable") o.reliability = net::Reliability::Reliable;
-      else if (s == "best_effort") o.reliability = net::Reliability::BestEffort;
-      else bad("reliability", s, "'reliable' or 'best_effort'");
-    } else if (key == "durability") {
-      const auto s = text(v, "durability", "'volatile' or 'transient_local'");
-      if (s == "volatile") o.durability = net::Durability::Volatile;
-      else if (s == "transient_local") o.durability = net::Durability::TransientLocal;
-      else bad("durability", s, "'volatile' or 'transient_local'");
-    } else if (key == "deadline") {
-      o.deadline = seconds(v, "deadline");
-    } else if (key == "lifespan") {
-      o.lifespan = seconds(v, "lifespan");
-    } else if (key == "max_rate_hz") {
-      o.max_rate_hz = number_from<double>(v, "max_rate_hz");
-    } else if (key == "max_bandwidth") {
-      o.max_bandwidth = number_from<std::uint64_t>(v, "max_bandwidth");
-    } else if (key == "priority") {
-      const auto s = text(v, "priority", "'low', 'normal' or 'high'");
-      if (s == "low") o.priority = Priority::Low;
-      else if (s == "normal") o.priority = Priority::Normal;
-      else if (s == "high") o.priority = Priority::High;
-      else bad("priority", s, "'low', 'normal' or 'high'");
-    } else if (key == "verbose") {
-      if (!pybind11::isinstance<pybind11::bool_>(v)) type_error("verbose", "a bool", v);
-      o.verbose = v.cast<bool>();
-    } else if (key == "log_level") {
-      const auto s = text(v, "log_level", "'trace', 'debug', 'info', 'warn' or 'error'");
-      const auto level = log_level_from(s);
-      if (!level) bad("log_level", s, "'trace', 'debug', 'info', 'warn' or 'error'");
-      o.log_level = *level;
-    } else if (key == "log_rate_hz") {
-      o.log_rate_hz = number_from<double>(v, "log_rate_hz");
-    } else {
-      throw pybind11::type_error(fmt::format(
-          "unknown option '{}'; the options are capacity, slot_size, scope, backend, reliability, durability, deadline, "
-          "lifespan, max_rate_hz, max_bandwidth, priority, verbose, log_level, log_rate_hz",
-          key));
+      continue;
     }
+#define HORUS_KEYWORD_VALUE(member, Kind, Rule, key_, example, dflt, unset, doc) \
+  if (key == #member) {                                                         \
+    o.member = value_from(setting::Kind{}, v, #member);                         \
+    continue;                                                                   \
+  }
+    HORUS_TOPIC_SETTINGS(HORUS_KEYWORD_VALUE)
+#undef HORUS_KEYWORD_VALUE
+    throw pybind11::type_error(fmt::format("unknown option '{}'; the options are {}", key, keyword_list()));
   }
   if (scope) {
     auto clash = [&](const char* fits) {

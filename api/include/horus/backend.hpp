@@ -94,51 +94,6 @@ std::optional<LogLevel> log_level_from(std::string_view name) noexcept;
 /// Lines a verbose topic logs per second in a process at most, unless log_rate_hz says otherwise.
 inline constexpr double kDefaultLogRateHz = 5.0;
 
-/// Per-topic choices made in code (they take precedence over the environment).
-struct TopicOptions {
-  std::optional<Backend> backend;         // default: HORUS_BACKEND, else shared memory
-  std::optional<std::uint32_t> capacity;  // slots per publisher, a power of two
-  std::optional<std::size_t> slot_size;   // serialized messages: the largest encoded message;
-                                          // large data: the largest message's bytes (pool slot)
-  // Network backends only (the defaults come from net::default_qos<T>, horus/qos.hpp):
-  std::optional<net::Reliability> reliability = std::nullopt;
-  std::optional<net::Durability> durability = std::nullopt;
-  // Fleet topics: the host's egress budget. The bridge sends at most `max_rate_hz` messages a
-  // second and `max_bandwidth` bytes a second (a token bucket) to the network; when over budget
-  // the newest message waits for its turn and older ones are not sent (counted per topic:
-  // `horus topic info`, "budget dropped"). Local handles are not affected.
-  std::optional<double> max_rate_hz = std::nullopt;
-  std::optional<std::uint64_t> max_bandwidth = std::nullopt;  // bytes per second
-  // Fleet topics: the topic's share of the host's link budget (network.max_bandwidth in the
-  // file, shared by every process of the host). High always goes (and uses the link); Normal
-  // goes while what the host sent stays within 50 ms of the link's rate; Low within 10 ms, so
-  // that it leaves the link's last bytes to the others. What waits is the newest message
-  // (counted as budget dropped when a newer one replaces it). Default Normal; the fleet's own
-  // heartbeats and announcements are High.
-  std::optional<Priority> priority = std::nullopt;
-  // Every backend (mapped to the DDS QoS of the same name on DDS, enforced by the handle
-  // everywhere; horus/topic.hpp):
-  // - deadline: the period a topic's messages must keep. A receiving handle counts each full
-  //   period without a message (the requested deadline: a watchdog on cmd_vel), a sending one
-  //   each full period between its own sends (the offered deadline): deadline_missed_count(),
-  //   and Executor::on_deadline_missed calls back at once.
-  // - lifespan: a message whose timestamp_ns (Unix ns, as the publisher set it) is older than
-  //   this on receipt is not delivered; counted in expired_count() and dropped_count().
-  //   Messages without a timestamp_ns (or with 0) never expire.
-  std::optional<std::chrono::nanoseconds> deadline = std::nullopt;
-  std::optional<std::chrono::nanoseconds> lifespan = std::nullopt;
-  // Traffic logging (off by default): each send and receive of the handle logs a line through
-  // the library's logger: the direction, the topic, the handle's count (send #N, recv #N), the
-  // drops so far and the message's horus::log_summary() (large data: its description, never its
-  // bytes). At `log_level` (default info), at most `log_rate_hz` lines per second for the topic
-  // in this process (default kDefaultLogRateHz; 0: every message); the next line logged says how
-  // many were held back. Also `log: true` on a rule of the configuration file, or
-  // HORUS_LOG_TOPICS=PATTERN[,PATTERN...] (`!PATTERN` turns logging off).
-  std::optional<bool> verbose = std::nullopt;
-  std::optional<LogLevel> log_level = std::nullopt;
-  std::optional<double> log_rate_hz = std::nullopt;
-};
-
 /// The backend HORUS_BACKEND selects (auto|shm|inproc, or a registered transport's name:
 /// cyclonedds|fastdds|lcm; unset means auto = shm); an error names a bad value and lists the
 /// valid ones.

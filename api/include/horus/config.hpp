@@ -20,14 +20,9 @@
 //   topics:                         # the first rule whose pattern matches wins
 //     - match: "fleet.**"           # '*' = one dot-separated segment, '**' = any number (also none)
 //       scope: fleet                # process | host | fleet
-//       backend: lcm                # this rule's transport (fleet topics only)
-//       reliability: reliable       # best_effort | reliable
-//       durability: transient_local # volatile | transient_local
-//       capacity: 64                # slots per publisher, a power of two
-//       protection: sign            # under security: encrypt (the default) | sign (`horus security governance`)
-//       log: true                   # log each send and receive of the topic (TopicOptions::verbose)
-//       log_level: debug            # those lines' level: trace | debug | info (the default) | warn | error
-//       log_rate_hz: 5              # lines per second at most, per topic and process (default 5; 0: all)
+//       reliability: reliable       # ... every key of horus/topic_options.hpp's table
+//                                   # (HORUS_TOPIC_SETTINGS; `horus config settings`), and
+//       protection: sign            # under security: encrypt (the default) | sign
 //
 // Precedence, per setting: code (TopicOptions) > environment (HORUS_BACKEND, HORUS_DOMAIN_ID,
 // HORUS_DDS_LOCALHOST, HORUS_LCM_URL, HORUS_LOG_TOPICS) > file > the message type's defaults. Parsing is strict:
@@ -39,12 +34,14 @@
 #include <chrono>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <variant>
 #include <vector>
 
 #include "horus/backend.hpp"
+#include "horus/topic_options.hpp"
 #include "horus/error.hpp"
 #include "horus/names.hpp"  // check_topic_pattern, topic_pattern_matches
 #include "horus/network.hpp"
@@ -60,25 +57,58 @@ enum class Source : std::uint8_t { Code, Environment, File, Default };
 /// "code", "environment", "file", "default".
 std::string_view to_string(Source s) noexcept;
 
-/// One rule of the file's `topics:` list.
+/// One rule of the file's `topics:` list: its own keys, and one member per setting of
+/// HORUS_TOPIC_SETTINGS that follows the plain precedence (code > file > default).
 struct TopicRule {
   std::string match;  // the pattern
   int line = 0;       // the rule's line in the file (1-based)
   std::optional<Scope> scope;
-  std::optional<std::string> backend;  // a registered transport's name (fleet topics)
-  std::optional<net::Reliability> reliability;
-  std::optional<net::Durability> durability;
-  std::optional<std::uint32_t> capacity;
-  std::optional<double> max_rate_hz;            // fleet topics: the host's egress budget
-  std::optional<std::uint64_t> max_bandwidth;   // bytes per second ("2 MB/s", "20 Mbit/s" in the file)
-  std::optional<Priority> priority;             // fleet topics: the share of the host's link budget
-  std::optional<std::chrono::nanoseconds> deadline;  // "100ms", "1.5 s" in the file
-  std::optional<std::chrono::nanoseconds> lifespan;
+  std::optional<std::string> backend;         // a registered transport's name (fleet topics)
   std::optional<net::Protection> protection;  // under DDS-Security (the governance document)
   std::optional<bool> log;                    // traffic logging (TopicOptions::verbose)
-  std::optional<LogLevel> log_level;
-  std::optional<double> log_rate_hz;          // 0: every message
+#define HORUS_RULE_FIELD(member, Kind, Rule, key, example, dflt, unset, doc) \
+  HORUS_SETTING_IF_PLAIN_##Rule(std::optional<setting::Kind::type> member;)
+  HORUS_TOPIC_SETTINGS(HORUS_RULE_FIELD)
+#undef HORUS_RULE_FIELD
 };
+
+/// A key of a rule of the file's `topics:` list, as README's table of settings shows it: the
+/// rule's own keys (match, scope, protection) and those of HORUS_TOPIC_SETTINGS, with their
+/// TopicOptions member ("" when code has none), an example value and a line of meaning.
+struct RuleKey {
+  std::string_view key;
+  std::string_view member;
+  std::string_view example;
+  std::string_view doc;
+};
+/// Every key a rule may have, in README's order (the parser knows these and no other).
+std::span<const RuleKey> rule_keys() noexcept;
+/// The table of per-topic settings as README shows it (`horus config settings`): Markdown, one
+/// row per setting of HORUS_TOPIC_SETTINGS and per rule key of its own.
+std::string settings_table();
+
+namespace setting {
+// The values of each kind of setting in the file's form (what a rule's key holds), which
+// `horus config explain` and Python's strings use too. parse gives the value or why `text` is
+// not one ("unknown reliability 'x'; expected best_effort or reliable"); `doc` is the setting's
+// line of the table (a rate's expectation). expected says in words what a value must be;
+// format writes a value ("reliable", "100 ms", "2000000 B/s").
+#define HORUS_SETTING_CODEC(Kind)                                                                         \
+  std::variant<Kind::type, std::string> parse(Kind, std::string_view text, std::string_view doc = {});   \
+  std::string expected(Kind, std::string_view doc = {});                                                  \
+  std::string format(Kind, const Kind::type& value);
+HORUS_SETTING_CODEC(PowerOfTwo)
+HORUS_SETTING_CODEC(ReliabilityName)
+HORUS_SETTING_CODEC(DurabilityName)
+HORUS_SETTING_CODEC(PositiveRate)
+HORUS_SETTING_CODEC(RateOrZero)
+HORUS_SETTING_CODEC(Bandwidth)
+HORUS_SETTING_CODEC(PriorityName)
+HORUS_SETTING_CODEC(Duration)
+HORUS_SETTING_CODEC(Boolean)
+HORUS_SETTING_CODEC(LevelName)
+#undef HORUS_SETTING_CODEC
+}  // namespace setting
 
 /// Parses a bandwidth: a number of bytes per second, or a number with a unit (B/s, kB/s, MB/s,
 /// GB/s, KiB/s, MiB/s, GiB/s, kbit/s, Mbit/s, Gbit/s; "2 MB/s", "20Mbit/s"); an error message
@@ -165,33 +195,18 @@ Result<Config> config_from_environment(const horus::Config* file);
 /// Same as net::config_from_environment() (the name horus has always had).
 inline Result<net::Config> network_config_from_environment() { return net::config_from_environment(); }
 
-/// What a topic gets, setting by setting, and from where.
+/// What a topic gets, setting by setting, and from where: one value and source per setting of
+/// HORUS_TOPIC_SETTINGS (nullopt: its default_value, else the type's default or none).
 struct TopicChoice {
   Backend backend;  // the scope, and the transport of a fleet topic
   Source backend_from = Source::Default;
-  std::optional<std::uint32_t> capacity;  // nullopt: the type's default
-  Source capacity_from = Source::Default;
-  std::optional<net::Reliability> reliability;  // nullopt: the type's default
-  Source reliability_from = Source::Default;
-  std::optional<net::Durability> durability;  // nullopt: the type's default
-  Source durability_from = Source::Default;
-  std::optional<double> max_rate_hz;            // nullopt: no budget
-  Source max_rate_hz_from = Source::Default;
-  std::optional<std::uint64_t> max_bandwidth;   // bytes per second; nullopt: no budget
-  Source max_bandwidth_from = Source::Default;
-  std::optional<Priority> priority;  // nullopt: normal
-  Source priority_from = Source::Default;
-  std::optional<std::chrono::nanoseconds> deadline;  // nullopt: none
-  Source deadline_from = Source::Default;
-  std::optional<std::chrono::nanoseconds> lifespan;  // nullopt: messages never expire
-  Source lifespan_from = Source::Default;
   bool verbose = false;  // the topic's traffic is logged
   Source verbose_from = Source::Default;
   std::string verbose_entry;  // Source::Environment: the HORUS_LOG_TOPICS entry that decided
-  std::optional<LogLevel> log_level;  // nullopt: info
-  Source log_level_from = Source::Default;
-  std::optional<double> log_rate_hz;  // nullopt: kDefaultLogRateHz
-  Source log_rate_hz_from = Source::Default;
+#define HORUS_CHOICE_FIELD(member, Kind, Rule, key, example, dflt, unset, doc) \
+  HORUS_SETTING_IF_PLAIN_##Rule(std::optional<setting::Kind::type> member; Source member##_from = Source::Default;)
+  HORUS_TOPIC_SETTINGS(HORUS_CHOICE_FIELD)
+#undef HORUS_CHOICE_FIELD
   const TopicRule* rule = nullptr;  // the file's rule that matched
   const Config* config = nullptr;   // the file, when there is one
 };

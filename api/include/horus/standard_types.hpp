@@ -26,6 +26,7 @@
 #include <nlohmann/json_fwd.hpp>
 
 #include "horus/backend.hpp"
+#include "horus/topic_options.hpp"
 #include "horus/error.hpp"
 #include "horus/metrics.hpp"
 #include "horus/waitset.hpp"

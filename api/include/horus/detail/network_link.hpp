@@ -17,6 +17,7 @@
 #include <string>
 
 #include "horus/backend.hpp"
+#include "horus/topic_options.hpp"
 #include "horus/error.hpp"
 #include "horus/network.hpp"
 #include "horus/transport_registry.hpp"

@@ -14,6 +14,7 @@
 #include <string_view>
 
 #include "horus/backend.hpp"
+#include "horus/topic_options.hpp"
 #include "horus/error.hpp"
 #include "horus/shm/heap_region.hpp"
 #include "horus/shm/pool.hpp"
