@@ -69,14 +69,10 @@ class EchoLedger {
   std::unordered_map<std::uint64_t, std::uint32_t> count_;
 };
 
-/// Keeps this host announced on a transport while held (agent.cpp).
-using Presence = std::shared_ptr<void>;
-
 // The host's link budget (network.max_bandwidth): how far ahead of now the link may be booked
 // for a Normal topic to go, and for a Low one (High always goes).
 inline constexpr std::chrono::milliseconds kLinkTolerance{50};
 inline constexpr std::chrono::milliseconds kLinkLowTolerance{10};
-Presence acquire_presence(const std::string& transport);
 
 /// A successor (after a takeover) waits this long at most for the remote readers to match.
 inline constexpr auto kMatchWait = std::chrono::seconds(1);
@@ -263,9 +259,5 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
 /// A later handle's options against the bridge's QoS: Errc::ConfigMismatch when they differ.
 Result<void> check_qos(const std::string& topic, const net::Qos& have, const TopicOptions& options);
 
-/// HORUS_BRIDGE: whether this process may bridge fleet topics (0: never; 1 or unset: it may).
-Result<bool> may_bridge_from_environment();
-/// Whether `value` (of HORUS_BRIDGE) lets this process bridge; empty: yes.
-Result<bool> may_bridge(std::string_view value);
 
 }  // namespace horus::fleet::detail

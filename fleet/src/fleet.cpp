@@ -11,7 +11,6 @@
 
 #include "fleet_internal.hpp"
 #include "horus/config.hpp"
-#include "bridge.hpp"
 #include "horus/discovery/registry.hpp"
 #include "horus/executor.hpp"
 #include "horus/log.hpp"

@@ -4,17 +4,31 @@
 
 #include <chrono>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "horus/backend.hpp"
+#include "horus/topic_options.hpp"
+#include "horus/error.hpp"
 #include "horus/fleet_messages.hpp"
 
 namespace horus::fleet::detail {
 
 /// The prefix of the fleet layer's own topics (they do not keep the host announced).
 inline constexpr std::string_view kFleetTopicPrefix = "horus.fleet.";
+
+/// Keeps this host announced on a transport while held: the agent of that transport runs in this
+/// process while one is (agent.cpp). A bridge of a fleet topic holds one, and so does a Fleet.
+using Presence = std::shared_ptr<void>;
+Presence acquire_presence(const std::string& transport);
+
+/// HORUS_BRIDGE: whether this process may bridge fleet topics (0: never; 1 or unset: it may); a
+/// process that may not neither bridges nor announces its host (bridge.cpp).
+Result<bool> may_bridge_from_environment();
+/// Whether `value` (of HORUS_BRIDGE) lets this process bridge; empty: yes.
+Result<bool> may_bridge(std::string_view value);
 
 
 /// The fleet layer's topics on `transport`: heartbeats best effort, announcements and requests

@@ -21,8 +21,8 @@
 //
 // The parts (docs/ARCHITECTURE.md): a local port (detail/local_port.hpp: the handle's lane and
 // subscriber entry in the ring), a slot codec chosen once by the type's kind (detail/slots.hpp:
-// fixed-size, serialized, pooled), and for fleet topics the non-template network bridge
-// (detail/network_bridge.hpp), which knows T only through a table of functions.
+// fixed-size, serialized, pooled), and for fleet topics the fleet layer's non-template bridge
+// seen through detail/network_link.hpp, which knows T only through a table of functions.
 #pragma once
 
 #include <chrono>
@@ -34,6 +34,7 @@
 #include <type_traits>
 
 #include "horus/backend.hpp"
+#include "horus/topic_options.hpp"
 #include "horus/detail/bridge_port.hpp"
 #include "horus/detail/network_link.hpp"
 #include "horus/detail/slots.hpp"

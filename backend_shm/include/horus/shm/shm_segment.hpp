@@ -60,7 +60,7 @@ struct alignas(kCacheLine) Participant {
   std::atomic<std::uint64_t> start_time;  // the process's start time (clock ticks after boot)
 };
 
-/// The per-host bridge of a fleet topic (api/src/network_bridge.cpp): which process holds it,
+/// The per-host bridge of a fleet topic (fleet/src/bridge.cpp): which process holds it,
 /// the subscriber entry it exports from and the ring lane it imports into, and what it counted.
 /// Everything but `owner` is written by the holder only. The entry and the lane are recorded
 /// so that a successor adopts them at a takeover (it exports exactly what its predecessor had

@@ -20,7 +20,7 @@
 //  - On fork(): nothing happens. A child inherits the entries and the instances (copies whose
 //    threads stay in the parent); it must neither use them nor destroy them. api/ refuses
 //    network topics in a forked child and never drops a forked copy's references
-//    (network_bridge.cpp); a program that calls a transport directly after fork() must exec.
+//    (api/src/topic_core.cpp, fleet/src/bridge.cpp); a program that calls a transport directly after fork() must exec.
 #pragma once
 
 #include <chrono>
