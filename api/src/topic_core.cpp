@@ -64,22 +64,26 @@ std::string describe(std::string_view type_name, std::uint64_t hash, std::uint32
 }
 }  // namespace
 
-Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeInfo& type,
-                                             const TopicOptions& options) {
+namespace {
+
+// What the ring holds for a type and the handle's options (slot size, capacity), checked.
+struct Geometry {
+  std::uint32_t payload = 0;     // ring payload: sizeof(T), or a length word and the encoded bytes
+  std::uint64_t pool_bytes = 0;  // large data: one pool slot
+};
+
+Result<Geometry> geometry_of(std::string_view name, const TypeInfo& type, const TopicOptions& options) {
   const auto& capacity = options.capacity;
   const auto& slot_size = options.slot_size;
-  if (auto ok = validate_topic_name(name); !ok) return std::unexpected(std::move(ok.error()));
-  // The ring payload: sizeof(T), or for a serialized type a length word and the encoded bytes.
-  std::uint32_t payload = type.size;
-  std::uint64_t pool_bytes = type.pool_bytes;
+  Geometry g{type.size, type.pool_bytes};
   if (type.pool_bytes != 0) {
     constexpr std::uint64_t kMaxPoolSlot = std::uint64_t{1} << 31;
-    pool_bytes = slot_size.value_or(type.pool_bytes);
-    if (pool_bytes == 0 || pool_bytes > kMaxPoolSlot)
+    g.pool_bytes = slot_size.value_or(type.pool_bytes);
+    if (g.pool_bytes == 0 || g.pool_bytes > kMaxPoolSlot)
       return fail(Errc::InvalidArgument,
                   fmt::format("topic '{}': slot_size {} for {} messages is out of range; expected 1 to {} bytes (the "
                               "largest message's data, one pool slot)",
-                              name, pool_bytes, type.name, kMaxPoolSlot));
+                              name, g.pool_bytes, type.name, kMaxPoolSlot));
     if (capacity && *capacity > kMaxPoolCapacity)
       return fail(Errc::InvalidArgument,
                   fmt::format("topic '{}': capacity {} is too large for {} messages; expected at most {} (each "
@@ -93,169 +97,216 @@ Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeIn
                   fmt::format("topic '{}': slot_size {} for serialized {} messages is out of range; expected 1 to {} "
                               "bytes (the largest encoded message the topic accepts)",
                               name, max_bytes, type.name, kMaxSerialized));
-    payload = static_cast<std::uint32_t>(8 + max_bytes);
+    g.payload = static_cast<std::uint32_t>(8 + max_bytes);
   } else if (slot_size && *slot_size < type.size) {
     return fail(Errc::InvalidArgument,
                 fmt::format("topic '{}': slot_size {} is smaller than a {} message ({} bytes); expected at least {}",
                             name, *slot_size, type.name, type.size, type.size));
   }
   if (capacity) {
-    if (auto err = shm::Ring::check_config({*capacity, payload, type.hash}))
+    if (auto err = shm::Ring::check_config({*capacity, g.payload, type.hash}))
       return fail(Errc::InvalidArgument, fmt::format("topic '{}': {}", name, *err));
   }
+  return g;
+}
 
+// Where a topic lives: its backend (a fleet topic's transport, loaded), and its key in the
+// registry. Topics are told apart by name and namespace: the shared-memory namespace for host
+// and fleet topics (so one process can use a name in two namespaces), "" for in-process ones.
+struct Placement {
   Backend backend = Backend::SharedMemory;
+  const net::TransportInfo* transport = nullptr;
+  bool shared = true;  // host and fleet topics: a shared-memory segment
+  std::string shm_ns;
+  std::string key;
+};
+
+Result<Placement> place(std::string_view name, const TopicOptions& options) {
+  Placement p;
   if (options.backend) {
-    backend = *options.backend;
+    p.backend = *options.backend;
   } else {
     auto env = backend_from_environment();
     if (!env) return std::unexpected(std::move(env.error()));
-    backend = *env;
+    p.backend = *env;
   }
-  const net::TransportInfo* transport = nullptr;
-  if (is_network(backend)) {
-    transport = net::find_transport(backend.transport());
-    if (transport != nullptr) backend = Backend::network(transport->name);  // the registry owns the name
-  }
-  if (is_network(backend) && transport == nullptr)
-    return fail(Errc::Config, fmt::format("topic '{}': this build of horus has no {} backend (its Debian package was "
-                                          "missing when horus was built)",
-                                          name, to_string(backend)));
-  // A transport that is a plug-in loads now; the error names its file and what went wrong.
-  if (transport != nullptr) {
-    if (auto loaded = net::load_transport(transport->name); !loaded)
+  if (is_network(p.backend)) {
+    p.transport = net::find_transport(p.backend.transport());
+    if (p.transport == nullptr)
+      return fail(Errc::Config, fmt::format("topic '{}': this build of horus has no {} backend (its Debian package was "
+                                            "missing when horus was built)",
+                                            name, to_string(p.backend)));
+    p.backend = Backend::network(p.transport->name);  // the registry owns the name
+    // A transport that is a plug-in loads now; the error names its file and what went wrong.
+    if (auto loaded = net::load_transport(p.transport->name); !loaded)
       return fail(Errc::Config, fmt::format("topic '{}': {}", name, loaded.error().message()));
   }
-
-  // Topics are told apart by name and namespace: the shared-memory namespace for host and
-  // fleet topics (so one process can use a name in two namespaces), "" for in-process ones.
-  const bool shared = backend.scope() != Scope::Process;
-  std::string shm_ns;
+  p.shared = p.backend.scope() != Scope::Process;
   if (auto n = shm::shm_namespace()) {
-    shm_ns = std::move(*n);
-  } else if (shared) {
+    p.shm_ns = std::move(*n);
+  } else if (p.shared) {
     return fail(Errc::Config, n.error().message);
   }
-  const std::string ns = shared ? shm_ns : std::string();
-  const std::string key = std::string(name) + '\0' + ns;
+  p.key = std::string(name) + '\0' + (p.shared ? p.shm_ns : std::string());
+  return p;
+}
 
-  auto& reg = open_topics();
-  std::lock_guard lock(reg.mutex);
-  {
-    // The same name with the other kind of key, in this process: one backend per topic.
-    const std::string other = std::string(name) + '\0' + (shared ? std::string() : shm_ns);
-    if (auto it = reg.topics.find(other); other != key && it != reg.topics.end()) {
-      auto core = it->second.lock();
-      if (core && core->pid == ::getpid() && core->backend != backend)
-        return fail(Errc::ConfigMismatch,
-                    fmt::format("topic '{}' is open in this process on backend '{}'; cannot open it on '{}' (one "
-                                "backend per topic and process)",
-                                name, to_string(core->backend), to_string(backend)));
-    }
-  }
-  if (auto it = reg.topics.find(key); it != reg.topics.end()) {
+Error backend_clash(std::string_view name, const Backend& open, const Backend& asked) {
+  return Error(Errc::ConfigMismatch,
+               fmt::format("topic '{}' is open in this process on backend '{}'; cannot open it on '{}' (one backend "
+                           "per topic and process)",
+                           name, to_string(open), to_string(asked)));
+}
+
+// The topic this process has open under p's key, checked against this open's type and options;
+// nullptr when there is none. Called with the registry's lock held.
+Result<std::shared_ptr<TopicCore>> find_open(OpenTopics& reg, std::string_view name, const TypeInfo& type,
+                                             const TopicOptions& options, const Geometry& g, const Placement& p) {
+  const auto& capacity = options.capacity;
+  const auto& slot_size = options.slot_size;
+  // The same name with the other kind of key, in this process: one backend per topic.
+  const std::string other = std::string(name) + '\0' + (p.shared ? std::string() : p.shm_ns);
+  if (auto it = reg.topics.find(other); other != p.key && it != reg.topics.end()) {
     auto core = it->second.lock();
-    if (core && core->pid != ::getpid()) core.reset();  // inherited through fork(): attach anew
-    if (core && core->backend != backend)
-      return fail(Errc::ConfigMismatch,
-                  fmt::format("topic '{}' is open in this process on backend '{}'; cannot open it on '{}' (one "
-                              "backend per topic and process)",
-                              name, to_string(core->backend), to_string(backend)));
-    if (core) {
-      if (core->type_hash != type.hash || core->type_name != type.name || core->serialized != type.serialized ||
-          (!type.serialized && core->payload_size != type.size))
-        return fail(Errc::TypeMismatch,
-                    fmt::format("topic '{}' carries {}; cannot open it as {}", name,
-                                describe(core->type_name, core->type_hash, core->payload_size),
-                                describe(type.name, type.hash, type.size)));
-      if (type.pool_bytes != 0 && slot_size && pool_bytes != core->pool.slot_bytes())
-        return fail(Errc::ConfigMismatch,
-                    fmt::format("topic '{}' exists with slot_size {} (pool slot bytes); cannot open it with slot_size "
-                                "{} (open it with the same slot size, or without one to accept it)",
-                                name, core->pool.slot_bytes(), *slot_size));
-      if (type.serialized && slot_size && payload != core->payload_size)
-        return fail(Errc::ConfigMismatch,
-                    fmt::format("topic '{}' exists with slot_size {} (largest encoded message); cannot open it with "
-                                "slot_size {} (open it with the same slot size, or without one to accept it)",
-                                name, shm::max_serialized_size(core->payload_size), *slot_size));
-      if (capacity && *capacity != core->ring.capacity())
-        return fail(Errc::ConfigMismatch,
-                    fmt::format("topic '{}' exists with capacity {}; cannot open it with capacity {} (open it "
-                                "with the same capacity, or with Topic::open to accept the existing one)",
-                                name, core->ring.capacity(), *capacity));
-      return core;
-    }
-    reg.topics.erase(it);
+    if (core && core->pid == ::getpid() && core->backend != p.backend)
+      return std::unexpected(backend_clash(name, core->backend, p.backend));
   }
+  auto it = reg.topics.find(p.key);
+  if (it == reg.topics.end()) return nullptr;
+  auto core = it->second.lock();
+  if (core && core->pid != ::getpid()) core.reset();  // inherited through fork(): attach anew
+  if (!core) {
+    reg.topics.erase(it);
+    return nullptr;
+  }
+  if (core->backend != p.backend) return std::unexpected(backend_clash(name, core->backend, p.backend));
+  if (core->type_hash != type.hash || core->type_name != type.name || core->serialized != type.serialized ||
+      (!type.serialized && core->payload_size != type.size))
+    return fail(Errc::TypeMismatch, fmt::format("topic '{}' carries {}; cannot open it as {}", name,
+                                                describe(core->type_name, core->type_hash, core->payload_size),
+                                                describe(type.name, type.hash, type.size)));
+  if (type.pool_bytes != 0 && slot_size && g.pool_bytes != core->pool.slot_bytes())
+    return fail(Errc::ConfigMismatch,
+                fmt::format("topic '{}' exists with slot_size {} (pool slot bytes); cannot open it with slot_size "
+                            "{} (open it with the same slot size, or without one to accept it)",
+                            name, core->pool.slot_bytes(), *slot_size));
+  if (type.serialized && slot_size && g.payload != core->payload_size)
+    return fail(Errc::ConfigMismatch,
+                fmt::format("topic '{}' exists with slot_size {} (largest encoded message); cannot open it with "
+                            "slot_size {} (open it with the same slot size, or without one to accept it)",
+                            name, shm::max_serialized_size(core->payload_size), *slot_size));
+  if (capacity && *capacity != core->ring.capacity())
+    return fail(Errc::ConfigMismatch,
+                fmt::format("topic '{}' exists with capacity {}; cannot open it with capacity {} (open it "
+                            "with the same capacity, or with Topic::open to accept the existing one)",
+                            name, core->ring.capacity(), *capacity));
+  return core;
+}
 
+// A host or fleet topic's ring (and pool) in its shared-memory segment, made or joined.
+Result<void> attach_segment(TopicCore& core, std::string_view name, const TypeInfo& type, const TopicOptions& options,
+                            const shm::RingConfig& cfg, const shm::PoolConfig& pool_cfg, const Placement& p) {
+  shm::SegmentSpec spec;
+  spec.scope = p.backend.scope() == Scope::Fleet ? shm::SegmentScope::Fleet : shm::SegmentScope::Host;
+  if (p.transport != nullptr) spec.transport = p.transport->name;
+  spec.type_name = type.name;
+  spec.type_hash = type.hash;
+  const std::string signature = type.signature != nullptr ? type.signature() : std::string();
+  spec.signature = signature;
+  spec.payload_size = cfg.payload_size;
+  spec.serialized = type.serialized;
+  spec.capacity = cfg.capacity;
+  spec.capacity_required = options.capacity.has_value();
+  spec.payload_required = !type.serialized || options.slot_size.has_value();
+  auto mode = shm::shm_mode_from_environment();
+  if (!mode) return fail(Errc::Config, mode.error().message);
+  spec.mode = *mode;
+  if (pool_cfg.slot_bytes != 0) {
+    spec.pool_slot_bytes = pool_cfg.slot_bytes;
+    spec.pool_slots_per_lane = pool_cfg.slots_per_lane;
+    spec.pool_required = options.slot_size.has_value();
+  }
+  auto seg = shm::ShmSegment::open(p.shm_ns, name, spec);
+  if (!seg) return fail(segment_errc(seg.error().kind), seg.error().message);
+  core.ring = seg->ring();
+  core.payload_size = seg->ring().payload_size();  // a serialized topic may have another slot size
+  core.pool = seg->pool();
+  core.participant = seg->participant();
+  core.segment.emplace(std::move(*seg));
+  return {};
+}
+
+// A process topic's ring (and pool) in this process's memory.
+Result<void> allocate_private(TopicCore& core, std::string_view name, const shm::RingConfig& cfg,
+                              const shm::PoolConfig& pool_cfg) {
+  const bool pooled = pool_cfg.slot_bytes != 0;
+  if (pooled) {
+    if (auto err = shm::Pool::check_config(pool_cfg))
+      return fail(Errc::InvalidArgument, fmt::format("topic '{}': {}", name, *err));
+  }
+  const std::size_t ring_bytes = (shm::Ring::required_size(cfg) + shm::kPoolPage - 1) / shm::kPoolPage * shm::kPoolPage;
+  const std::size_t bytes = ring_bytes + (pooled ? shm::Pool::required_size(pool_cfg) : 0);
+  try {
+    core.region = shm::HeapRegion(bytes);
+  } catch (const std::bad_alloc&) {
+    return fail(Errc::Io, fmt::format("topic '{}': cannot map {} bytes for its ring", name, bytes));
+  }
+  shm::RingConfig heap_cfg = cfg;
+  heap_cfg.process_private = true;  // this process's memory: private futex wake-ups
+  core.ring = shm::Ring::format(core.region.data(), heap_cfg);
+  if (pooled) core.pool = shm::Pool::format(static_cast<std::byte*>(core.region.data()) + ring_bytes, pool_cfg);
+  return {};
+}
+
+// A new core for the topic: its identity, and its ring and pool where its scope puts them.
+Result<std::shared_ptr<TopicCore>> make_core(std::string_view name, const TypeInfo& type, const TopicOptions& options,
+                                             const Geometry& g, const Placement& p) {
   // Serialized topics with big slots (images) default to 4 slots per lane: the ring is virtual
   // memory, touched only as far as messages are written, but 16 slots of 8 MiB is a lot.
-  const std::uint32_t default_cap =
-      (type.serialized && payload >= (1u << 20)) || pool_bytes >= (1u << 20) ? 4u : shm::default_capacity(payload);
-  const shm::RingConfig cfg{capacity.value_or(std::min(default_cap, type.pool_bytes != 0 ? kMaxPoolCapacity : default_cap)),
-                            payload, type.hash};
+  const std::uint32_t default_cap = (type.serialized && g.payload >= (1u << 20)) || g.pool_bytes >= (1u << 20)
+                                        ? 4u
+                                        : shm::default_capacity(g.payload);
+  const shm::RingConfig cfg{
+      options.capacity.value_or(std::min(default_cap, type.pool_bytes != 0 ? kMaxPoolCapacity : default_cap)),
+      g.payload, type.hash};
   // Large data: twice as many pool slots per publisher as ring slots, so a slot is reused only
   // after the ring has overwritten every message naming it (unless subscribers pin the spares).
-  const shm::PoolConfig pool_cfg{pool_bytes, std::min(2 * cfg.capacity, shm::kMaxPoolSlotsPerLane)};
+  const shm::PoolConfig pool_cfg{g.pool_bytes, std::min(2 * cfg.capacity, shm::kMaxPoolSlotsPerLane)};
   auto core = std::make_shared<TopicCore>();
   core->name = std::string(name);
   core->type_name = std::string(type.name);
   core->type_hash = type.hash;
-  core->payload_size = payload;
+  core->payload_size = g.payload;
   core->serialized = type.serialized;
-  core->backend = backend;
+  core->backend = p.backend;
   core->pid = ::getpid();
   (void)current_pid();  // registers the fork handler before any lease exists
-  if (pool_bytes != 0)
-    core->claimer = {static_cast<std::uint32_t>(core->pid), shm::process_start_time(core->pid)};
-  if (shared) {
-    shm::SegmentSpec spec;
-    spec.scope = backend.scope() == Scope::Fleet ? shm::SegmentScope::Fleet : shm::SegmentScope::Host;
-    if (transport != nullptr) spec.transport = transport->name;
-    spec.type_name = type.name;
-    spec.type_hash = type.hash;
-    const std::string signature = type.signature != nullptr ? type.signature() : std::string();
-    spec.signature = signature;
-    spec.payload_size = payload;
-    spec.serialized = type.serialized;
-    spec.capacity = cfg.capacity;
-    spec.capacity_required = capacity.has_value();
-    spec.payload_required = !type.serialized || slot_size.has_value();
-    auto mode = shm::shm_mode_from_environment();
-    if (!mode) return fail(Errc::Config, mode.error().message);
-    spec.mode = *mode;
-    if (pool_bytes != 0) {
-      spec.pool_slot_bytes = pool_cfg.slot_bytes;
-      spec.pool_slots_per_lane = pool_cfg.slots_per_lane;
-      spec.pool_required = slot_size.has_value();
-    }
-    auto seg = shm::ShmSegment::open(ns, name, spec);
-    if (!seg) return fail(segment_errc(seg.error().kind), seg.error().message);
-    core->ring = seg->ring();
-    core->payload_size = seg->ring().payload_size();  // a serialized topic may have another slot size
-    core->pool = seg->pool();
-    core->participant = seg->participant();
-    core->segment.emplace(std::move(*seg));
-  } else {
-    if (pool_bytes != 0) {
-      if (auto err = shm::Pool::check_config(pool_cfg))
-        return fail(Errc::InvalidArgument, fmt::format("topic '{}': {}", name, *err));
-    }
-    const std::size_t ring_bytes = (shm::Ring::required_size(cfg) + shm::kPoolPage - 1) / shm::kPoolPage * shm::kPoolPage;
-    const std::size_t bytes = ring_bytes + (pool_bytes != 0 ? shm::Pool::required_size(pool_cfg) : 0);
-    try {
-      core->region = shm::HeapRegion(bytes);
-    } catch (const std::bad_alloc&) {
-      return fail(Errc::Io, fmt::format("topic '{}': cannot map {} bytes for its ring", name, bytes));
-    }
-    shm::RingConfig heap_cfg = cfg;
-    heap_cfg.process_private = true;  // this process's memory: private futex wake-ups
-    core->ring = shm::Ring::format(core->region.data(), heap_cfg);
-    if (pool_bytes != 0) core->pool = shm::Pool::format(static_cast<std::byte*>(core->region.data()) + ring_bytes, pool_cfg);
-  }
+  if (g.pool_bytes != 0) core->claimer = {static_cast<std::uint32_t>(core->pid), shm::process_start_time(core->pid)};
+  auto made = p.shared ? attach_segment(*core, name, type, options, cfg, pool_cfg, p)
+                       : allocate_private(*core, name, cfg, pool_cfg);
+  if (!made) return std::unexpected(std::move(made.error()));
+  return core;
+}
+
+}  // namespace
+
+// Validate, place, look up, create.
+Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeInfo& type,
+                                             const TopicOptions& options) {
+  if (auto ok = validate_topic_name(name); !ok) return std::unexpected(std::move(ok.error()));
+  auto g = geometry_of(name, type, options);
+  if (!g) return std::unexpected(std::move(g.error()));
+  auto p = place(name, options);
+  if (!p) return std::unexpected(std::move(p.error()));
+  auto& reg = open_topics();
+  std::lock_guard lock(reg.mutex);
+  auto open = find_open(reg, name, type, options, *g, *p);
+  if (!open || *open) return open;
+  auto core = make_core(name, type, options, *g, *p);
+  if (!core) return core;
   // Drop entries of topics that were closed, so the map does not grow without bound.
   std::erase_if(reg.topics, [](const auto& kv) { return kv.second.expired(); });
-  reg.topics.emplace(key, core);
+  reg.topics.emplace(p->key, *core);
   return core;
 }
 

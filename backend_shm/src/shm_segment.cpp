@@ -176,48 +176,6 @@ std::string segment_name(std::string_view ns, std::string_view topic) {
   return "/horus." + std::string(ns) + "." + std::string(topic);
 }
 
-namespace {
-// Field 3 (state) and field 22 (start time) of /proc/<pid>/stat; false when unreadable.
-bool read_stat(pid_t pid, char& state, std::uint64_t& start) noexcept {
-  try {
-    std::ifstream in("/proc/" + std::to_string(pid) + "/stat");
-    if (!in) return false;
-    std::string line;
-    std::getline(in, line);
-    // The command name (field 2) may hold spaces and ')': fields resume after the last ')'.
-    const auto close = line.rfind(')');
-    if (close == std::string::npos || close + 2 >= line.size()) return false;
-    std::istringstream rest(line.substr(close + 2));
-    std::string field;
-    rest >> state;
-    for (int i = 4; i < 22; ++i)
-      if (!(rest >> field)) return false;
-    rest >> start;
-    return static_cast<bool>(rest);
-  } catch (...) {
-    return false;
-  }
-}
-}  // namespace
-
-std::uint64_t process_start_time(pid_t pid) noexcept {
-  char state = 0;
-  std::uint64_t start = 0;
-  return read_stat(pid, state, start) ? start : 0;
-}
-
-bool process_alive(pid_t pid, std::uint64_t start_time) noexcept {
-  if (pid <= 0) return false;
-  if (::kill(pid, 0) != 0 && errno == ESRCH) return false;
-  char state = 0;
-  std::uint64_t start = 0;
-  // Unreadable /proc entry (no /proc, hidepid, another user's process): kill() found it, so
-  // it may well be alive. Never reap what cannot be proven dead; the next look decides.
-  if (!read_stat(pid, state, start)) return true;
-  if (state == 'Z' || state == 'X') return false;  // exited, not yet reaped by its parent
-  return start_time == 0 || start == start_time;
-}
-
 // ---------------------------------------------------------------------------
 
 ShmSegment::ShmSegment(ShmSegment&& o) noexcept { *this = std::move(o); }
@@ -240,209 +198,247 @@ ShmSegment& ShmSegment::operator=(ShmSegment&& o) noexcept {
 
 ShmSegment::~ShmSegment() { detach(); }
 
-std::expected<ShmSegment, SegmentError> ShmSegment::open(std::string_view ns, std::string_view topic,
-                                                         const SegmentSpec& spec) {
+// Where the parts of a new segment go: the ring after the header and the type's signature, the
+// pool (large data) after the ring, each on a page.
+struct ShmSegment::Layout {
+  RingConfig ring;
+  PoolConfig pool;
+  bool pooled = false;
+  std::uint64_t ring_offset = 0;
+  std::uint64_t pool_offset = 0;
+  std::uint64_t total = 0;
+};
+
+namespace {
+
+SegmentError invalid_name(std::string text) { return {SegmentError::Kind::InvalidName, std::move(text)}; }
+
+// The segment's file, created (with exactly `mode`, whatever the umask) or opened; -1 when it was
+// unlinked between the two attempts (start again).
+std::expected<int, SegmentError> open_file(const std::string& name, mode_t mode) {
+  int fd = ::shm_open(name.c_str(), O_RDWR | O_CREAT | O_EXCL, mode);
+  if (fd >= 0) {
+    ::fchmod(fd, mode);
+    return fd;
+  }
+  if (errno == EEXIST) {
+    fd = ::shm_open(name.c_str(), O_RDWR, 0);
+    if (fd >= 0) return fd;
+    if (errno == ENOENT) return -1;
+  }
+  const int err = errno;
+  if (err == EACCES)
+    return std::unexpected(SegmentError{
+        SegmentError::Kind::Permission,
+        "cannot open shared-memory segment /dev/shm" + name +
+            ": permission denied (it belongs to another user, or its mode does not admit you; use another "
+            "HORUS_NAMESPACE, or have its owner widen the mode)"});
+  return std::unexpected(io_error("cannot open", name, err));
+}
+
+// What refuses to open a live segment whose header is `h` with `spec`: another type, scope or
+// transport, or a slot size or capacity the open requires and the segment does not have.
+std::optional<SegmentError> mismatch(const SegmentHeader& h, std::string_view topic, const SegmentSpec& spec,
+                                     bool pooled) {
+  const bool serialized = h.serialized != 0;
+  const std::string_view have_type(h.type_name, strnlen(h.type_name, kMaxTypeName));
+  if (have_type != spec.type_name || h.type_hash != spec.type_hash || serialized != spec.serialized ||
+      (!spec.serialized && h.payload_size != spec.payload_size) || (h.pool_offset != 0) != pooled)
+    return SegmentError{SegmentError::Kind::TypeMismatch,
+                        "topic '" + std::string(topic) + "' carries " +
+                            describe_type(have_type, h.type_hash, h.payload_size, serialized, h.pool_slot_bytes) +
+                            "; cannot open it as " +
+                            describe_type(spec.type_name, spec.type_hash, spec.payload_size, spec.serialized,
+                                          spec.pool_slot_bytes)};
+  const std::string_view have_transport(h.transport, strnlen(h.transport, kMaxTransportName));
+  if (h.scope != static_cast<std::uint32_t>(spec.scope) || have_transport != spec.transport)
+    return SegmentError{SegmentError::Kind::ConfigMismatch,
+                        "topic '" + std::string(topic) + "' is open on this host with scope " +
+                            describe_scope(h.scope, have_transport) + "; cannot open it with scope " +
+                            describe_scope(static_cast<std::uint32_t>(spec.scope), spec.transport) +
+                            " (a topic has one scope on a host: open it with the same scope and backend)"};
+  if (pooled && spec.pool_required && h.pool_slot_bytes != spec.pool_slot_bytes)
+    return SegmentError{SegmentError::Kind::ConfigMismatch,
+                        "topic '" + std::string(topic) + "' exists with pool slots of " +
+                            std::to_string(h.pool_slot_bytes) + " bytes (slot_size); cannot open it with slot_size " +
+                            std::to_string(spec.pool_slot_bytes)};
+  if (spec.serialized && spec.payload_required && h.payload_size != spec.payload_size)
+    return SegmentError{SegmentError::Kind::ConfigMismatch,
+                        "topic '" + std::string(topic) + "' exists with slot_size " +
+                            std::to_string(max_serialized_size(h.payload_size)) + "; cannot open it with slot_size " +
+                            std::to_string(max_serialized_size(spec.payload_size))};
+  if (spec.capacity_required && h.capacity != spec.capacity)
+    return SegmentError{SegmentError::Kind::ConfigMismatch,
+                        "topic '" + std::string(topic) + "' exists with capacity " + std::to_string(h.capacity) +
+                            "; cannot open it with capacity " + std::to_string(spec.capacity)};
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::expected<ShmSegment::Layout, SegmentError> ShmSegment::layout_of(std::string_view topic, const SegmentSpec& spec) {
   if (topic.empty() || topic.find('/') != std::string_view::npos)
-    return std::unexpected(SegmentError{SegmentError::Kind::InvalidName,
-                                        "topic name '" + std::string(topic) + "' cannot name a shared-memory segment"});
+    return std::unexpected(invalid_name("topic name '" + std::string(topic) + "' cannot name a shared-memory segment"));
   if (spec.type_name.size() > kMaxTypeName)
-    return std::unexpected(SegmentError{SegmentError::Kind::InvalidName,
-                                        "type name '" + std::string(spec.type_name) + "' is longer than " +
-                                            std::to_string(kMaxTypeName) + " characters"});
-  const RingConfig cfg{spec.capacity, spec.payload_size, spec.type_hash};
-  if (auto err = Ring::check_config(cfg)) return std::unexpected(SegmentError{SegmentError::Kind::ConfigMismatch, *err});
+    return std::unexpected(invalid_name("type name '" + std::string(spec.type_name) + "' is longer than " +
+                                        std::to_string(kMaxTypeName) + " characters"));
+  Layout l;
+  l.ring = RingConfig{spec.capacity, spec.payload_size, spec.type_hash};
+  if (auto err = Ring::check_config(l.ring)) return std::unexpected(SegmentError{SegmentError::Kind::ConfigMismatch, *err});
   if (spec.transport.size() > kMaxTransportName)
-    return std::unexpected(SegmentError{SegmentError::Kind::InvalidName,
-                                        "transport name '" + std::string(spec.transport) + "' is longer than " +
-                                            std::to_string(kMaxTransportName) + " characters"});
-  const std::string name = segment_name(ns, topic);
-  const bool pooled = spec.pool_slot_bytes != 0;
-  const PoolConfig pool_cfg{spec.pool_slot_bytes, spec.pool_slots_per_lane};
-  if (pooled) {
-    if (auto err = Pool::check_config(pool_cfg))
+    return std::unexpected(invalid_name("transport name '" + std::string(spec.transport) + "' is longer than " +
+                                        std::to_string(kMaxTransportName) + " characters"));
+  l.pooled = spec.pool_slot_bytes != 0;
+  l.pool = PoolConfig{spec.pool_slot_bytes, spec.pool_slots_per_lane};
+  if (l.pooled) {
+    if (auto err = Pool::check_config(l.pool))
       return std::unexpected(SegmentError{SegmentError::Kind::ConfigMismatch, *err});
   }
   if (spec.signature.size() > kMaxSignature)
-    return std::unexpected(SegmentError{SegmentError::Kind::InvalidName,
-                                        "the signature of type '" + std::string(spec.type_name) + "' has " +
-                                            std::to_string(spec.signature.size()) + " bytes; at most " +
-                                            std::to_string(kMaxSignature) + " fit a segment"});
-  const std::uint64_t ring_offset = ring_offset_for(spec.signature.size());
-  const std::uint64_t pool_offset = pooled ? round_up_to(ring_offset + Ring::required_size(cfg), kPage) : 0;
-  const std::uint64_t total = pooled ? pool_offset + Pool::required_size(pool_cfg) : ring_offset + Ring::required_size(cfg);
+    return std::unexpected(invalid_name("the signature of type '" + std::string(spec.type_name) + "' has " +
+                                        std::to_string(spec.signature.size()) + " bytes; at most " +
+                                        std::to_string(kMaxSignature) + " fit a segment"));
+  l.ring_offset = ring_offset_for(spec.signature.size());
+  l.pool_offset = l.pooled ? round_up_to(l.ring_offset + Ring::required_size(l.ring), kPage) : 0;
+  l.total = l.pooled ? l.pool_offset + Pool::required_size(l.pool) : l.ring_offset + Ring::required_size(l.ring);
+  return l;
+}
+
+std::expected<bool, SegmentError> ShmSegment::attach_locked(std::string_view topic, const SegmentSpec& spec, bool pooled,
+                                                            std::size_t size) {
+  if (size == 0 || size < sizeof(SegmentHeader)) return true;  // new, or its creator died before sizing it
+  void* p = ::mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_SHARED, fd_, 0);
+  if (p == MAP_FAILED) return std::unexpected(io_error("cannot map", name_, errno));
+  base_ = p;
+  size_ = size;
+  header_ = header_at(p);
+  const SegmentHeader& h = *header_;
+  bool format = false;
+  if (h.magic == kSegmentMagic && h.layout_version != 0 && h.layout_version != kSegmentVersion) {
+    return std::unexpected(SegmentError{
+        SegmentError::Kind::TypeMismatch,
+        "shared-memory segment /dev/shm" + name_ + " has layout version " + std::to_string(h.layout_version) +
+            "; this horus uses version " + std::to_string(kSegmentVersion) + " (stop the older processes)"});
+  } else if (h.magic != kSegmentMagic || h.ready.load(std::memory_order_acquire) != 1) {
+    format = true;  // unfinished: its creator died while formatting it (we hold the lock)
+  } else if (!ring_consistent(h, p, size)) {
+    if (any_participant_alive(h))
+      return std::unexpected(SegmentError{SegmentError::Kind::Io,
+                                          "shared-memory segment /dev/shm" + name_ +
+                                              " has a corrupt header (its ring does not match it) and live "
+                                              "users; stop them, or remove it with horus clean"});
+    format = true;  // damaged and abandoned: reclaim it
+  } else {
+    ring_ = Ring::attach(static_cast<std::byte*>(p) + h.ring_offset);
+    if (h.pool_offset != 0) pool_ = Pool::attach(static_cast<std::byte*>(p) + h.pool_offset);
+    reap_dead_locked();
+    if (live_participants() == 0) {
+      format = true;  // every user is gone: reclaim it
+    } else if (auto refused = mismatch(h, topic, spec, pooled)) {
+      return std::unexpected(std::move(*refused));
+    }
+  }
+  if (format) {
+    ::munmap(p, size);
+    base_ = nullptr;
+    header_ = nullptr;
+    ring_ = Ring();
+    pool_ = Pool();
+  }
+  return format;
+}
+
+std::expected<void, SegmentError> ShmSegment::format_locked(const SegmentSpec& spec, const Layout& l, pid_t self) {
+  // Zero everything (a shrink to 0 discards old contents), then size and fill it.
+  if (::ftruncate(fd_, 0) != 0 || ::ftruncate(fd_, static_cast<off_t>(l.total)) != 0)
+    return std::unexpected(io_error("cannot size", name_, errno));
+  void* p = ::mmap(nullptr, l.total, PROT_READ | PROT_WRITE, MAP_SHARED, fd_, 0);
+  if (p == MAP_FAILED) return std::unexpected(io_error("cannot map", name_, errno));
+  base_ = p;
+  size_ = l.total;
+  auto* h = new (p) SegmentHeader{};
+  header_ = h;
+  h->magic = kSegmentMagic;
+  h->layout_version = kSegmentVersion;
+  std::memcpy(h->type_name, spec.type_name.data(), spec.type_name.size());
+  h->type_hash = spec.type_hash;
+  h->payload_size = spec.payload_size;
+  h->serialized = spec.serialized ? 1 : 0;
+  h->capacity = spec.capacity;
+  h->creator_pid = static_cast<std::uint32_t>(self);
+  h->ring_offset = l.ring_offset;
+  h->total_size = l.total;
+  h->created_unix_ns = detail::now_unix_ns();
+  h->scope = static_cast<std::uint32_t>(spec.scope);
+  // An empty string_view may carry a null data(): copy only what there is.
+  std::ranges::copy(spec.transport.substr(0, kMaxTransportName), h->transport);
+  h->signature_offset = sizeof(SegmentHeader);
+  h->signature_size = spec.signature.size();
+  std::ranges::copy(spec.signature, static_cast<char*>(p) + sizeof(SegmentHeader));
+  ring_ = Ring::format(static_cast<std::byte*>(p) + l.ring_offset, l.ring);
+  if (l.pooled) {
+    h->pool_offset = l.pool_offset;
+    h->pool_slot_bytes = spec.pool_slot_bytes;
+    h->pool_slots_per_lane = spec.pool_slots_per_lane;
+    pool_ = Pool::format(static_cast<std::byte*>(p) + l.pool_offset, l.pool);
+  }
+  h->ready.store(1, std::memory_order_release);
+  return {};
+}
+
+std::expected<void, SegmentError> ShmSegment::join_locked(std::string_view topic, pid_t self, std::uint64_t start) {
+  for (std::uint32_t i = 0; i < kMaxParticipants; ++i) {
+    Participant& e = header_->participants[i];
+    if (e.pid.load(std::memory_order_acquire) != 0) continue;
+    e.start_time.store(start, std::memory_order_relaxed);
+    e.pid.store(static_cast<std::uint32_t>(self), std::memory_order_release);
+    if (header_->participant_hwm.load(std::memory_order_relaxed) < i + 1)
+      header_->participant_hwm.store(i + 1, std::memory_order_release);
+    slot_ = i;
+    if (pool_) pool_.admit(i);
+    return {};
+  }
+  slot_ = kMaxParticipants;
+  return std::unexpected(SegmentError{SegmentError::Kind::LimitReached,
+                                      "topic '" + std::string(topic) + "' already has " +
+                                          std::to_string(kMaxParticipants) + " processes attached"});
+}
+
+// Check the spec, open the file, lock it, attach to what it holds or format it, join.
+std::expected<ShmSegment, SegmentError> ShmSegment::open(std::string_view ns, std::string_view topic,
+                                                         const SegmentSpec& spec) {
+  const auto layout = layout_of(topic, spec);
+  if (!layout) return std::unexpected(layout.error());
+  const std::string name = segment_name(ns, topic);
   const pid_t self = ::getpid();
   const std::uint64_t self_start = process_start_time(self);
-
   for (int attempt = 0; attempt < 100; ++attempt) {
-    int fd = ::shm_open(name.c_str(), O_RDWR | O_CREAT | O_EXCL, spec.mode);
-    if (fd >= 0) {
-      ::fchmod(fd, spec.mode);  // exactly the mode asked for, whatever the umask
-    } else if (errno == EEXIST) {
-      fd = ::shm_open(name.c_str(), O_RDWR, 0);
-      if (fd < 0 && errno == ENOENT) continue;  // unlinked meanwhile: start again
-    }
-    if (fd < 0) {
-      const int err = errno;
-      if (err == EACCES)
-        return std::unexpected(SegmentError{
-            SegmentError::Kind::Permission,
-            "cannot open shared-memory segment /dev/shm" + name +
-                ": permission denied (it belongs to another user, or its mode does not admit you; use another "
-                "HORUS_NAMESPACE, or have its owner widen the mode)"});
-      return std::unexpected(io_error("cannot open", name, err));
-    }
-    if (auto why = foreign_file(fd, spec.mode, name)) {
-      ::close(fd);
+    const auto fd = open_file(name, spec.mode);
+    if (!fd) return std::unexpected(fd.error());
+    if (*fd < 0) continue;  // unlinked meanwhile: start again
+    if (auto why = foreign_file(*fd, spec.mode, name)) {
+      ::close(*fd);
       return std::unexpected(SegmentError{SegmentError::Kind::Permission, std::move(*why)});
     }
     ShmSegment seg;
-    seg.fd_ = fd;
+    seg.fd_ = *fd;
     seg.name_ = name;
     seg.owner_ = self;
-    if (!detail::lock_with_deadline(fd))
+    if (!detail::lock_with_deadline(*fd))
       return std::unexpected(SegmentError{SegmentError::Kind::Io,
                                           "shared-memory segment /dev/shm" + name +
                                               " stayed locked by another process for 5 s (is it stopped?)"});
-    FdLock lock{fd};
+    FdLock lock{*fd};
     struct stat st{};
-    if (::fstat(fd, &st) != 0) return std::unexpected(io_error("cannot stat", name, errno));
+    if (::fstat(*fd, &st) != 0) return std::unexpected(io_error("cannot stat", name, errno));
     if (st.st_nlink == 0) continue;  // unlinked by its last user after we opened it: start again
-
-    bool format = st.st_size == 0;
-    if (!format) {
-      const auto size = static_cast<std::size_t>(st.st_size);
-      if (size < sizeof(SegmentHeader)) {
-        format = true;  // a creator died before sizing it (we hold the lock: nobody is mid-way)
-      } else {
-        void* p = ::mmap(nullptr, size, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
-        if (p == MAP_FAILED) return std::unexpected(io_error("cannot map", name, errno));
-        seg.base_ = p;
-        seg.size_ = size;
-        seg.header_ = header_at(p);
-        const SegmentHeader& h = *seg.header_;
-        if (h.magic == kSegmentMagic && h.layout_version != 0 && h.layout_version != kSegmentVersion) {
-          return std::unexpected(SegmentError{
-              SegmentError::Kind::TypeMismatch,
-              "shared-memory segment /dev/shm" + name + " has layout version " + std::to_string(h.layout_version) +
-                  "; this horus uses version " + std::to_string(kSegmentVersion) + " (stop the older processes)"});
-        } else if (h.magic != kSegmentMagic || h.ready.load(std::memory_order_acquire) != 1) {
-          format = true;  // unfinished: its creator died while formatting it (we hold the lock)
-        } else if (!ring_consistent(h, p, size)) {
-          if (any_participant_alive(h))
-            return std::unexpected(SegmentError{SegmentError::Kind::Io,
-                                                "shared-memory segment /dev/shm" + name +
-                                                    " has a corrupt header (its ring does not match it) and live "
-                                                    "users; stop them, or remove it with horus clean"});
-          format = true;  // damaged and abandoned: reclaim it
-        } else {
-          seg.ring_ = Ring::attach(static_cast<std::byte*>(p) + h.ring_offset);
-          if (h.pool_offset != 0) seg.pool_ = Pool::attach(static_cast<std::byte*>(p) + h.pool_offset);
-          seg.reap_dead_locked();
-          if (seg.live_participants() == 0) {
-            format = true;  // every user is gone: reclaim it
-          } else {
-            const bool serialized = h.serialized != 0;
-            if (std::string_view(h.type_name, strnlen(h.type_name, kMaxTypeName)) != spec.type_name || h.type_hash != spec.type_hash ||
-                serialized != spec.serialized || (!spec.serialized && h.payload_size != spec.payload_size) ||
-                (h.pool_offset != 0) != pooled)
-              return std::unexpected(SegmentError{
-                  SegmentError::Kind::TypeMismatch,
-                  "topic '" + std::string(topic) + "' carries " +
-                      describe_type(std::string_view(h.type_name, strnlen(h.type_name, kMaxTypeName)), h.type_hash,
-                                    h.payload_size, serialized, h.pool_slot_bytes) +
-                      "; cannot open it as " +
-                      describe_type(spec.type_name, spec.type_hash, spec.payload_size, spec.serialized,
-                                    spec.pool_slot_bytes)});
-            const std::string_view have_transport(h.transport, strnlen(h.transport, kMaxTransportName));
-            if (h.scope != static_cast<std::uint32_t>(spec.scope) || have_transport != spec.transport)
-              return std::unexpected(SegmentError{
-                  SegmentError::Kind::ConfigMismatch,
-                  "topic '" + std::string(topic) + "' is open on this host with scope " +
-                      describe_scope(h.scope, have_transport) + "; cannot open it with scope " +
-                      describe_scope(static_cast<std::uint32_t>(spec.scope), spec.transport) +
-                      " (a topic has one scope on a host: open it with the same scope and backend)"});
-            if (pooled && spec.pool_required && h.pool_slot_bytes != spec.pool_slot_bytes)
-              return std::unexpected(SegmentError{
-                  SegmentError::Kind::ConfigMismatch,
-                  "topic '" + std::string(topic) + "' exists with pool slots of " +
-                      std::to_string(h.pool_slot_bytes) + " bytes (slot_size); cannot open it with slot_size " +
-                      std::to_string(spec.pool_slot_bytes)});
-            if (spec.serialized && spec.payload_required && h.payload_size != spec.payload_size)
-              return std::unexpected(SegmentError{
-                  SegmentError::Kind::ConfigMismatch,
-                  "topic '" + std::string(topic) + "' exists with slot_size " +
-                      std::to_string(max_serialized_size(h.payload_size)) + "; cannot open it with slot_size " +
-                      std::to_string(max_serialized_size(spec.payload_size))});
-            if (spec.capacity_required && h.capacity != spec.capacity)
-              return std::unexpected(SegmentError{
-                  SegmentError::Kind::ConfigMismatch,
-                  "topic '" + std::string(topic) + "' exists with capacity " + std::to_string(h.capacity) +
-                      "; cannot open it with capacity " + std::to_string(spec.capacity)});
-          }
-        }
-        if (format) {
-          ::munmap(p, size);
-          seg.base_ = nullptr;
-          seg.header_ = nullptr;
-          seg.ring_ = Ring();
-          seg.pool_ = Pool();
-        }
-      }
+    const auto format = seg.attach_locked(topic, spec, layout->pooled, static_cast<std::size_t>(st.st_size));
+    if (!format) return std::unexpected(format.error());
+    if (*format) {
+      if (auto made = seg.format_locked(spec, *layout, self); !made) return std::unexpected(made.error());
     }
-
-    if (format) {
-      // Zero everything (a shrink to 0 discards old contents), then size and fill it.
-      if (::ftruncate(fd, 0) != 0 || ::ftruncate(fd, static_cast<off_t>(total)) != 0)
-        return std::unexpected(io_error("cannot size", name, errno));
-      void* p = ::mmap(nullptr, total, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
-      if (p == MAP_FAILED) return std::unexpected(io_error("cannot map", name, errno));
-      seg.base_ = p;
-      seg.size_ = total;
-      auto* h = new (p) SegmentHeader{};
-      seg.header_ = h;
-      h->magic = kSegmentMagic;
-      h->layout_version = kSegmentVersion;
-      std::memcpy(h->type_name, spec.type_name.data(), spec.type_name.size());
-      h->type_hash = spec.type_hash;
-      h->payload_size = spec.payload_size;
-      h->serialized = spec.serialized ? 1 : 0;
-      h->capacity = spec.capacity;
-      h->creator_pid = static_cast<std::uint32_t>(self);
-      h->ring_offset = ring_offset;
-      h->total_size = total;
-      h->created_unix_ns = detail::now_unix_ns();
-      h->scope = static_cast<std::uint32_t>(spec.scope);
-      // An empty string_view may carry a null data(): copy only what there is.
-      std::ranges::copy(spec.transport.substr(0, kMaxTransportName), h->transport);
-      h->signature_offset = sizeof(SegmentHeader);
-      h->signature_size = spec.signature.size();
-      std::ranges::copy(spec.signature, static_cast<char*>(p) + sizeof(SegmentHeader));
-      seg.ring_ = Ring::format(static_cast<std::byte*>(p) + ring_offset, cfg);
-      if (pooled) {
-        h->pool_offset = pool_offset;
-        h->pool_slot_bytes = spec.pool_slot_bytes;
-        h->pool_slots_per_lane = spec.pool_slots_per_lane;
-        seg.pool_ = Pool::format(static_cast<std::byte*>(p) + pool_offset, pool_cfg);
-      }
-      h->ready.store(1, std::memory_order_release);
-    }
-
-    // Join the participant table.
-    for (std::uint32_t i = 0; i < kMaxParticipants; ++i) {
-      Participant& e = seg.header_->participants[i];
-      if (e.pid.load(std::memory_order_acquire) != 0) continue;
-      e.start_time.store(self_start, std::memory_order_relaxed);
-      e.pid.store(static_cast<std::uint32_t>(self), std::memory_order_release);
-      if (seg.header_->participant_hwm.load(std::memory_order_relaxed) < i + 1)
-        seg.header_->participant_hwm.store(i + 1, std::memory_order_release);
-      seg.slot_ = i;
-      if (seg.pool_) seg.pool_.admit(i);
-      return seg;
-    }
-    seg.slot_ = kMaxParticipants;
-    return std::unexpected(SegmentError{SegmentError::Kind::LimitReached,
-                                        "topic '" + std::string(topic) + "' already has " +
-                                            std::to_string(kMaxParticipants) + " processes attached"});
+    if (auto joined = seg.join_locked(topic, self, self_start); !joined) return std::unexpected(joined.error());
+    return seg;
   }
   return std::unexpected(SegmentError{SegmentError::Kind::Io,
                                       "shared-memory segment /dev/shm" + name +

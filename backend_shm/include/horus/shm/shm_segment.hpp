@@ -244,6 +244,18 @@ class ShmSegment {
   BridgeState& bridge() const noexcept { return header_->bridge; }
 
  private:
+  // open()'s steps (shm_segment.cpp); the *_locked ones run with the file's lock held.
+  struct Layout;
+  /// The spec checked (names, ring and pool configurations, signature) and where each part goes.
+  static std::expected<Layout, SegmentError> layout_of(std::string_view topic, const SegmentSpec& spec);
+  /// Maps an existing file of `size` bytes and checks it against the spec: true when it must be
+  /// formatted (new, unfinished, damaged and abandoned, every user gone), false when attached.
+  std::expected<bool, SegmentError> attach_locked(std::string_view topic, const SegmentSpec& spec, bool pooled,
+                                                  std::size_t size);
+  /// Sizes and formats the file as a new segment.
+  std::expected<void, SegmentError> format_locked(const SegmentSpec& spec, const Layout& layout, pid_t self);
+  /// Takes a free entry of the participant table.
+  std::expected<void, SegmentError> join_locked(std::string_view topic, pid_t self, std::uint64_t start);
   std::uint32_t reap_dead_locked() const;  // the caller holds the lock
   bool lock_inheritance(Inheritance& in) noexcept;
   void unlock_inheritance(const Inheritance& in) noexcept;
