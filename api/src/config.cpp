@@ -554,6 +554,19 @@ Result<TopicOptions> resolve_topic_options(std::string_view topic, const TopicOp
   return options_of(*c, code);
 }
 
+Result<std::string> fleet_transport() {
+  const Environment env = Environment::read();
+  if (!env.backend.empty()) {
+    auto b = backend_from(env.backend);
+    if (!b) return std::unexpected(b.error());
+    if (b->scope() == Scope::Fleet) return std::string(b->transport());
+  }
+  auto config = file_from(env);
+  if (!config) return std::unexpected(config.error());
+  if (*config != nullptr && (*config)->network().backend) return *(*config)->network().backend;
+  return std::string();
+}
+
 Result<FleetSettings> fleet_settings() {
   const Environment env = Environment::read();
   auto config = file_from(env);
@@ -567,7 +580,6 @@ Result<FleetSettings> fleet_settings() {
     if (f.misses) out.misses = *f.misses;
     if (f.max_hosts) out.max_hosts = *f.max_hosts;
     if (f.forget_after) out.forget_after = *f.forget_after;
-    if (const auto& b = (*config)->network().backend) out.transport = *b;
   }
   if (!env.fleet_heartbeat_ms.empty()) {
     const std::string_view text(env.fleet_heartbeat_ms);
@@ -579,11 +591,9 @@ Result<FleetSettings> fleet_settings() {
                                             text, kMinHeartbeatMs, kMaxHeartbeatMs));
     out.heartbeat = std::chrono::milliseconds(v);
   }
-  if (!env.backend.empty()) {
-    auto b = backend_from(env.backend);
-    if (!b) return std::unexpected(b.error());
-    if (b->scope() == Scope::Fleet) out.transport = std::string(b->transport());
-  }
+  auto transport = fleet_transport();
+  if (!transport) return std::unexpected(transport.error());
+  out.transport = std::move(*transport);
   return out;
 }
 

@@ -27,13 +27,10 @@ std::string text(pybind11::handle v, const char* key, const char* valid) {
 // scope='fleet' without a backend: HORUS_BACKEND when it names a network backend, else the
 // configuration file's network.backend.
 Backend fleet_backend() {
-  auto env = backend_from_environment();
-  if (!env) raise(env.error());
-  if (is_network(*env)) return *env;
-  auto file = config_from_environment();
-  if (!file) raise(file.error());
-  if (*file != nullptr && (*file)->network().backend) {
-    auto b = backend_from(*(*file)->network().backend);
+  auto name = fleet_transport();
+  if (!name) raise(name.error());
+  if (!name->empty()) {
+    auto b = backend_from(*name);
     if (!b) raise(b.error());
     return *b;
   }

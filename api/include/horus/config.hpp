@@ -250,6 +250,10 @@ struct FleetSettings {
   std::string transport;
 };
 Result<FleetSettings> fleet_settings();
+/// The fleet transport when none is named: HORUS_BACKEND when it names a network backend, else
+/// the file's `network.backend`, else none (empty). What `scope: fleet` without a backend, the
+/// fleet layer and Python's scope='fleet' use.
+Result<std::string> fleet_transport();
 
 }  // namespace horus
 
