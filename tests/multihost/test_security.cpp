@@ -126,9 +126,11 @@ TEST_P(SecureFleet, AuthenticatedHostsExchangeAndOthersNeitherReadNorInject) {
   // The intruders publish too (20 ms apart, overlapping a's messages) and expect two publishers.
   auto plain = lan.spawn(2, member(topic, 2, start, 2, 5, {"period=20"}), env(backend()));
   auto foreign = lan.spawn(3, member(topic, 3, start, 2, 5, {"period=20"}), env(backend(), "x", k.other));
-  // b's view of the fleet, a table a second for 7 s (the fleet layer's own participant
-  // authenticates on its own time): a appears, authenticated; neither intruder ever does.
-  auto view = lan.spawn(1, {HORUS_CLI, "fleet", "--duration", "7"}, env(backend(), "b", k.fleet));
+  // b's view of the fleet, a table a second until a appears in it (below), at most 30 s: a
+  // appears, authenticated; neither intruder ever does. The fleet layer's own participant
+  // authenticates on its own time: on a loaded machine Fast DDS took more than 7 s (CI,
+  // 2026-12-07: a fixed 7 s view never saw a).
+  auto view = lan.spawn(1, {HORUS_CLI, "fleet", "--duration", "30"}, env(backend(), "b", k.fleet));
   EXPECT_EQ(sub.wait(30s), 0) << "b:\n" << sub.output() << "\na:\n" << pub.output();
   EXPECT_NE(sub.output().find("received 50 from 1 publishers"), std::string::npos) << sub.output();
   (void)pub.wait(20s);
@@ -137,8 +139,11 @@ TEST_P(SecureFleet, AuthenticatedHostsExchangeAndOthersNeitherReadNorInject) {
   // Each intruder received its own 50 only: nothing of a's.
   EXPECT_NE(plain.output().find("received 50 from 1 publishers"), std::string::npos) << plain.output();
   EXPECT_NE(foreign.output().find("received 50 from 1 publishers"), std::string::npos) << foreign.output();
+  const bool seen = view.wait_for_output("\n" + lan.host(0) + " ", 25s);
+  view.terminate();
   ASSERT_EQ(view.wait(20s), 0) << view.output();
   const std::string out = view.output();
+  EXPECT_TRUE(seen) << "b's fleet view never listed a (" << lan.host(0) << ")";
   EXPECT_NE(out.find("security: enforce, this host is b (CN=b,O=horus)"), std::string::npos) << out;
   const std::size_t line = out.find("\n" + lan.host(0) + " ");
   ASSERT_NE(line, std::string::npos) << out;
