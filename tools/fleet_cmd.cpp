@@ -74,8 +74,8 @@ const SecurityState& security_state(const std::string& transport) {
 
 std::string fleet_transport(const std::string& backend_flag) {
   if (!backend_flag.empty()) return backend_flag;
-  auto s = horus::fleet_settings();
-  return s ? s->transport : std::string();
+  auto t = horus::fleet_transport();
+  return t ? *t : std::string();
 }
 
 std::unique_ptr<horus::Fleet> open_fleet(const std::string& transport, std::string& error) {

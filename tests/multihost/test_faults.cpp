@@ -12,7 +12,9 @@
 // is reported once, not per message or per second. Skips when not root or without `ip netns`.
 #include <gtest/gtest.h>
 
+#include <poll.h>
 #include <signal.h>
+#include <sys/syscall.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -142,14 +144,27 @@ TEST_P(Faults, EveryProcessEndsWithinOneSecondOfMainReturningWhateverTheNetworkD
   }
   // Every process is watched during every wait below (its end is recorded when seen ended): a
   // publisher whose main returns while the test waits for the CLIs is seen ending then.
+  // It sleeps in poll() on the live processes' pidfds: woken the moment one of them ends.
   auto watch_until = [&](auto done, std::chrono::steady_clock::time_point deadline) {
     for (;;) {
       bool all_ended = true;
+      std::vector<pollfd> live;
       for (Pair& p : pairs)
-        for (auto* proc : {p.pub.get(), p.sub.get(), p.fleet_cli.get(), p.echo_cli.get()})
-          if (proc != nullptr) all_ended = proc->ended() && all_ended;
-      if (done(all_ended) || std::chrono::steady_clock::now() >= deadline) return;
-      std::this_thread::sleep_for(2ms);
+        for (auto* proc : {p.pub.get(), p.sub.get(), p.fleet_cli.get(), p.echo_cli.get()}) {
+          if (proc == nullptr || proc->ended()) continue;
+          all_ended = false;
+          if (const int fd = static_cast<int>(::syscall(SYS_pidfd_open, proc->pid(), 0)); fd >= 0)
+            live.push_back(pollfd{fd, POLLIN, 0});
+        }
+      const auto now = std::chrono::steady_clock::now();
+      if (done(all_ended) || now >= deadline) {
+        for (const pollfd& f : live) ::close(f.fd);
+        return;
+      }
+      const auto left = std::chrono::ceil<std::chrono::milliseconds>(deadline - now).count();
+      // Without pidfds (an old kernel): a look every 2 ms.
+      (void)::poll(live.data(), live.size(), live.empty() ? 2 : static_cast<int>(std::min<long long>(left, 1000)));
+      for (const pollfd& f : live) ::close(f.fd);
     }
   };
   auto for_ms = [](long long ms) { return std::chrono::steady_clock::now() + std::chrono::milliseconds(std::max(0LL, ms)); };
