@@ -244,6 +244,9 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
   Clock::time_point rang_at_{};                 // when it last rang the holder
   Clock::duration ask_backoff_ = std::chrono::seconds(5);  // grows with each refusal
   std::uint32_t ask_readers_ = 0;               // the holder's matched readers when we opened
+  std::uint32_t ask_writers_ = 0;               // and its matched writers
+  Clock::time_point ask_opened_{};              // when we opened our endpoint to ask
+  Clock::time_point ask_matched_{};             // when it matched what the holder's did (or {})
   std::uint64_t handing_to_ = 0;                // the holder, accepted: whom the claim goes to
   Clock::time_point handing_at_{};              // and when (the settle after its endpoint closed)
   std::uint64_t quiet_imported_ = ~std::uint64_t{0};  // the segment's import count at the last look

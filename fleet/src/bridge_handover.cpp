@@ -26,6 +26,13 @@ constexpr auto kAskWait = std::chrono::seconds(1);           // how long the hol
 constexpr auto kAcceptedWait = std::chrono::seconds(3);      // accepted: how long the closing may take
 constexpr auto kRingAgain = std::chrono::milliseconds(50);   // ring the holder again (it was exporting)
 constexpr auto kSettle = std::chrono::milliseconds(20);      // closed: what it sent reaches the asker first
+// Matched: how long the asker still waits before it asks, so that every remote reader discovered
+// its writer too (a DDS reader drops what comes from a writer it has not matched yet, and a
+// best-effort one never gets it again). No remote reader says when it matched us; the holder's
+// endpoint, which matched ours both ways, shows when our announcements went out and how long
+// discovery takes on this machine now: kDiscoverySettle, or 3x that, up to kDiscoverySettleMax.
+constexpr auto kDiscoverySettle = std::chrono::milliseconds(300);
+constexpr auto kDiscoverySettleMax = std::chrono::seconds(3);
 // The holder accepted (the `handover` word's low half carries the asker's participant + 1, far
 // below this bit): it has stopped exporting and closes its endpoint; the asker waits for the claim.
 constexpr std::uint64_t kAccepted = std::uint64_t{1} << 31;
@@ -119,6 +126,9 @@ Clock::time_point Bridge::handover_step(Clock::time_point now, std::uint64_t own
       }
       if (now - quiet_since_ < kQuiet) return ask_next_;
       ask_readers_ = state().matched_subscribers.load(std::memory_order_relaxed);
+      ask_writers_ = state().matched_publishers.load(std::memory_order_relaxed);
+      ask_opened_ = now;
+      ask_matched_ = {};
       if (auto ok = open_endpoint(true); !ok) {
         log().warn("topic '{}': this process publishes on it but could not open its {} endpoint to take the "
                    "host's bridge over ({}); the bridge stays with pid {}",
@@ -141,12 +151,29 @@ Clock::time_point Bridge::handover_step(Clock::time_point now, std::uint64_t own
         writers = endpoint_->matched_publishers();
       } catch (...) {
       }
-      // DDS: the holder's endpoint matched ours (its count of readers grew) and ours matched as
-      // many as the holder's (each counts the other): every remote endpoint matched ours too.
+      // DDS: the holder's endpoint matched ours both ways (its counts of readers and of writers
+      // grew) and ours matched as many as the holder's (each counts the other): every remote
+      // endpoint matched ours too. Then the settle (kDiscoverySettle), for the remote readers.
       const std::uint32_t holder_readers = state().matched_subscribers.load(std::memory_order_relaxed);
-      const bool matched = !discovery || (holder_readers > ask_readers_ && readers >= holder_readers &&
-                                          writers >= state().matched_publishers.load(std::memory_order_relaxed));
-      if (!matched && now < ask_until_) return now + kAskPoll;
+      const std::uint32_t holder_writers = state().matched_publishers.load(std::memory_order_relaxed);
+      const bool matched = !discovery || (holder_readers > ask_readers_ && holder_writers > ask_writers_ &&
+                                          readers >= holder_readers && writers >= holder_writers);
+      if (!matched) {
+        if (now < ask_until_ && ask_matched_ == Clock::time_point{}) return now + kAskPoll;
+        // Not matched within kMatchWait, or a remote endpoint went while settling: the holder
+        // keeps the bridge (its export reaches every reader); look again later.
+        log().debug("topic '{}': this process's {} endpoint did not match what the holder's did (readers {} of {}, "
+                    "writers {} of {}); the host's bridge stays with pid {} for now",
+                    core_.name, info_.name, readers, holder_readers, writers, holder_writers, owner >> 32);
+        cancel_ask(false);
+        return ask_next_;
+      }
+      if (discovery) {
+        if (ask_matched_ == Clock::time_point{}) ask_matched_ = now;
+        const auto settle = std::clamp<Clock::duration>(3 * (ask_matched_ - ask_opened_), kDiscoverySettle,
+                                                        kDiscoverySettleMax);
+        if (now < ask_matched_ + settle) return std::min(ask_matched_ + settle, now + std::chrono::milliseconds(10));
+      }
       std::uint64_t other = 0;
       if (!state().handover.compare_exchange_strong(other, mine, std::memory_order_acq_rel)) {
         if (segment().bridge_word_alive(other & ~kAccepted) && (other & ~kAccepted) != mine) {
@@ -158,7 +185,7 @@ Clock::time_point Bridge::handover_step(Clock::time_point now, std::uint64_t own
           return ask_next_;
         }
       }
-      prematched_ = matched;  // else the gate waits for the readers, as after a takeover
+      prematched_ = true;  // no gate: every reader matched ours
       ask_ = Ask::Asked;
       ask_until_ = now + kAskWait;
       rang_at_ = now;
