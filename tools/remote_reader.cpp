@@ -28,7 +28,10 @@ class NetworkReader final : public RemoteReader, public net::Listener {
       error = config.error().message();
       return false;
     }
-    auto t = info.open(*config);
+    // The fleet layer's own topics (fleet_messages.hpp) travel on the transport's control
+    // instance where it has one (LCM: the next port), as the fleet layer sends them.
+    const bool control = spec.topic.starts_with("horus.fleet.") && info.open_control != nullptr;
+    auto t = control ? info.open_control(*config) : info.open(*config);
     if (!t) {
       error = t.error().message();
       return false;

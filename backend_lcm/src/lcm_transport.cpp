@@ -195,22 +195,30 @@ Result<std::shared_ptr<net::Transport>> lcm_transport(std::string_view url) {
   return std::shared_ptr<net::Transport>(std::move(*got));
 }
 
+namespace {
+// The transports of a configuration's data URL (`control` false) or of its fleet layer's
+// channels (control_url).
+Result<std::shared_ptr<net::Transport>> open_for(const net::Config& config, bool control) {
+  auto url = url_from(config);
+  if (!url) return std::unexpected(std::move(url.error()));
+  if (config.security.mode == net::SecurityMode::Permissive) {
+    static std::once_flag once;
+    std::call_once(once, [&] {
+      horus::detail::log().warn("LCM URL '{}': security is permissive ({}) and LCM has none: its fleet topics "
+                                "run unprotected (anyone on the network reads and writes them)",
+                                *url, config.security.origin);
+    });
+  }
+  return lcm_transport(control ? control_url(*url) : *url);
+}
+}  // namespace
+
 void register_lcm() {
   (void)net::register_transport(
-      {"lcm", net::WireFormat::Lcm, &channel_name, [](const net::Config& config) -> Result<std::shared_ptr<net::Transport>> {
-         auto url = url_from(config);
-         if (!url) return std::unexpected(std::move(url.error()));
-         if (config.security.mode == net::SecurityMode::Permissive) {
-           static std::once_flag once;
-           std::call_once(once, [&] {
-             horus::detail::log().warn("LCM URL '{}': security is permissive ({}) and LCM has none: its fleet topics "
-                                       "run unprotected (anyone on the network reads and writes them)",
-                                       *url, config.security.origin);
-           });
-         }
-         return lcm_transport(*url);
-       },
-       nullptr, [](const net::Config& config) -> Result<void> {
+      {"lcm", net::WireFormat::Lcm, &channel_name,
+       [](const net::Config& config) { return open_for(config, false); },
+       [](const net::Config& config) { return open_for(config, true); },
+       [](const net::Config& config) -> Result<void> {
          auto url = url_from(config);
          if (!url) return std::unexpected(std::move(url.error()));
          return {};

@@ -272,6 +272,16 @@ Result<std::string> url_from(const net::Config& config) {
   return url;
 }
 
+std::string control_url(std::string_view url) {
+  auto info = parse_url(url);
+  if (!info || info->provider != detail::Provider::Udpm) return std::string(url);
+  // udpm://A.B.C.D:PORT[?opts] (parse_url checked it): the port is the digits before '?' or the end.
+  const std::size_t q = std::min(url.find('?'), url.size());
+  const std::size_t colon = url.rfind(':', q);
+  const unsigned port = info->port == 65535 ? 65534u : info->port + 1u;
+  return std::string(url.substr(0, colon + 1)) + std::to_string(port) + std::string(url.substr(q));
+}
+
 Result<std::string> check_channel(std::string_view channel) {
   if (channel.empty())
     return fail(Errc::InvalidName, "empty LCM channel name; expected 1.." + std::to_string(kMaxChannelLength) +

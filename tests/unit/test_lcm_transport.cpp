@@ -33,6 +33,7 @@
 
 #include <lcm/eventlog.h>
 #include "horus/network.hpp"
+#include "horus/transport_registry.hpp"
 
 #if defined(__SANITIZE_THREAD__)
 // liblcm and GLib are not instrumented, and GLib's GMutex is a bare futex that ThreadSanitizer
@@ -792,6 +793,49 @@ TEST(LcmUdpm, AnEndpointThatOnlyPublishesHasNoReceiveSocket) {
     again = l.wait_for_count(before + 1, 200ms);
   }
   EXPECT_TRUE(again) << "after receiving was resumed nothing came back";
+}
+
+// The fleet layer's own channels (horus.fleet.*) go through the transport's control instance,
+// on the data URL's next port: a process whose data endpoints only publish has no socket on the
+// data port, so its own datagrams do not come back to it while the fleet layer receives.
+TEST(LcmUdpm, TheFleetLayersChannelsHaveTheNextPortSoAPublishOnlyProcessHasNoDataSocket) {
+  EXPECT_EQ(horus::lcm::control_url("udpm://239.255.76.67:7667?ttl=1&recv_buf_size=65536"),
+            "udpm://239.255.76.67:7668?ttl=1&recv_buf_size=65536");
+  EXPECT_EQ(horus::lcm::control_url("udpm://239.1.2.3:65535"), "udpm://239.1.2.3:65534");
+  EXPECT_EQ(horus::lcm::control_url("memq://"), "memq://");
+  EXPECT_EQ(horus::lcm::control_url("not a url"), "not a url");
+  if (::access("/proc/self/net/udp", R_OK) != 0) GTEST_SKIP() << "/proc/self/net/udp is not readable";
+  const int port = 40000 + static_cast<int>((::getpid() * 13 + 11) % 19999);
+  horus::net::Config config;
+  config.lcm_url = "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0";
+  const auto* info = horus::net::find_transport("lcm");
+  ASSERT_NE(info, nullptr);
+  ASSERT_NE(info->open_control, nullptr) << "the lcm transport has no control instance";
+  auto data = info->open(config);
+  ASSERT_TRUE(data) << data.error().message();
+  auto control = info->open_control(config);
+  ASSERT_TRUE(control) << control.error().message();
+  EXPECT_NE(data->get(), control->get());
+  Collector fleet_layer, publisher;
+  auto heard = (*control)->open(spec("horus.fleet.heartbeat"), fleet_layer);
+  ASSERT_TRUE(heard) << heard.error().message();
+  if (udp_sockets_on(port + 1) == 0) GTEST_SKIP() << "udpm cannot receive on this host (no multicast route)";
+  EndpointSpec publish_only = spec(channel("data"));
+  publish_only.receive = false;
+  auto pub = (*data)->open(publish_only, publisher);
+  ASSERT_TRUE(pub) << pub.error().message();
+  for (int i = 0; i < 5; ++i) ASSERT_TRUE(send(**pub, bytes_of("data")));
+  EXPECT_EQ(udp_sockets_on(port), 0) << "a socket receives the data port although no data endpoint receives";
+  EXPECT_EQ(udp_sockets_on(port + 1), 1) << "the fleet layer's channel has no socket on the next port";
+  // What the fleet layer sends comes back on its own port only.
+  auto sender = (*control)->open(spec("horus.fleet.heartbeat"), publisher);
+  ASSERT_TRUE(sender) << sender.error().message();
+  bool back = false;
+  for (int attempt = 0; attempt < 20 && !back; ++attempt) {
+    ASSERT_TRUE(send(**sender, bytes_of("beat")));
+    back = fleet_layer.wait_for_count(1, 200ms);
+  }
+  EXPECT_TRUE(back) << "the fleet layer's channel did not come back on port " << port + 1;
 }
 
 TEST(LcmUdpm, ThreeMegabyteMessageArrivesWhole) {

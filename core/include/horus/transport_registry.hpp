@@ -41,9 +41,10 @@ struct TransportInfo {
   Result<std::shared_ptr<Transport>> (*open)(const Config& config) = nullptr;
   /// Optional: a second instance for the fleet layer's own topics (heartbeats, announcements)
   /// with sockets and receive threads of its own, so that under load they do not wait behind
-  /// the data in one socket and one thread (Fast DDS: a second participant). nullptr: open()
-  /// serves them too (Cyclone DDS's participants of a domain share one network stack; LCM one
-  /// multicast socket).
+  /// the data in one socket and one thread (Fast DDS: a second participant; LCM udpm: the next
+  /// port, so that a process whose data endpoints only publish has no socket receiving the data
+  /// channels). nullptr: open() serves them too (Cyclone DDS's participants of a domain share
+  /// one network stack).
   Result<std::shared_ptr<Transport>> (*open_control)(const Config& config) = nullptr;
   /// Optional: checks the transport's settings in `config` without opening anything (`horus
   /// config check`: LCM's URL and its refusal of peers); the error names where each came from.

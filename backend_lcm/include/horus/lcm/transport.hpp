@@ -71,6 +71,13 @@ Result<void> check_url(std::string_view url);
 /// names where the URL came from.
 Result<std::string> url_from(const net::Config& config);
 
+/// The URL of the fleet layer's own channels (`horus.fleet.*`: announcements, heartbeats, the
+/// hosts' tables) for data URL `url`: a udpm URL's port + 1 (65535: 65534), same group and
+/// options; any other URL unchanged. On a port of their own, a process whose data endpoints
+/// only publish has no socket that receives the data channels (its own looped back datagrams
+/// woke it for each message while the fleet layer kept one socket open for both).
+std::string control_url(std::string_view url);
+
 /// `channel` as an LCM channel name, or Errc::InvalidName when it is empty, longer than
 /// kMaxChannelLength bytes or contains a NUL byte.
 Result<std::string> check_channel(std::string_view channel);
