@@ -21,6 +21,7 @@
 #include "horus/topic.hpp"
 #include "message_trips.hpp"
 #include "message_samples.hpp"
+#include "test_support.hpp"
 
 extern char** environ;
 
@@ -105,6 +106,22 @@ class Peer {
   // Writes `text` to its stdin ('q' there means quit).
   bool say(std::string_view text) { return ::write(stdin_, text.data(), text.size()) == static_cast<ssize_t>(text.size()); }
 
+  // Waits until it exits on its own (at most `timeout`): true once it has (stop() then gives its
+  // status at once), false while it still runs.
+  bool exited(std::chrono::milliseconds timeout) {
+    return pid_ <= 0 || eventually(
+                            [&] {
+                              int st = 0;
+                              if (::waitpid(pid_, &st, WNOHANG) != pid_) return false;
+                              pid_ = -1;
+                              ::close(stdin_);
+                              ::close(stdout_);
+                              status_ = WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+                              return true;
+                            },
+                            timeout, 5ms);
+  }
+
   // Closes its stdin and waits (at most 10 s, then SIGKILL); the exit status.
   int stop() {
     if (pid_ <= 0) return status_;
@@ -146,7 +163,8 @@ inline std::vector<std::string> same_host_exactly_once(Backend backend, const st
   Peer publisher(HORUS_FLEET_MEMBER, backend, {topic, "fleet", "1", "200", start, "1", "30"});
   Peer reader(HORUS_FLEET_MEMBER, backend, {topic, "fleet", "0", "200", start, "1", "30"});
   Peer echoes(HORUS_FLEET_MEMBER, backend, {topic + ".echo", "fleet", "0", "200", start, "1", "30"});
-  std::this_thread::sleep_for(4s);  // they publish, read and exit on their own
+  // They publish, read and exit on their own: at most <seconds> (30) after they started.
+  for (Peer* p : {&publisher, &reader, &echoes}) (void)p->exited(40s);
   std::vector<std::string> failures;
   if (const int rc = publisher.stop(); rc != 0) failures.push_back("the publisher (and reader of its own) exited " + std::to_string(rc));
   if (const int rc = reader.stop(); rc != 0) failures.push_back("the other process did not get each message once (exit " + std::to_string(rc) + ")");

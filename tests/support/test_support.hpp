@@ -81,6 +81,20 @@ class Deadline {
   std::chrono::steady_clock::time_point end_;
 };
 
+/// Waits for a condition instead of a fixed time: calls `done()` until it is true (then true at
+/// once) or `timeout` passed (false: the caller's assertion says what did not happen). Polls
+/// every `poll`, so a test waits as long as the condition takes and no longer.
+template <class Predicate>
+bool eventually(Predicate done, std::chrono::milliseconds timeout,
+                std::chrono::milliseconds poll = std::chrono::milliseconds(2)) {
+  const auto end = std::chrono::steady_clock::now() + timeout;
+  for (;;) {
+    if (done()) return true;
+    if (std::chrono::steady_clock::now() >= end) return false;
+    std::this_thread::sleep_for(poll);
+  }
+}
+
 // Calls send() every `period` on another thread until destroyed (a live publisher for a
 // tool or a server under test). The period is kept by waiting for the stop, so the destructor
 // ends it at once.
