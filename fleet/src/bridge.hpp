@@ -81,7 +81,7 @@ std::uint64_t body_hash(std::span<const std::byte> b) noexcept;
 /// The steady clock in ns (the bridge's timestamps).
 inline std::int64_t now_ns() noexcept { return Clock::now().time_since_epoch().count(); }
 
-class Bridge final : public horus::detail::NetworkLink, public net::Listener {
+class Bridge final : public horus::detail::NetworkLink, public net::Listener, public Served {
  public:
   static Result<std::unique_ptr<horus::detail::NetworkLink>> open(horus::detail::TopicCore& core,
                                                                    const horus::detail::WireOps& ops,
@@ -104,26 +104,14 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener {
   void on_error(std::string_view message) override;
   void on_matched() override;
 
-  // -- the engine ---------------------------------------------------------------------
-  /// The export thread, notified: re-arms the doorbell, exports, resumes receiving.
-  void service() noexcept;
-  /// The export thread: takes what the transport held once there is room; false when nothing is
-  /// held any more.
-  bool pump_held() noexcept;
-  bool holding() const noexcept { return held_.load(std::memory_order_acquire); }
-  /// The control thread: claims a bridge nobody (alive) holds, opens a successor's gate; returns
-  /// when it wants to be called next (max: only when something happens). `gone`: the holder's
-  /// pidfd fired, or it has none.
-  Clock::time_point control(Clock::time_point now, bool gone) noexcept;
-  /// The process holding the bridge, for a watcher (0: nobody, or this process holds it).
-  pid_t watched_pid() const noexcept;
-  bool is_holder() const noexcept { return holder_.load(std::memory_order_acquire); }
+  // -- the engine (engine.hpp's Served) ------------------------------------------------
+  void service() noexcept override;
+  bool pump_held() noexcept override;
+  bool holding() const noexcept override { return held_.load(std::memory_order_acquire); }
+  Clock::time_point control(Clock::time_point now, bool gone) noexcept override;
+  pid_t watched_pid() const noexcept override;
+  bool is_holder() const noexcept override { return holder_.load(std::memory_order_acquire); }
   const std::string& name() const noexcept { return core_.name; }
-
-  std::uint32_t index = 0;     // the engine's bit (set by Engine::add)
-  std::uint64_t serial = 0;    // unique per engine (set by Engine::add)
-  pid_t watched_seen = -1;     // the control thread's: the holder it watches now
-  std::atomic<int> pins{0};    // engine threads using it now (Engine::remove waits for none)
 
  private:
   Bridge(horus::detail::TopicCore& core, const horus::detail::WireOps& ops, const net::Qos& qos,

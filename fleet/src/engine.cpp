@@ -12,7 +12,6 @@
 #include <queue>
 #include <unordered_set>
 
-#include "bridge.hpp"
 #include "horus/config.hpp"
 #include "fleet_internal.hpp"
 #include "horus/detail/topic_core.hpp"
@@ -130,7 +129,7 @@ Result<std::shared_ptr<net::Transport>> Engine::transport_for(std::string_view n
 
 // --- tables -------------------------------------------------------------------------------------
 
-void Engine::add(Bridge& b) {
+void Engine::add(Served& b) {
   {
     std::lock_guard lock(mutex_);
     auto free = std::find(by_index_.begin(), by_index_.end(), nullptr);
@@ -143,7 +142,7 @@ void Engine::add(Bridge& b) {
   kick();  // a watcher: the control thread watches its holder from now on
 }
 
-void Engine::remove(Bridge& b) {
+void Engine::remove(Served& b) {
   {
     std::lock_guard lock(mutex_);
     if (b.index < by_index_.size() && by_index_[b.index] == &b) by_index_[b.index] = nullptr;
@@ -154,11 +153,11 @@ void Engine::remove(Bridge& b) {
   while (b.pins.load(std::memory_order_acquire) != 0) std::this_thread::yield();
 }
 
-std::uint64_t Engine::forward(const Bridge& b) const noexcept { return bell_.forward(b.index); }
+std::uint64_t Engine::forward(const Served& b) const noexcept { return bell_.forward(b.index); }
 
-void Engine::notify(const Bridge& b) noexcept { bell_.notify(b.index); }
+void Engine::notify(const Served& b) noexcept { bell_.notify(b.index); }
 
-void Engine::recheck(const Bridge& b, bool now) {
+void Engine::recheck(const Served& b, bool now) {
   {
     std::lock_guard lock(mutex_);
     recheck_.push_back(b.index);
@@ -167,7 +166,7 @@ void Engine::recheck(const Bridge& b, bool now) {
   else bell_.poke();  // the export thread takes the later look into its deadline
 }
 
-void Engine::pump(Bridge& b) {
+void Engine::pump(Served& b) {
   {
     std::lock_guard lock(mutex_);
     // Only a bridge still served: one being removed (its endpoint not yet closed) stays out.
@@ -183,7 +182,7 @@ void Engine::kick() noexcept {
   (void)!::write(event_fd_, &one, sizeof(one));
 }
 
-void Engine::look(const Bridge& b) {
+void Engine::look(const Served& b) {
   {
     std::lock_guard lock(mutex_);
     added_.push_back(b.serial);  // due at the control thread's next pass, as a new bridge is
@@ -192,16 +191,16 @@ void Engine::look(const Bridge& b) {
 }
 
 template <class Pick>
-std::vector<Bridge*> Engine::pinned(Pick&& pick) {
-  std::vector<Bridge*> out;
+std::vector<Served*> Engine::pinned(Pick&& pick) {
+  std::vector<Served*> out;
   std::lock_guard lock(mutex_);
   pick(out);
-  for (Bridge* b : out) b->pins.fetch_add(1, std::memory_order_acq_rel);
+  for (Served* b : out) b->pins.fetch_add(1, std::memory_order_acq_rel);
   return out;
 }
 
-void Engine::unpin(const std::vector<Bridge*>& bridges) noexcept {
-  for (Bridge* b : bridges) b->pins.fetch_sub(1, std::memory_order_acq_rel);
+void Engine::unpin(const std::vector<Served*>& bridges) noexcept {
+  for (Served* b : bridges) b->pins.fetch_sub(1, std::memory_order_acq_rel);
 }
 
 // --- send failures -------------------------------------------------------------------------------
@@ -255,24 +254,24 @@ void Engine::run_export() {
       }
     }
     bool pumping = false;
-    auto work = pinned([&](std::vector<Bridge*>& out) {
+    auto work = pinned([&](std::vector<Served*>& out) {
       for (std::uint32_t bit : bits)
         for (std::size_t i = bit; i < by_index_.size(); i += shm::kEngineBits)
           if (by_index_[i] != nullptr && std::find(out.begin(), out.end(), by_index_[i]) == out.end())
             out.push_back(by_index_[i]);
     });
-    for (Bridge* b : work) b->service();
+    for (Served* b : work) b->service();
     unpin(work);
-    auto held = pinned([&](std::vector<Bridge*>& out) { out = held_; });
-    std::vector<Bridge*> done;
-    for (Bridge* b : held) {
+    auto held = pinned([&](std::vector<Served*>& out) { out = held_; });
+    std::vector<Served*> done;
+    for (Served* b : held) {
       // Nothing held when it returned; but a transport thread that held a sample since then
       // found it listed and did not add it again: keep it for the next pass.
       if (!b->pump_held() && !b->holding()) done.push_back(b);
     }
     if (!done.empty()) {
       std::lock_guard lock(mutex_);
-      for (Bridge* b : done)  // still pinned: not freed meanwhile
+      for (Served* b : done)  // still pinned: not freed meanwhile
         if (!b->holding()) std::erase(held_, b);
       pumping = !held_.empty();
     } else {
@@ -293,7 +292,7 @@ void Engine::watch_holders() {
   std::unordered_set<pid_t> want;
   {
     std::lock_guard lock(mutex_);
-    for (Bridge* b : by_index_)
+    for (Served* b : by_index_)
       if (b != nullptr)
         if (const pid_t pid = b->watched_pid(); pid > 0 && pid != ::getpid()) want.insert(pid);
   }
@@ -333,7 +332,7 @@ void Engine::run_control() {
   // Makes every watcher (or every watcher of `pid`, when > 0) due now.
   auto wake_watchers = [&](pid_t pid, Clock::time_point now) {
     std::lock_guard lock(mutex_);
-    for (Bridge* b : by_index_)
+    for (Served* b : by_index_)
       if (b != nullptr && !b->is_holder() && (pid <= 0 || b->watched_pid() == pid)) due.emplace(now, b->serial);
   };
   while (!stop_.load(std::memory_order_acquire)) {
@@ -377,11 +376,11 @@ void Engine::run_control() {
       due.pop();
     }
     if (serials.empty()) continue;
-    auto work = pinned([&](std::vector<Bridge*>& out) {
-      for (Bridge* b : by_index_)
+    auto work = pinned([&](std::vector<Served*>& out) {
+      for (Served* b : by_index_)
         if (b != nullptr && std::find(serials.begin(), serials.end(), b->serial) != serials.end()) out.push_back(b);
     });
-    for (Bridge* b : work) {
+    for (Served* b : work) {
       const pid_t watched = b->watched_pid();
       const bool no_pidfd = watched > 0 && !pidfds_.contains(watched);
       auto at = b->control(now, watched > 0 && (gone.contains(watched) || no_pidfd));

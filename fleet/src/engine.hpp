@@ -40,8 +40,38 @@
 
 namespace horus::fleet::detail {
 
-class Bridge;
 using Clock = std::chrono::steady_clock;
+
+/// What an engine serves: a fleet topic's bridge in this process (bridge.hpp, the only one). The
+/// engine's threads call these; the engine knows nothing else of a bridge (no include of
+/// bridge.hpp here nor in engine.cpp).
+class Served {
+ public:
+  /// The export thread, notified: re-arms the doorbell, exports, resumes receiving.
+  virtual void service() noexcept = 0;
+  /// The export thread: takes what the transport held once there is room; false when nothing is
+  /// held any more.
+  virtual bool pump_held() noexcept = 0;
+  /// Whether the transport holds samples back for room (pump_held() until it does not).
+  virtual bool holding() const noexcept = 0;
+  /// The control thread: claims a bridge nobody (alive) holds, opens a successor's gate, steps a
+  /// hand-over; returns when it wants to be called next (max: only when something happens).
+  /// `gone`: the holder's pidfd fired, or it has none.
+  virtual Clock::time_point control(Clock::time_point now, bool gone) noexcept = 0;
+  /// The process holding the bridge, for a watcher (0: nobody, or this process holds it).
+  virtual pid_t watched_pid() const noexcept = 0;
+  virtual bool is_holder() const noexcept = 0;
+
+  // The engine's bookkeeping (set by Engine::add, under its mutex).
+  std::uint32_t index = 0;     // the engine's bit
+  std::uint64_t serial = 0;    // unique per engine
+  pid_t watched_seen = -1;     // the control thread's: the holder it watches now
+  std::atomic<int> pins{0};    // engine threads using it now (Engine::remove waits for none)
+
+ protected:
+  Served() = default;
+  ~Served() = default;
+};
 
 /// True on an engine's threads: they never wait on the network without bound (bridge.cpp).
 inline thread_local bool t_engine_thread = false;
@@ -62,22 +92,22 @@ class Engine {
   Result<std::shared_ptr<net::Transport>> transport_for(std::string_view name);
 
   /// Serves `b` from now on (a holder or a watcher); gives it its bit on the board.
-  void add(Bridge& b);
+  void add(Served& b);
   /// Stops serving `b`: when this returns no engine thread uses it.
-  void remove(Bridge& b);
+  void remove(Served& b);
   /// The value `b`'s topic doorbell forwards to (its bit on this engine's slot).
-  std::uint64_t forward(const Bridge& b) const noexcept;
+  std::uint64_t forward(const Served& b) const noexcept;
   /// Asks the export thread to look at `b` (it became the holder, was ungated, holds samples).
-  void notify(const Bridge& b) noexcept;
+  void notify(const Served& b) noexcept;
   /// `b` was attached: look at it now and once more 10 ms later (a send that raced the
   /// engine's registration as a waiter is seen then: doorbell.hpp's race).
-  void recheck(const Bridge& b, bool now = true);
+  void recheck(const Served& b, bool now = true);
   /// `b`'s transport holds samples back for room: pump them until it does not.
-  void pump(Bridge& b);
+  void pump(Served& b);
   /// Wakes the control thread (a watcher should look at its claim now).
   void kick() noexcept;
   /// Makes `b` due on the control thread now (Bridge::control: a hand-over to look at).
-  void look(const Bridge& b);
+  void look(const Served& b);
 
   /// A send of topic `topic` failed in the transport (Errc::Io: the network refused it, a link
   /// is down): logged once for the transport, not per topic and message; the messages are
@@ -107,8 +137,8 @@ class Engine {
   void run_control();
   // Pins (under mutex_) the bridges `pick` selects; the caller unpins them.
   template <class Pick>
-  std::vector<Bridge*> pinned(Pick&& pick);
-  static void unpin(const std::vector<Bridge*>& bridges) noexcept;
+  std::vector<Served*> pinned(Pick&& pick);
+  static void unpin(const std::vector<Served*>& bridges) noexcept;
   void watch_holders();  // one pidfd per process holding a bridge this process watches
   Clock::time_point run_jobs(Clock::time_point now);
 
@@ -121,8 +151,8 @@ class Engine {
   const int creator_pid_;
 
   std::mutex mutex_;                  // the tables below
-  std::vector<Bridge*> by_index_;     // index: the bridge's bit (mod kEngineBits); null: free
-  std::vector<Bridge*> held_;         // bridges whose transport holds samples back
+  std::vector<Served*> by_index_;     // index: the bridge's bit (mod kEngineBits); null: free
+  std::vector<Served*> held_;         // bridges whose transport holds samples back
   std::vector<std::uint32_t> recheck_;  // bridges to look at once more (recheck())
   std::vector<std::uint64_t> added_;    // bridges the control thread has not seen yet (serials)
   std::uint64_t next_serial_ = 1;
