@@ -6,10 +6,10 @@
 #include <atomic>
 #include <map>
 #include <mutex>
-#include <numeric>
 #include <thread>
 
 #include "fleet_internal.hpp"
+#include "host_table.hpp"
 #include "horus/config.hpp"
 #include "horus/discovery/registry.hpp"
 #include "horus/executor.hpp"
@@ -17,7 +17,6 @@
 #include "horus/shm/shm_segment.hpp"
 #include "horus/topic.hpp"
 #include "horus/transport_registry.hpp"
-#include "horus/wire/dynamic.hpp"
 
 namespace horus {
 
@@ -47,31 +46,16 @@ using fleet::Heartbeat;
 using fleet::Request;
 }  // namespace
 
-// What Fleet::State knows of a host. (Not in the anonymous namespace: a member of Fleet::State,
-// which has linkage, may not have a type without it. The library exports none of this.)
-namespace fleet_view {
-struct Record {
-  FleetHost host;
-  fleet::detail::LinkStats link;
-  std::chrono::steady_clock::time_point last_seen{};
-  std::uint64_t version_have = 0;     // of the announcement we hold
-  std::uint64_t version_wanted = 0;   // the latest heartbeat's
-  std::chrono::steady_clock::time_point last_request{};
-};
-}  // namespace fleet_view
-using fleet_view::Record;
-
+// What a Fleet holds: its table of hosts (host_table.hpp) behind a mutex, the topics it reads and
+// asks on, its callbacks and its executor.
 struct Fleet::State {
   std::string transport;
   std::uint64_t self = fleet::host_id();
-  std::uint32_t misses = 3;
-  std::size_t max_hosts = 1024;
-  std::chrono::nanoseconds forget_after = std::chrono::hours(1);
   fleet::detail::Presence presence;  // keeps this host announced while the Fleet lives
   Clock::time_point last_check{};    // check()'s previous run (the executor's thread)
 
   mutable std::mutex mutex;
-  std::map<std::uint64_t, Record> hosts;
+  std::optional<fleet::detail::HostTable> table;  // made by open() with the settings
   std::map<CallbackId, std::function<void(const FleetEvent&)>> callbacks;
   CallbackId next_callback = 1;
   std::atomic<std::uint64_t> malformed{0};
@@ -101,120 +85,46 @@ struct Fleet::State {
     events.clear();
   }
 
-  static std::int64_t lost_since_ns(const Record& r) { return r.host.lost_since_unix_ms * 1'000'000; }
-
-  // A sign of life from `id`: a new host joins (when there is room: nullptr and counted as
-  // malformed when max_hosts hosts live), a lost one rejoins.
-  Record* seen(std::uint64_t id, const std::string& name, Clock::time_point now, std::vector<FleetEvent>& events) {
-    if (!hosts.contains(id) && !fleet::detail::make_room(hosts, max_hosts, lost_since_ns)) {
-      malformed.fetch_add(1, std::memory_order_relaxed);
-      return nullptr;
-    }
-    auto [it, fresh] = hosts.try_emplace(id);
-    Record& r = it->second;
-    r.host.id = id;
-    r.host.name = name;
-    r.host.self = id == self;
-    r.last_seen = now;
-    if (fresh) {
-      r.host.state = HostState::Alive;
-      events.push_back({FleetEvent::Kind::Joined, r.host});
-    } else if (r.host.state == HostState::Lost) {
-      r.host.state = HostState::Rejoined;
-      ++r.host.rejoins;
-      events.push_back({FleetEvent::Kind::Rejoined, r.host});
-    }
-    return &r;
+  // What a message did: counted when refused, its host's announcement asked for when stale.
+  void taken(fleet::detail::HostTable::Taken t, std::uint64_t host, std::vector<FleetEvent>& events) {
+    using Taken = fleet::detail::HostTable::Taken;
+    if (t == Taken::Malformed) malformed.fetch_add(1, std::memory_order_relaxed);
+    if (t == Taken::Ask) ask(host);
+    emit(events);
   }
 
   void on_heartbeat(const Heartbeat& h) {
-    if (h.host_id == 0 || h.host.empty() || h.host.size() > 255 || h.period_ms < kMinHeartbeatMs ||
-        h.period_ms > kMaxHeartbeatMs) {
-      malformed.fetch_add(1, std::memory_order_relaxed);
-      return;
-    }
     const auto now = Clock::now();
     const std::uint64_t now_ns = fleet::detail::steady_ns();
     std::vector<FleetEvent> events;
-    bool want = false;
+    fleet::detail::HostTable::Taken t;
     {
       std::lock_guard lock(mutex);
-      Record* found = seen(h.host_id, h.host, now, events);
-      if (found == nullptr) return;
-      Record& r = *found;
-      r.host.period = std::chrono::milliseconds(h.period_ms);
-      ++r.host.heartbeats;
-      const std::int64_t now_unix = fleet::host_clock_unix_ns();
-      r.host.last_seen_unix_ms = now_unix / 1'000'000;
-      r.host.lost_since_unix_ms = 0;
-      if (h.host_id != self) {
-        r.link.on_heartbeat(h, self, now_ns, now_unix);
-        if (r.link.rtt_ns() >= 0) r.host.rtt = std::chrono::microseconds(r.link.rtt_ns() / 1000);
-        // A figure from the view (the agent's longer window) stays until ours spans 5 s.
-        if (const double loss = r.link.loss(); loss >= 0 && (r.host.loss < 0 || r.link.span() >= std::chrono::seconds(5)))
-          r.host.loss = loss;
-        if (r.link.uncertainty_ns() >= 0) {
-          r.host.clock_offset = std::chrono::microseconds(r.link.offset_ns() / 1000);
-          r.host.clock_uncertainty = std::chrono::microseconds(r.link.uncertainty_ns() / 1000);
-        }
-      }
-      r.version_wanted = h.announce_version;
-      // Its announcement is missing or old (lost on the way, or we came late): ask, once a second.
-      if (h.announce_version != 0 && h.announce_version != r.version_have && now - r.last_request > std::chrono::seconds(1)) {
-        r.last_request = now;
-        want = true;
-      }
+      t = table->heartbeat(h, now, now_ns, events);
     }
-    if (want) ask(h.host_id);
-    emit(events);
+    taken(t, h.host_id, events);
   }
 
   void on_announce(const Announcement& a) {
-    if (a.host_id == 0 || a.host.empty() || a.host.size() > 255 || a.processes.size() > fleet::detail::kMaxAnnouncedProcesses ||
-        a.topics.size() > fleet::detail::kMaxAnnouncedTopics || a.types.size() > fleet::detail::kMaxAnnouncedTopics) {
+    const auto signatures = fleet::detail::announced_signatures(a);  // outside the lock: hashing
+    if (!signatures) {
       malformed.fetch_add(1, std::memory_order_relaxed);
       return;
     }
-    std::map<std::uint64_t, const std::string*> signatures;
-    for (const auto& t : a.types) {
-      if (wire::signature_hash(t.signature) != t.type_hash) {  // corrupt, or forged
-        malformed.fetch_add(1, std::memory_order_relaxed);
-        return;
-      }
-      signatures[t.type_hash] = &t.signature;
-    }
     const auto now = Clock::now();
     std::vector<FleetEvent> events;
+    fleet::detail::HostTable::Taken t;
     {
       std::lock_guard lock(mutex);
-      Record* found = seen(a.host_id, a.host, now, events);
-      if (found == nullptr) return;
-      Record& r = *found;
-      if (a.heartbeat_ms >= kMinHeartbeatMs && a.heartbeat_ms <= kMaxHeartbeatMs && r.host.period.count() == 0)
-        r.host.period = std::chrono::milliseconds(a.heartbeat_ms);
-      r.host.shm_namespace = a.shm_namespace;
-      r.host.processes.clear();
-      for (const auto& p : a.processes) r.host.processes.push_back({p.pid, p.name, p.start_unix_ns});
-      r.host.topics.clear();
-      for (const auto& t : a.topics) {
-        FleetTopic ft{t.name, t.type_name, t.type_hash, t.scope, t.transport, t.publishers, t.subscribers,
-                      t.rate_hz, t.messages, t.dropped, t.message_size, {}};
-        if (auto it = signatures.find(t.type_hash); it != signatures.end()) ft.signature = *it->second;
-        r.host.topics.push_back(std::move(ft));
-      }
-      const bool changed = !r.host.announced || r.version_have != a.version;
-      r.host.announced = true;
-      r.version_have = a.version;
-      if (changed) events.push_back({FleetEvent::Kind::Changed, r.host});
+      t = table->announce(a, *signatures, now, events);
     }
-    emit(events);
+    taken(t, a.host_id, events);
   }
 
-  // Loss: `misses` heartbeat periods without a sign of life, plus one period of tolerance.
-  // An observer whose own executor was held up (this 20 ms check ran a heartbeat period late:
-  // the executor was busy or its thread was not scheduled) may have heartbeats waiting, unread,
-  // in the topic: it judges nothing until the executor has had a turn to read them, so a busy
-  // observer does not report live hosts lost.
+  // Loss (HostTable::check). An observer whose own executor was held up (this 20 ms check ran a
+  // heartbeat period late: the executor was busy or its thread was not scheduled) may have
+  // heartbeats waiting, unread, in the topic: it judges nothing until the executor has had a
+  // turn to read them, so a busy observer does not report live hosts lost.
   void check() {
     const auto now = Clock::now();
     const auto since = now - last_check;
@@ -222,63 +132,22 @@ struct Fleet::State {
     std::vector<FleetEvent> events;
     {
       std::lock_guard lock(mutex);
-      const auto shortest = std::accumulate(hosts.begin(), hosts.end(), std::chrono::milliseconds(100),
-                                            [](std::chrono::milliseconds m, const auto& h) {
-                                              return h.second.host.period.count() > 0 ? std::min(m, h.second.host.period) : m;
-                                            });
       // The check runs every 20 ms: late by more than twice that and a heartbeat period, it stalled.
-      if (since > std::max<Clock::duration>(std::chrono::milliseconds(40), shortest)) return;
-      for (auto& [id, r] : hosts) {
-        const auto period = r.host.period.count() > 0 ? r.host.period : std::chrono::milliseconds(100);
-        if (r.host.state != HostState::Lost && now - r.last_seen > period * (misses + 1)) {
-          r.host.state = HostState::Lost;
-          r.host.lost_since_unix_ms = fleet::detail::unix_ns() / 1'000'000;
-          r.host.heartbeat_age = std::chrono::duration_cast<std::chrono::milliseconds>(now - r.last_seen);
-          events.push_back({FleetEvent::Kind::Lost, r.host});
-        }
-      }
-      fleet::detail::forget_lost(hosts, forget_after, fleet::detail::unix_ns(), lost_since_ns);
+      if (since > std::max<Clock::duration>(std::chrono::milliseconds(40), table->shortest_period())) return;
+      table->check(now, events);
     }
     emit(events);
   }
 
-  // Starts from the fleet view this host's agent keeps (fleet_messages.hpp): the hosts it saw,
-  // lost ones included, as they were when it last published (at most a second ago).
+  // Starts from the fleet view this host's agent keeps (fleet_messages.hpp), as it was when it
+  // last published (at most a second ago).
   void seed() {
     auto view = Topic<fleet::FleetView>::open(fleet::detail::view_topic(transport), fleet::detail::view_options());
     if (!view) return;
     auto latest = view->read_latest();
     if (!latest || latest->host_id != self) return;
-    const auto now = Clock::now();
-    const std::int64_t now_unix = fleet::detail::unix_ns();
     std::lock_guard lock(mutex);
-    for (const auto& v : latest->hosts) {
-      if (v.host_id == 0 || v.host_id == self || v.host.empty() || v.state > 2 || hosts.contains(v.host_id)) continue;
-      if (hosts.size() >= max_hosts) break;
-      Record& r = hosts[v.host_id];
-      r.host.id = v.host_id;
-      r.host.name = v.host;
-      r.host.state = static_cast<HostState>(v.state);
-      r.host.period = std::chrono::milliseconds(v.period_ms);
-      r.host.heartbeats = v.heartbeats;
-      r.host.rejoins = v.rejoins;
-      r.host.last_seen_unix_ms = v.last_seen_unix_ns / 1'000'000;
-      r.host.lost_since_unix_ms = v.lost_since_unix_ns / 1'000'000;
-      if (v.rtt_ns >= 0) r.host.rtt = std::chrono::microseconds(v.rtt_ns / 1000);
-      r.host.loss = v.loss;
-      if (v.clock_uncertainty_ns >= 0) {
-        r.host.clock_offset = std::chrono::microseconds(v.clock_offset_ns / 1000);
-        r.host.clock_uncertainty = std::chrono::microseconds(v.clock_uncertainty_ns / 1000);
-      }
-      const auto age = std::chrono::nanoseconds(std::max<std::int64_t>(0, now_unix - v.last_seen_unix_ns));
-      r.last_seen = now - std::chrono::duration_cast<Clock::duration>(age);
-    }
-  }
-
-  FleetHost snapshot(const Record& r, Clock::time_point now) const {
-    FleetHost h = r.host;
-    h.heartbeat_age = std::chrono::duration_cast<std::chrono::milliseconds>(now - r.last_seen);
-    return h;
+    table->seed(*latest, Clock::now(), fleet::detail::unix_ns());
   }
 };
 
@@ -298,9 +167,7 @@ Result<std::unique_ptr<Fleet>> Fleet::open(Executor& executor, FleetOptions opti
   if (!settings) return std::unexpected(settings.error());
   auto state = std::make_shared<State>();
   state->transport = options.transport.value_or(settings->transport);
-  state->misses = options.misses.value_or(settings->misses);
-  state->max_hosts = settings->max_hosts;
-  state->forget_after = settings->forget_after;
+  const std::uint32_t misses = options.misses.value_or(settings->misses);
   if (state->transport.empty())
     return fail(Errc::Config,
                 "horus::Fleet: no network backend to watch the fleet on; set HORUS_BACKEND=cyclonedds|fastdds|lcm, "
@@ -313,7 +180,8 @@ Result<std::unique_ptr<Fleet>> Fleet::open(Executor& executor, FleetOptions opti
                                   (valid.empty() ? std::string("none") : valid));
   }
   state->transport = std::string(info->name);
-  if (state->misses == 0) return fail(Errc::InvalidArgument, "horus::Fleet: misses must be at least 1");
+  if (misses == 0) return fail(Errc::InvalidArgument, "horus::Fleet: misses must be at least 1");
+  state->table.emplace(fleet::detail::HostTable::Limits{state->self, misses, settings->max_hosts, settings->forget_after});
   auto may = fleet::detail::may_bridge_from_environment();
   if (!may) return std::unexpected(may.error());
   if (*may) state->presence = fleet::detail::acquire_presence(state->transport);
@@ -355,20 +223,13 @@ Fleet::~Fleet() {
 }
 
 std::vector<FleetHost> Fleet::hosts() const {
-  const auto now = Clock::now();
-  std::vector<FleetHost> out;
   std::lock_guard lock(state_->mutex);
-  for (const auto& [id, r] : state_->hosts) out.push_back(state_->snapshot(r, now));
-  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.name < b.name || (a.name == b.name && a.id < b.id); });
-  return out;
+  return state_->table->hosts(Clock::now());
 }
 
 std::optional<FleetHost> Fleet::host(std::string_view name) const {
-  const auto now = Clock::now();
   std::lock_guard lock(state_->mutex);
-  for (const auto& [id, r] : state_->hosts)
-    if (r.host.name == name) return state_->snapshot(r, now);
-  return std::nullopt;
+  return state_->table->host(name, Clock::now());
 }
 
 std::uint64_t Fleet::self_id() const noexcept { return state_->self; }
