@@ -55,13 +55,6 @@ const std::vector<std::string_view>& rule_key_names() {
   return names;
 }
 
-std::string one_of(std::span<const std::string_view> names) {
-  std::string out;
-  for (std::size_t i = 0; i < names.size(); ++i)
-    out += (i == 0 ? "" : (i + 1 == names.size() ? " or " : ", ")) + std::string(names[i]);
-  return out;
-}
-
 // Parses a YAML document's nodes into a Config, with errors that name the file, line and key.
 class Parser {
  public:
@@ -98,7 +91,7 @@ class Parser {
       const std::string k = kv.first.Scalar();
       const std::string path = where.empty() ? k : std::string(where) + "." + k;
       if (std::find(keys.begin(), keys.end(), k) == keys.end())
-        return bad(kv.first, path, fmt::format("unknown key; expected {}", one_of(keys)));
+        return bad(kv.first, path, fmt::format("unknown key; expected {}", setting::listed(keys)));
       if (!seen.insert(k).second) return bad(kv.first, path, "given twice");
     }
     return {};
@@ -132,11 +125,11 @@ class Parser {
   }
 
   Result<bool> boolean(const YAML::Node& n, std::string_view key) const {
-    auto s = scalar(n, key, "true or false");
+    auto s = scalar(n, key, setting::expected(setting::Boolean{}));
     if (!s) return std::unexpected(s.error());
-    if (*s == "true") return true;
-    if (*s == "false") return false;
-    return bad(n, key, fmt::format("'{}' is not a boolean; expected true or false", *s));
+    auto b = setting::parse(setting::Boolean{}, *s);
+    if (const auto* why = std::get_if<std::string>(&b)) return bad(n, key, *why);
+    return std::get<bool>(b);
   }
 
   // A registered transport's name (as the registry owns it).
@@ -159,7 +152,7 @@ class Parser {
 
   Result<void> network(const YAML::Node& n, NetworkSection& out) const {
     if (!n.IsDefined() || n.IsNull()) return {};
-    if (!n.IsMap()) return bad(n, "network", fmt::format("expected a map of {}, found {}", one_of(kNetworkKeys), kind(n)));
+    if (!n.IsMap()) return bad(n, "network", fmt::format("expected a map of {}, found {}", setting::listed(kNetworkKeys), kind(n)));
     if (auto ok = known_keys(n, "network", kNetworkKeys); !ok) return ok;
     if (const auto v = n["backend"]) {
       auto t = transport(v, "network.backend");
@@ -210,7 +203,7 @@ class Parser {
 
   Result<void> security(const YAML::Node& n, SecuritySection& out) const {
     if (!n.IsDefined() || n.IsNull()) return {};
-    if (!n.IsMap()) return bad(n, "security", fmt::format("expected a map of {}, found {}", one_of(kSecurityKeys), kind(n)));
+    if (!n.IsMap()) return bad(n, "security", fmt::format("expected a map of {}, found {}", setting::listed(kSecurityKeys), kind(n)));
     if (auto ok = known_keys(n, "security", kSecurityKeys); !ok) return ok;
     out.line = n.Mark().line + 1;
     if (const auto v = n["mode"]) {
@@ -241,7 +234,7 @@ class Parser {
 
   Result<void> fleet(const YAML::Node& n, FleetSection& out) const {
     if (!n.IsDefined() || n.IsNull()) return {};
-    if (!n.IsMap()) return bad(n, "fleet", fmt::format("expected a map of {}, found {}", one_of(kFleetKeys), kind(n)));
+    if (!n.IsMap()) return bad(n, "fleet", fmt::format("expected a map of {}, found {}", setting::listed(kFleetKeys), kind(n)));
     if (auto ok = known_keys(n, "fleet", kFleetKeys); !ok) return ok;
     if (const auto v = n["announce"]) {
       auto b = boolean(v, "fleet.announce");
@@ -370,7 +363,7 @@ Result<Config> Config::parse(std::string_view text, std::string file) {
     if (root.IsNull()) return c;
     if (!root.IsMap())
       return fail(Errc::Config, fmt::format("{}, line {}: expected a map with {}, found {}", c.file_,
-                                            root.Mark().line + 1, one_of(kTopLevelKeys), Parser::kind(root)));
+                                            root.Mark().line + 1, setting::listed(kTopLevelKeys), Parser::kind(root)));
     if (auto ok = p.known_keys(root, "", kTopLevelKeys); !ok) return std::unexpected(ok.error());
     if (auto ok = p.network(root["network"], c.network_); !ok) return std::unexpected(ok.error());
     if (auto ok = p.fleet(root["fleet"], c.fleet_); !ok) return std::unexpected(ok.error());

@@ -15,6 +15,13 @@ namespace horus {
 
 namespace setting {
 
+std::string listed(std::span<const std::string_view> names) {
+  std::string out;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    out += (i == 0 ? "" : (i + 1 == names.size() ? " or " : ", ")) + std::string(names[i]);
+  return out;
+}
+
 namespace {
 
 // A kind of value named by words: "unknown <noun> 'x'; expected a, b or c".
@@ -24,9 +31,9 @@ struct Names {
   std::array<std::pair<T, std::string_view>, N> names;
 
   std::string expected() const {
-    std::string out;
-    for (std::size_t i = 0; i < N; ++i) out += (i == 0 ? "" : (i + 1 == N ? " or " : ", ")) + std::string(names[i].second);
-    return out;
+    std::array<std::string_view, N> words;
+    for (std::size_t i = 0; i < N; ++i) words[i] = names[i].second;
+    return listed(words);
   }
   std::variant<T, std::string> parse(std::string_view text) const {
     for (const auto& [value, name] : names)

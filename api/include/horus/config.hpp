@@ -108,6 +108,8 @@ HORUS_SETTING_CODEC(Duration)
 HORUS_SETTING_CODEC(Boolean)
 HORUS_SETTING_CODEC(LevelName)
 #undef HORUS_SETTING_CODEC
+/// Names as an error message lists what it expected: "a, b or c".
+std::string listed(std::span<const std::string_view> names);
 }  // namespace setting
 
 /// Parses a bandwidth: a number of bytes per second, or a number with a unit (B/s, kB/s, MB/s,
