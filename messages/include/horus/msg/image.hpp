@@ -150,7 +150,7 @@ static_assert(horus::reflect::is_fixed_size<ImageDescriptor>,
 ///
 /// A default-constructed Image is empty (0x0, Rgb8, no data). Copying an Image
 /// copies its pixels.
-class Image {
+class Image : public LargeData<Image, ImageDescriptor> {
  public:
   /// Largest encoded image a Topic<Image> carries unless told otherwise: a 1920x1080 RGBA8 frame.
   static constexpr std::size_t kDefaultSlotBytes = std::size_t{8} << 20;
@@ -277,14 +277,6 @@ class Image {
     return d;
   }
 
-  /// Rebuilds an image from its descriptor and pixel bytes (copied). nullopt
-  /// unless width and height are > 0, the encoding is known, step >= width *
-  /// bytes_per_pixel (a padded step is kept), data_size == step * height <=
-  /// kMaxLargeDataBytes, bytes.size() == data_size and frame_id is
-  /// NUL-terminated. The pool fields are not used (bytes are given).
-  static std::optional<Image> from_descriptor(const ImageDescriptor& desc, std::span<const std::uint8_t> bytes) {
-    return build(desc, bytes);
-  }
   /// The descriptor of such a message without allocating its bytes: what Topic<Image>::loan
   /// takes to lend a pool slot. nullopt for the arguments the constructor refuses.
   static std::optional<ImageDescriptor> describe(std::uint32_t height, std::uint32_t width, ImageEncoding encoding) noexcept {
@@ -296,17 +288,15 @@ class Image {
     d.data_size = bytes;
     return d;
   }
-  /// As from_descriptor, taking `bytes` over instead of copying them: how a topic hands out a
-  /// message whose bytes stay in its shared-memory pool (zero-copy). nullopt under the same
-  /// conditions (bytes.size() must equal desc.data_size).
-  static std::optional<Image> adopt(const ImageDescriptor& desc, ByteBuffer&& bytes) { return build(desc, std::move(bytes)); }
-
-  /// The fixed-size description that travels through a topic while the bytes stay in its pool.
-  using Descriptor = ImageDescriptor;
-  /// The bytes with their storage (owned, or borrowed from a pool slot).
-  const ByteBuffer& buffer() const noexcept { return data_; }
 
  private:
+  friend class LargeData<Image, ImageDescriptor>;
+  /// What from_descriptor and adopt (LargeData) call.
+  /// Rebuilds an image from its descriptor and pixel bytes (copied). nullopt
+  /// unless width and height are > 0, the encoding is known, step >= width *
+  /// bytes_per_pixel (a padded step is kept), data_size == step * height <=
+  /// kMaxLargeDataBytes, bytes.size() == data_size and frame_id is
+  /// NUL-terminated. The pool fields are not used (bytes are given).
   template <class Bytes>
   static std::optional<Image> build(const ImageDescriptor& desc, Bytes&& bytes) {
     std::uint64_t min_size = 0;
@@ -317,11 +307,7 @@ class Image {
     if (size != desc.data_size || size > kMaxLargeDataBytes || bytes.size() != size) return std::nullopt;
     if (!detail::has_terminator(desc.frame_id)) return std::nullopt;
     std::optional<Image> img;
-    if constexpr (std::is_same_v<std::remove_cvref_t<Bytes>, ByteBuffer>) {
-      img.emplace(Key{}, desc, std::move(bytes));  // built in place: no default object overwritten
-    } else {
-      img.emplace(Key{}, desc, ByteBuffer(std::vector<std::uint8_t>(bytes.begin(), bytes.end())));
-    }
+    img.emplace(Key{}, desc, keep(std::forward<Bytes>(bytes)));  // built in place: no default object overwritten
     return img;
   }
 

@@ -1,6 +1,6 @@
 // What every large-data message (Image, PointCloud, DepthImage, Tensor) shares: the 2 GiB
-// size limit, checked size arithmetic and its errors, byte-count formatting. tensor.hpp
-// includes it.
+// size limit, checked size arithmetic and its errors, byte-count formatting, and LargeData, the
+// base of the four (from_descriptor, adopt, Descriptor, buffer). tensor.hpp includes it.
 #pragma once
 
 #include <dlpack/dlpack.h>
@@ -22,9 +22,11 @@
 #include <string>
 #include <string_view>
 #include <system_error>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
+#include "horus/byte_buffer.hpp"
 #include "horus/fixed_string.hpp"
 #include "horus/reflect.hpp"
 
@@ -37,6 +39,45 @@ namespace horus::msg {
 /// Largest data block of one large-data message (Image, PointCloud, DepthImage,
 /// Tensor): 2^31 bytes (2 GiB). Exactly 2^31 is allowed, one byte more is not.
 inline constexpr std::uint64_t kMaxLargeDataBytes = std::uint64_t{1} << 31;
+
+/// The large-data API every such message shares, a base with no data: `M` is the message, `D`
+/// its descriptor. M keeps its bytes in `data_` and checks a descriptor in its own
+/// `static std::optional<M> build(const D&, Bytes&&)` (private: the base is M's friend), whose
+/// comment says what it refuses.
+template <class M, class D>
+class LargeData {
+ public:
+  /// The fixed-size description that travels through a topic while the bytes stay in its pool.
+  using Descriptor = D;
+
+  /// Rebuilds a message from its descriptor and bytes (copied). nullopt unless the descriptor
+  /// is one M's constructor could make (M::build says what is checked) and bytes.size() ==
+  /// desc.data_size. The pool fields are not used (bytes are given).
+  static std::optional<M> from_descriptor(const D& desc, std::span<const std::uint8_t> bytes) {
+    return M::build(desc, bytes);
+  }
+  /// As from_descriptor, taking `bytes` over instead of copying them: how a topic hands out a
+  /// message whose bytes stay in its shared-memory pool (zero-copy). nullopt under the same
+  /// conditions.
+  static std::optional<M> adopt(const D& desc, ByteBuffer&& bytes) { return M::build(desc, std::move(bytes)); }
+
+  /// The bytes with their storage (owned, or borrowed from a pool slot).
+  const ByteBuffer& buffer() const noexcept { return static_cast<const M&>(*this).data_; }
+
+  friend bool operator==(const LargeData&, const LargeData&) = default;
+
+ protected:
+  LargeData() = default;
+  /// The bytes build() keeps: taken over (a ByteBuffer) or copied (a span).
+  template <class Bytes>
+  static ByteBuffer keep(Bytes&& bytes) {
+    if constexpr (std::is_same_v<std::remove_cvref_t<Bytes>, ByteBuffer>) {
+      return std::move(bytes);
+    } else {
+      return ByteBuffer(std::vector<std::uint8_t>(bytes.begin(), bytes.end()));
+    }
+  }
+};
 
 namespace detail {
 

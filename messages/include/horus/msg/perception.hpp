@@ -83,7 +83,7 @@ static_assert(horus::reflect::is_fixed_size<DepthImageDescriptor>,
 ///
 /// A default-constructed DepthImage is empty (0x0, F32, no data). Copying a
 /// DepthImage copies its depths.
-class DepthImage {
+class DepthImage : public LargeData<DepthImage, DepthImageDescriptor> {
  public:
   /// Largest encoded message a Topic<DepthImage> carries unless told otherwise: a 1920x1080 F32 depth frame.
   static constexpr std::size_t kDefaultSlotBytes = std::size_t{8} << 20;
@@ -217,13 +217,6 @@ class DepthImage {
     return d;
   }
 
-  /// Rebuilds a depth image from its descriptor and bytes (copied). nullopt
-  /// unless dtype is F32 or U16, width and height are > 0, data_size == width *
-  /// height * element size <= kMaxLargeDataBytes, bytes.size() == data_size,
-  /// depth_scale is finite and > 0 and frame_id is NUL-terminated.
-  static std::optional<DepthImage> from_descriptor(const DepthImageDescriptor& desc, std::span<const std::uint8_t> bytes) {
-    return build(desc, bytes);
-  }
   /// The descriptor of such a message without allocating its bytes: what Topic<DepthImage>::loan
   /// takes to lend a pool slot. nullopt for the arguments the constructor refuses.
   static std::optional<DepthImageDescriptor> describe(std::uint32_t height, std::uint32_t width, TensorDtype dtype = TensorDtype::F32) noexcept {
@@ -235,17 +228,14 @@ class DepthImage {
     d.data_size = bytes;
     return d;
   }
-  /// As from_descriptor, taking `bytes` over instead of copying them: how a topic hands out a
-  /// message whose bytes stay in its shared-memory pool (zero-copy). nullopt under the same
-  /// conditions (bytes.size() must equal desc.data_size).
-  static std::optional<DepthImage> adopt(const DepthImageDescriptor& desc, ByteBuffer&& bytes) { return build(desc, std::move(bytes)); }
-
-  /// The fixed-size description that travels through a topic while the bytes stay in its pool.
-  using Descriptor = DepthImageDescriptor;
-  /// The bytes with their storage (owned, or borrowed from a pool slot).
-  const ByteBuffer& buffer() const noexcept { return data_; }
 
  private:
+  friend class LargeData<DepthImage, DepthImageDescriptor>;
+  /// What from_descriptor and adopt (LargeData) call.
+  /// Rebuilds a depth image from its descriptor and bytes (copied). nullopt
+  /// unless dtype is F32 or U16, width and height are > 0, data_size == width *
+  /// height * element size <= kMaxLargeDataBytes, bytes.size() == data_size,
+  /// depth_scale is finite and > 0 and frame_id is NUL-terminated.
   template <class Bytes>
   static std::optional<DepthImage> build(const DepthImageDescriptor& desc, Bytes&& bytes) {
     std::uint64_t size = 0;
@@ -258,11 +248,7 @@ class DepthImage {
     img.dtype_ = desc.dtype;
     img.frame_id_ = desc.frame_id;
     img.timestamp_ns_ = desc.timestamp_ns;
-    if constexpr (std::is_same_v<std::remove_cvref_t<Bytes>, ByteBuffer>) {
-      img.data_ = std::move(bytes);
-    } else {
-      img.data_.assign(bytes.begin(), bytes.end());
-    }
+    img.data_ = keep(std::forward<Bytes>(bytes));
     return img;
   }
 

@@ -161,7 +161,7 @@ static_assert(horus::reflect::is_fixed_size<PointCloudDescriptor>,
 /// A default-constructed PointCloud is empty (0 points, 0 fields, F32). An
 /// empty cloud (0 points) is a valid message ("nothing seen"). Copying a
 /// PointCloud copies its points.
-class PointCloud {
+class PointCloud : public LargeData<PointCloud, PointCloudDescriptor> {
  public:
   /// Largest encoded message a Topic<PointCloud> carries unless told otherwise: a 130,000-point XYZI cloud (a 64-beam lidar) fits twice over.
   static constexpr std::size_t kDefaultSlotBytes = std::size_t{8} << 20;
@@ -303,13 +303,6 @@ class PointCloud {
     return d;
   }
 
-  /// Rebuilds a cloud from its descriptor and bytes (copied). nullopt unless
-  /// fields_per_point > 0, dtype is known, data_size == point_count *
-  /// fields_per_point * element size <= kMaxLargeDataBytes, bytes.size() ==
-  /// data_size and frame_id is NUL-terminated. The pool fields are not used.
-  static std::optional<PointCloud> from_descriptor(const PointCloudDescriptor& desc, std::span<const std::uint8_t> bytes) {
-    return build(desc, bytes);
-  }
   /// The descriptor of such a message without allocating its bytes: what Topic<PointCloud>::loan
   /// takes to lend a pool slot. nullopt for the arguments the constructor refuses.
   static std::optional<PointCloudDescriptor> describe(std::uint64_t num_points, std::uint32_t fields_per_point, TensorDtype dtype) noexcept {
@@ -321,17 +314,14 @@ class PointCloud {
     d.data_size = bytes;
     return d;
   }
-  /// As from_descriptor, taking `bytes` over instead of copying them: how a topic hands out a
-  /// message whose bytes stay in its shared-memory pool (zero-copy). nullopt under the same
-  /// conditions (bytes.size() must equal desc.data_size).
-  static std::optional<PointCloud> adopt(const PointCloudDescriptor& desc, ByteBuffer&& bytes) { return build(desc, std::move(bytes)); }
-
-  /// The fixed-size description that travels through a topic while the bytes stay in its pool.
-  using Descriptor = PointCloudDescriptor;
-  /// The bytes with their storage (owned, or borrowed from a pool slot).
-  const ByteBuffer& buffer() const noexcept { return data_; }
 
  private:
+  friend class LargeData<PointCloud, PointCloudDescriptor>;
+  /// What from_descriptor and adopt (LargeData) call.
+  /// Rebuilds a cloud from its descriptor and bytes (copied). nullopt unless
+  /// fields_per_point > 0, dtype is known, data_size == point_count *
+  /// fields_per_point * element size <= kMaxLargeDataBytes, bytes.size() ==
+  /// data_size and frame_id is NUL-terminated. The pool fields are not used.
   template <class Bytes>
   static std::optional<PointCloud> build(const PointCloudDescriptor& desc, Bytes&& bytes) {
     std::uint64_t size = 0;
@@ -344,11 +334,7 @@ class PointCloud {
     pc.dtype_ = desc.dtype;
     pc.frame_id_ = desc.frame_id;
     pc.timestamp_ns_ = desc.timestamp_ns;
-    if constexpr (std::is_same_v<std::remove_cvref_t<Bytes>, ByteBuffer>) {
-      pc.data_ = std::move(bytes);
-    } else {
-      pc.data_.assign(bytes.begin(), bytes.end());
-    }
+    pc.data_ = keep(std::forward<Bytes>(bytes));
     return pc;
   }
 

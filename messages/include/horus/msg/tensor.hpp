@@ -234,7 +234,7 @@ static_assert(horus::reflect::is_fixed_size<TensorDescriptor>,
 /// neighbouring elements along axis i (HORUS's convention; DLPack counts
 /// elements, to_dlpack converts). A default-constructed Tensor is empty: ndim 0,
 /// no data. Copying a Tensor copies its bytes.
-class Tensor {
+class Tensor : public LargeData<Tensor, TensorDescriptor> {
  public:
   /// Largest encoded tensor a Topic<Tensor> carries unless told otherwise (8 MiB).
   static constexpr std::size_t kDefaultSlotBytes = std::size_t{8} << 20;
@@ -347,15 +347,6 @@ class Tensor {
     return d;
   }
 
-  /// Rebuilds a tensor from its descriptor and bytes (copied). nullopt unless
-  /// ndim is 1..8, every dimension > 0, dtype known, every stride a multiple of
-  /// the element size, the addressed extent within data_size, data_size and
-  /// numel * element size <= kMaxLargeDataBytes, and bytes.size() == data_size.
-  /// Non-row-major strides (a view, even a broadcast with stride 0) are kept.
-  /// The pool fields are not used (bytes are given).
-  static std::optional<Tensor> from_descriptor(const TensorDescriptor& desc, std::span<const std::uint8_t> bytes) {
-    return build(desc, bytes);
-  }
   /// The descriptor of such a message without allocating its bytes: what Topic<Tensor>::loan
   /// takes to lend a pool slot. nullopt for the arguments the constructor refuses.
   static std::optional<TensorDescriptor> describe(std::span<const std::uint64_t> shape, TensorDtype dtype, Device device = Device::cpu()) noexcept {
@@ -367,17 +358,16 @@ class Tensor {
     d.data_size = bytes;
     return d;
   }
-  /// As from_descriptor, taking `bytes` over instead of copying them: how a topic hands out a
-  /// message whose bytes stay in its shared-memory pool (zero-copy). nullopt under the same
-  /// conditions (bytes.size() must equal desc.data_size).
-  static std::optional<Tensor> adopt(const TensorDescriptor& desc, ByteBuffer&& bytes) { return build(desc, std::move(bytes)); }
-
-  /// The fixed-size description that travels through a topic while the bytes stay in its pool.
-  using Descriptor = TensorDescriptor;
-  /// The bytes with their storage (owned, or borrowed from a pool slot).
-  const ByteBuffer& buffer() const noexcept { return data_; }
 
  private:
+  friend class LargeData<Tensor, TensorDescriptor>;
+  /// What from_descriptor and adopt (LargeData) call.
+  /// Rebuilds a tensor from its descriptor and bytes (copied). nullopt unless
+  /// ndim is 1..8, every dimension > 0, dtype known, every stride a multiple of
+  /// the element size, the addressed extent within data_size, data_size and
+  /// numel * element size <= kMaxLargeDataBytes, and bytes.size() == data_size.
+  /// Non-row-major strides (a view, even a broadcast with stride 0) are kept.
+  /// The pool fields are not used (bytes are given).
   template <class Bytes>
   static std::optional<Tensor> build(const TensorDescriptor& desc, Bytes&& bytes) {
     const std::size_t elem = msg::element_size(desc.dtype);
@@ -402,11 +392,7 @@ class Tensor {
     }
     t.dtype_ = desc.dtype;
     t.device_ = desc.device;
-    if constexpr (std::is_same_v<std::remove_cvref_t<Bytes>, ByteBuffer>) {
-      t.data_ = std::move(bytes);
-    } else {
-      t.data_.assign(bytes.begin(), bytes.end());
-    }
+    t.data_ = keep(std::forward<Bytes>(bytes));
     return t;
   }
 
