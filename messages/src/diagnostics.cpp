@@ -9,6 +9,8 @@
 #include <string>
 #include <string_view>
 
+#include "summary_list.hpp"
+
 namespace horus::msg {
 
 std::optional<DiagnosticValue> DiagnosticValue::from_float(std::string_view k, double v) {
@@ -19,18 +21,11 @@ std::optional<DiagnosticValue> DiagnosticValue::from_float(std::string_view k, d
 std::string DiagnosticReport::log_summary() const {
   std::string out = fmt::format("DiagnosticReport({}, {}, {} values", component_str(),
                                 detail::diag_enum_text(level_enum()), count());
-  std::size_t shown = 0;
-  for (; shown < count(); ++shown) {
-    const std::string_view v = values[shown].value_str();
+  detail::append_summary_list(out, count(), [&](std::size_t i) {
+    const std::string_view v = values[i].value_str();
     const std::string_view head = detail::diag_utf8_prefix(v, 24);
-    std::string entry = fmt::format("{}={}", values[shown].key_str(), head);
-    if (head.size() < v.size()) entry += "...";
-    if (out.size() + entry.size() + 2 > 170) break;
-    out += shown == 0 ? ": " : ", ";
-    out += entry;
-  }
-  if (shown < count()) out += fmt::format(", +{} more", count() - shown);
-  out += ')';
+    return fmt::format("{}={}{}", values[i].key_str(), head, head.size() < v.size() ? "..." : "");
+  });
   return out;
 }
 

@@ -7,6 +7,8 @@
 #include <cstddef>
 #include <string>
 
+#include "summary_list.hpp"
+
 namespace horus::msg {
 
 std::string LaserScan::log_summary() const {
@@ -25,15 +27,8 @@ std::string Odometry::log_summary() const {
 std::string JointState::log_summary() const {
   std::string out = fmt::format("JointState({} joints", count());
   if (count() > 0) out += ", positions in rad or m";
-  std::size_t shown = 0;
-  for (; shown < count(); ++shown) {
-    const std::string entry = fmt::format("{}={:.4g}", name_at(shown), positions[shown]);
-    if (out.size() + entry.size() + 2 > 170) break;
-    out += shown == 0 ? ": " : ", ";
-    out += entry;
-  }
-  if (shown < count()) out += fmt::format(", +{} more", count() - shown);
-  out += ')';
+  detail::append_summary_list(out, count(),
+                              [&](std::size_t i) { return fmt::format("{}={:.4g}", name_at(i), positions[i]); });
   return out;
 }
 
