@@ -2,11 +2,14 @@
 // HORUS_BACKEND (or the scope argument), the settings from HORUS_DOMAIN_ID / HORUS_LCM_URL.
 //
 //   horus_fleet_member <topic> <scope> <id> <count> <start_unix_ms> <publishers> <seconds> [best-effort]
-//                      [await-reader] [await-file=<path>] [ready=<path>] [deadline=<ms>] [period=<ms>]
+//                      [await-reader | await-readers=<n>] [await-file=<path>] [ready=<path>] [deadline=<ms>]
+//                      [period=<ms>]
 //
 // (reliable unless best-effort is given; await-reader: a publisher starts at <start_unix_ms> or
 // once a remote reader matched, whichever comes later: DDS delivers nothing written before the
 // match, and under load on a lossy link discovery may take longer than a test's head start;
+// await-readers=<n>: the same, once <n> remote readers matched (one per host that reads: under
+// DDS-Security each host authenticates in its own time, so the first one says nothing of the others);
 // await-file=<path>: a publisher also waits until <path> exists; ready=<path>: a receiver creates
 // <path> once its host's bridge matched a remote writer (pub_count() >= 1). The pair is a
 // handshake for best-effort topics: a DDS reader drops what comes from a writer it has not
@@ -72,24 +75,27 @@ struct Tally {
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool best_effort = false, await_reader = false, usage = argc < 8;
+  bool best_effort = false, usage = argc < 8;
+  long await_readers = 0;  // remote readers a publisher waits for (await-reader: 1)
   long deadline_ms = 0, period_ms = 2;
   std::string await_file, ready_file;
   for (int i = 8; i < argc; ++i) {
     const std::string flag = argv[i];
     if (flag == "best-effort") best_effort = true;
-    else if (flag == "await-reader") await_reader = true;
+    else if (flag == "await-reader") await_readers = 1;
+    else if (flag.starts_with("await-readers=")) await_readers = std::atol(flag.c_str() + 14);
     else if (flag.starts_with("await-file=")) await_file = flag.substr(11);
     else if (flag.starts_with("ready=")) ready_file = flag.substr(6);
     else if (flag.starts_with("deadline=")) deadline_ms = std::atol(flag.c_str() + 9);
     else if (flag.starts_with("period=")) period_ms = std::atol(flag.c_str() + 7);
     else usage = true;
   }
-  if (deadline_ms < 0 || period_ms < 1 || period_ms > 1000) usage = true;
+  if (deadline_ms < 0 || period_ms < 1 || period_ms > 1000 || await_readers < 0 || await_readers > 64) usage = true;
   if (usage) {
     std::fprintf(stderr,
                  "usage: %s <topic> <fleet|host|process> <id> <count> <start_unix_ms> <publishers> <seconds> "
-                 "[best-effort] [await-reader] [await-file=<path>] [ready=<path>] [deadline=<ms>] [period=<ms>]\n",
+                 "[best-effort] [await-reader | await-readers=<n>] [await-file=<path>] [ready=<path>] [deadline=<ms>] "
+                 "[period=<ms>]\n",
                  argv[0]);
     return 2;
   }
@@ -135,7 +141,8 @@ int main(int argc, char** argv) {
   };
   auto awaited = [&] {
     if (id == 0) return true;
-    if (await_reader && sub->sub_count() < 2) return false;  // this handle plus a remote reader
+    // This handle plus the remote readers.
+    if (await_readers > 0 && sub->sub_count() < static_cast<std::size_t>(1 + await_readers)) return false;
     return await_file.empty() || ::access(await_file.c_str(), F_OK) == 0;
   };
   while ((unix_ms() < start || !awaited()) && Clock::now() < deadline) {
@@ -143,7 +150,7 @@ int main(int argc, char** argv) {
     announce_ready();
     std::this_thread::sleep_for(1ms);
   }
-  if ((await_reader || !await_file.empty()) && id != 0) {
+  if ((await_readers > 0 || !await_file.empty()) && id != 0) {
     std::printf("publishing %lld ms after the start\n", static_cast<long long>(unix_ms() - start));
     std::fflush(stdout);
   }

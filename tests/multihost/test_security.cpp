@@ -159,7 +159,9 @@ TEST_P(SecureFleet, AHostMayPublishOnlyWhatItsPermissionsAllow) {
   const Keystores& k = Keystores::get();
   const std::string topic = "robot2.cmd_vel";
   const long long start = unix_ms() + 3000;
-  auto allowed = lan.spawn(0, member(topic, 1, start, 1, 15, {"await-reader"}), env(backend(), "a", k.fleet));
+  // a publishes once both readers' hosts matched it (b and c: under enforce each authenticates in
+  // its own time; CI, 2026-12-07: c's matched first and b's after a's 50 were sent).
+  auto allowed = lan.spawn(0, member(topic, 1, start, 1, 15, {"await-readers=2"}), env(backend(), "a", k.fleet));
   auto sub = lan.spawn(1, member(topic, 0, start, 1, 15), env(backend(), "b", k.fleet));
   auto denied = lan.spawn(2, member(topic, 3, start, 1, 7, {"period=20"}), env(backend(), "c", k.fleet));
   // The CLI under enforce, with b's identity: it prints a's messages only (x is the publisher's id).
