@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <iostream>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -112,38 +113,80 @@ class SecureFleet : public ::testing::TestWithParam<horus::Backend> {
   std::string backend() const { return std::string(horus::to_string(GetParam())); }
 };
 
-TEST_P(SecureFleet, AuthenticatedHostsExchangeAndOthersNeitherReadNorInject) {
-  NetnsLan lan(4);
-  if (!lan.ok()) GTEST_SKIP() << lan.why();
+// Fast DDS 2.9's security manager matches a discovered participant's handshake endpoints through
+// one scratch ReaderProxyData shared by its receive threads, unlocked (fixed in 2.10:
+// eProsima/Fast-DDS#3362, "Replaced SecurityManager temporary ProxyDatas with ProxyPools"). When
+// two participants are discovered at the same instant on its multicast and unicast threads, one
+// thread's copy of the other's half-written locator list trips an assertion of Debian's build
+// (asserts are on) and the process aborts. True when `output` shows that abort: the scenario is
+// then run once more, and the run says so.
+bool fastdds_discovery_race(const std::string& output) {
+  return output.find("ResourceLimitedVector.hpp") != std::string::npos &&
+         output.find("size() == other.size()") != std::string::npos;
+}
+
+// The scenario of AuthenticatedHostsExchangeAndOthersNeitherReadNorInject: a and b under enforce,
+// a plain host and a host of another CA publishing too, and b's view of the fleet.
+struct Exchange {
+  int sub_exit = -1, view_exit = -1;
+  bool view_saw_a = false;
+  std::string pub, sub, plain, foreign, view;
+  bool upstream_race() const {
+    return fastdds_discovery_race(pub) || fastdds_discovery_race(sub) || fastdds_discovery_race(plain) ||
+           fastdds_discovery_race(foreign) || fastdds_discovery_race(view);
+  }
+};
+
+Exchange run_exchange(NetnsLan& lan, const std::string& backend) {
   const Keystores& k = Keystores::get();
   const std::string topic = "sec.pose";
   const long long start = unix_ms() + 3000;
+  Exchange r;
   // a stays 12 s (publishers -1), so that b's view below finds it alive, and publishes once b's
   // reader matched: on a loaded machine Fast DDS's authentication took more than the 4 s after
   // the start that a 7 s stay left (CI, 2026-11-29: a never published).
-  auto pub = lan.spawn(0, member(topic, 1, start, -1, 12, {"await-reader"}), env(backend(), "a", k.fleet));
-  auto sub = lan.spawn(1, member(topic, 0, start, 1, 15), env(backend(), "b", k.fleet));
+  auto pub = lan.spawn(0, member(topic, 1, start, -1, 12, {"await-reader"}), env(backend, "a", k.fleet));
+  auto sub = lan.spawn(1, member(topic, 0, start, 1, 15), env(backend, "b", k.fleet));
   // The intruders publish too (20 ms apart, overlapping a's messages) and expect two publishers.
-  auto plain = lan.spawn(2, member(topic, 2, start, 2, 5, {"period=20"}), env(backend()));
-  auto foreign = lan.spawn(3, member(topic, 3, start, 2, 5, {"period=20"}), env(backend(), "x", k.other));
+  auto plain = lan.spawn(2, member(topic, 2, start, 2, 5, {"period=20"}), env(backend));
+  auto foreign = lan.spawn(3, member(topic, 3, start, 2, 5, {"period=20"}), env(backend, "x", k.other));
   // b's view of the fleet, a table a second until a appears in it (below), at most 30 s: a
   // appears, authenticated; neither intruder ever does. The fleet layer's own participant
   // authenticates on its own time: on a loaded machine Fast DDS took more than 7 s (CI,
   // 2026-12-07: a fixed 7 s view never saw a).
-  auto view = lan.spawn(1, {HORUS_CLI, "fleet", "--duration", "30"}, env(backend(), "b", k.fleet));
-  EXPECT_EQ(sub.wait(30s), 0) << "b:\n" << sub.output() << "\na:\n" << pub.output();
-  EXPECT_NE(sub.output().find("received 50 from 1 publishers"), std::string::npos) << sub.output();
+  auto view = lan.spawn(1, {HORUS_CLI, "fleet", "--duration", "30"}, env(backend, "b", k.fleet));
+  r.sub_exit = sub.wait(30s);
   (void)pub.wait(20s);
   (void)plain.wait(20s);
   (void)foreign.wait(20s);
-  // Each intruder received its own 50 only: nothing of a's.
-  EXPECT_NE(plain.output().find("received 50 from 1 publishers"), std::string::npos) << plain.output();
-  EXPECT_NE(foreign.output().find("received 50 from 1 publishers"), std::string::npos) << foreign.output();
-  const bool seen = view.wait_for_output("\n" + lan.host(0) + " ", 25s);
+  r.view_saw_a = view.wait_for_output("\n" + lan.host(0) + " ", 25s);
   view.terminate();
-  ASSERT_EQ(view.wait(20s), 0) << view.output();
-  const std::string out = view.output();
-  EXPECT_TRUE(seen) << "b's fleet view never listed a (" << lan.host(0) << ")";
+  r.view_exit = view.wait(20s);
+  r.pub = pub.output();
+  r.sub = sub.output();
+  r.plain = plain.output();
+  r.foreign = foreign.output();
+  r.view = view.output();
+  return r;
+}
+
+TEST_P(SecureFleet, AuthenticatedHostsExchangeAndOthersNeitherReadNorInject) {
+  NetnsLan lan(4);
+  if (!lan.ok()) GTEST_SKIP() << lan.why();
+  Exchange r = run_exchange(lan, backend());
+  if (r.upstream_race()) {
+    std::cout << "[ note ] a process aborted in Fast DDS 2.9's discovery race (eProsima/Fast-DDS#3362); "
+                 "running the scenario once more\n";
+    r = run_exchange(lan, backend());
+  }
+  EXPECT_EQ(r.sub_exit, 0) << "b:\n" << r.sub << "\na:\n" << r.pub;
+  EXPECT_NE(r.sub.find("received 50 from 1 publishers"), std::string::npos) << r.sub;
+  // Each intruder received its own 50 only: nothing of a's.
+  EXPECT_NE(r.plain.find("received 50 from 1 publishers"), std::string::npos) << r.plain;
+  EXPECT_NE(r.foreign.find("received 50 from 1 publishers"), std::string::npos) << r.foreign;
+  ASSERT_EQ(r.view_exit, 0) << r.view;
+  const std::string& out = r.view;
+  EXPECT_TRUE(r.view_saw_a) << "b's fleet view never listed a (" << lan.host(0) << ")";
   EXPECT_NE(out.find("security: enforce, this host is b (CN=b,O=horus)"), std::string::npos) << out;
   const std::size_t line = out.find("\n" + lan.host(0) + " ");
   ASSERT_NE(line, std::string::npos) << out;
@@ -153,28 +196,55 @@ TEST_P(SecureFleet, AuthenticatedHostsExchangeAndOthersNeitherReadNorInject) {
   EXPECT_EQ(out.find(lan.host(3)), std::string::npos) << out;
 }
 
-TEST_P(SecureFleet, AHostMayPublishOnlyWhatItsPermissionsAllow) {
-  NetnsLan lan(3);
-  if (!lan.ok()) GTEST_SKIP() << lan.why();
+// The scenario of AHostMayPublishOnlyWhatItsPermissionsAllow.
+struct Permissions {
+  int sub_exit = -1, echo_exit = -1;
+  std::string allowed, sub, denied, echo;
+  bool upstream_race() const {
+    return fastdds_discovery_race(allowed) || fastdds_discovery_race(sub) || fastdds_discovery_race(denied) ||
+           fastdds_discovery_race(echo);
+  }
+};
+
+Permissions run_permissions(NetnsLan& lan, const std::string& backend) {
   const Keystores& k = Keystores::get();
   const std::string topic = "robot2.cmd_vel";
   const long long start = unix_ms() + 3000;
+  Permissions r;
   // a publishes once both readers' hosts matched it (b and c: under enforce each authenticates in
   // its own time; CI, 2026-12-07: c's matched first and b's after a's 50 were sent).
-  auto allowed = lan.spawn(0, member(topic, 1, start, 1, 15, {"await-readers=2"}), env(backend(), "a", k.fleet));
-  auto sub = lan.spawn(1, member(topic, 0, start, 1, 15), env(backend(), "b", k.fleet));
-  auto denied = lan.spawn(2, member(topic, 3, start, 1, 7, {"period=20"}), env(backend(), "c", k.fleet));
+  auto allowed = lan.spawn(0, member(topic, 1, start, 1, 15, {"await-readers=2"}), env(backend, "a", k.fleet));
+  auto sub = lan.spawn(1, member(topic, 0, start, 1, 15), env(backend, "b", k.fleet));
+  auto denied = lan.spawn(2, member(topic, 3, start, 1, 7, {"period=20"}), env(backend, "c", k.fleet));
   // The CLI under enforce, with b's identity: it prints a's messages only (x is the publisher's id).
   auto echo = lan.spawn(1, {HORUS_CLI, "topic", "echo", topic, "-n", "20", "--json", "--timeout", "15"},
-                        env(backend(), "b", k.fleet));
-  EXPECT_EQ(sub.wait(30s), 0) << "b:\n" << sub.output() << "\na:\n" << allowed.output() << "\nc:\n" << denied.output();
-  EXPECT_NE(sub.output().find("received 50 from 1 publishers"), std::string::npos) << sub.output();
+                        env(backend, "b", k.fleet));
+  r.sub_exit = sub.wait(30s);
   (void)allowed.wait(20s);
   (void)denied.wait(20s);
-  EXPECT_NE(denied.output().find("identity 'c' may not publish this topic"), std::string::npos) << denied.output();
-  EXPECT_EQ(echo.wait(20s), 0) << echo.output();
-  EXPECT_NE(echo.output().find("\"x\":1.0"), std::string::npos) << echo.output();
-  EXPECT_EQ(echo.output().find("\"x\":3.0"), std::string::npos) << echo.output();
+  r.echo_exit = echo.wait(20s);
+  r.allowed = allowed.output();
+  r.sub = sub.output();
+  r.denied = denied.output();
+  r.echo = echo.output();
+  return r;
+}
+
+TEST_P(SecureFleet, AHostMayPublishOnlyWhatItsPermissionsAllow) {
+  NetnsLan lan(3);
+  if (!lan.ok()) GTEST_SKIP() << lan.why();
+  Permissions r = run_permissions(lan, backend());
+  if (r.upstream_race()) {
+    std::cout << "[ note ] a process aborted in Fast DDS 2.9's discovery race (eProsima/Fast-DDS#3362); "
+                 "running the scenario once more\n";
+    r = run_permissions(lan, backend());
+  }
+  EXPECT_EQ(r.sub_exit, 0) << "b:\n" << r.sub << "\na:\n" << r.allowed << "\nc:\n" << r.denied;
+  EXPECT_NE(r.sub.find("received 50 from 1 publishers"), std::string::npos) << r.sub;
+  EXPECT_NE(r.denied.find("identity 'c' may not publish this topic"), std::string::npos) << r.denied;
+  EXPECT_EQ(r.echo_exit, 0) << r.echo;
+  EXPECT_NE(r.echo.find("\"x\":1.0"), std::string::npos) << r.echo;
+  EXPECT_EQ(r.echo.find("\"x\":3.0"), std::string::npos) << r.echo;
 }
 
 INSTANTIATE_TEST_SUITE_P(Dds, SecureFleet,
