@@ -238,6 +238,12 @@ TEST(TopicConcurrency, ReadLatestWithTwoPublishersNeverGoesBackInTimePerPublishe
   EXPECT_EQ(backwards, 0u);
 }
 
+// The host's fleet state (the agent, its view, the bridges' boards) lives in shared memory under
+// HORUS_NAMESPACE. Other test processes of this host run fleet topics at the same time with their
+// own settings (another heartbeat period, another LCM URL): a namespace of this process keeps
+// theirs out of this test (seen: this host's period read as another process's 100 ms).
+static void isolate_fleet_state() { ::setenv("HORUS_NAMESPACE", ("tc" + std::to_string(::getpid())).c_str(), 1); }
+
 // A fleet topic (LCM over udpm with ttl=0: multicast loopback, nothing leaves the host) with its
 // bridge running: the bridge's thread exports every message of two publishing threads while a
 // subscribing thread reads them from the ring, and LCM loops every exported message back to
@@ -248,6 +254,7 @@ TEST(TopicConcurrency, ReadLatestWithTwoPublishersNeverGoesBackInTimePerPublishe
 TEST(TopicConcurrency, AFleetTopicsBridgeExportsEveryMessageOnceWhileThreadsPublishAndRead) {
   if (!horus::backend_available(horus::Backend::Lcm)) GTEST_SKIP() << "this build has no lcm backend";
   const int port = 20000 + static_cast<int>((::getpid() * 11 + 3) % 40000);
+  isolate_fleet_state();
   ::setenv("HORUS_LCM_URL", ("udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0&recv_buf_size=4194304").c_str(), 1);
   horus::TopicOptions fleet;
   fleet.backend = horus::Backend::Lcm;
@@ -292,6 +299,7 @@ TEST(TopicConcurrency, AFleetTopicsBridgeExportsEveryMessageOnceWhileThreadsPubl
 TEST(TopicConcurrency, AProcessWithAFleetTopicAnnouncesItsHostToAFleetOnAnotherThread) {
   if (!horus::backend_available(horus::Backend::Lcm)) GTEST_SKIP() << "this build has no lcm backend";
   const int port = 20000 + static_cast<int>((::getpid() * 13 + 5) % 40000);
+  isolate_fleet_state();
   ::setenv("HORUS_LCM_URL", ("udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0").c_str(), 1);
   ::setenv("HORUS_FLEET_HEARTBEAT_MS", "20", 1);
   horus::TopicOptions fleet;
