@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "horus/backend.hpp"
-#include "horus/environment.hpp"
+#include "horus/detail/process.hpp"
 #include "horus/names.hpp"
 #include "horus/transport_registry.hpp"
 
@@ -83,7 +83,7 @@ std::string valid_backends() {
 }
 }  // namespace
 
-Result<Backend> backend_from_environment() { return backend_from(Environment::read().backend); }
+Result<Backend> backend_from_environment() { return backend_from(horus::detail::Process::get().environment()->backend); }
 
 Result<Backend> backend_from(std::string_view v) {
   if (v.empty()) return Backend::SharedMemory;

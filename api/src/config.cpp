@@ -20,7 +20,7 @@
 #include <type_traits>
 #include <utility>
 
-#include "horus/environment.hpp"
+#include "horus/detail/process.hpp"
 #include "horus/names.hpp"
 #include "horus/shm/ring_layout.hpp"
 #include "horus/transport_registry.hpp"
@@ -440,19 +440,20 @@ net::FileDefaults file_defaults(const Config* config) {
 }
 }  // namespace
 
-Result<const Config*> config_from_environment() { return file_from(Environment::read()); }
+Result<const Config*> config_from_environment() { return file_from(*horus::detail::Process::get().environment()); }
 
 Result<net::Config> net::config_of(const horus::Config& file) { return net::config_from(Environment{}, file_defaults(&file)); }
 
 namespace net {
 Result<Config> config_from_environment() {
-  const Environment env = Environment::read();
+  const auto snapshot = horus::detail::Process::get().environment();
+  const Environment& env = *snapshot;
   auto config = file_from(env);
   if (!config) return std::unexpected(config.error());
   return config_from(env, file_defaults(*config));
 }
 Result<Config> config_from_environment(const horus::Config* file) {
-  return config_from(Environment::read(), file_defaults(file));
+  return config_from(*horus::detail::Process::get().environment(), file_defaults(file));
 }
 }  // namespace net
 
@@ -461,7 +462,8 @@ Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code, con
   c.config = config;
   c.rule = config != nullptr ? config->match(topic) : nullptr;
   const TopicRule* r = c.rule;
-  const Environment env = Environment::read();
+  const auto snapshot = horus::detail::Process::get().environment();
+  const Environment& env = *snapshot;
   // Scope and backend: code, HORUS_BACKEND, the rule (its backend, else network.backend).
   if (code.backend) {
     c.backend = *code.backend;
@@ -548,7 +550,8 @@ Result<TopicOptions> resolve_topic_options(std::string_view topic, const TopicOp
 }
 
 Result<std::string> fleet_transport() {
-  const Environment env = Environment::read();
+  const auto snapshot = horus::detail::Process::get().environment();
+  const Environment& env = *snapshot;
   if (!env.backend.empty()) {
     auto b = backend_from(env.backend);
     if (!b) return std::unexpected(b.error());
@@ -561,7 +564,8 @@ Result<std::string> fleet_transport() {
 }
 
 Result<FleetSettings> fleet_settings() {
-  const Environment env = Environment::read();
+  const auto snapshot = horus::detail::Process::get().environment();
+  const Environment& env = *snapshot;
   auto config = file_from(env);
   if (!config) return std::unexpected(config.error());
   FleetSettings out;

@@ -2,7 +2,6 @@
 // per-topic reports and leases of horus/detail/topic_core.hpp.
 #include <fmt/format.h>
 
-#include <pthread.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -52,7 +51,7 @@ OpenTopics& open_topics() {
   // A thread opening a topic while another forks would leave the mutex locked in the child
   // (which could then open no topic): fork waits for the open instead.
   static const bool fork_safe = [] {
-    ::pthread_atfork([] { r.mutex.lock(); }, [] { r.mutex.unlock(); }, [] { r.mutex.unlock(); });
+    horus::detail::Process::get().at_fork({[] { r.mutex.lock(); }, [] { r.mutex.unlock(); }, [] { r.mutex.unlock(); }});
     return true;
   }();
   (void)fork_safe;
@@ -280,7 +279,6 @@ Result<std::shared_ptr<TopicCore>> make_core(std::string_view name, const TypeIn
   core->serialized = type.serialized;
   core->backend = p.backend;
   core->pid = ::getpid();
-  (void)current_pid();  // registers the fork handler before any lease exists
   if (g.pool_bytes != 0) core->claimer = {static_cast<std::uint32_t>(core->pid), shm::process_start_time(core->pid)};
   auto made = p.shared ? attach_segment(*core, name, type, options, cfg, pool_cfg, p)
                        : allocate_private(*core, name, cfg, pool_cfg);
@@ -390,21 +388,6 @@ bool reap_dead_participants(TopicCore& core) {
   std::int64_t last = core.last_reap_ns.load(std::memory_order_relaxed);
   if (now - last < 50'000'000 || !core.last_reap_ns.compare_exchange_strong(last, now)) return false;
   return core.segment->reap_dead() != 0;
-}
-
-namespace {
-std::atomic<int> g_pid{0};
-void refresh_pid() noexcept { g_pid.store(static_cast<int>(::getpid()), std::memory_order_relaxed); }
-}  // namespace
-
-int current_pid() noexcept {
-  static const bool registered = [] {
-    refresh_pid();
-    ::pthread_atfork(nullptr, nullptr, &refresh_pid);
-    return true;
-  }();
-  (void)registered;
-  return g_pid.load(std::memory_order_relaxed);
 }
 
 void release_pin(const void* core, std::uint64_t slot, std::uint64_t participant) noexcept {

@@ -5,7 +5,6 @@
 
 #include <linux/futex.h>
 #include <sys/syscall.h>
-#include <pthread.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -14,13 +13,6 @@
 #include <ctime>
 
 namespace horus::shm {
-
-std::atomic<std::uint32_t> g_fork_generation{0};
-namespace {
-[[maybe_unused]] const int g_fork_counter = ::pthread_atfork(nullptr, nullptr, [] {
-  g_fork_generation.fetch_add(1, std::memory_order_relaxed);
-});
-}  // namespace
 
 namespace {
 using Clock = std::chrono::steady_clock;  // CLOCK_MONOTONIC, the clock the futex deadlines use

@@ -24,7 +24,7 @@
 #include <thread>
 #include <utility>
 
-#include "horus/environment.hpp"
+#include "horus/detail/process.hpp"
 #include "segment_internal.hpp"
 
 namespace horus::shm {
@@ -137,7 +137,7 @@ std::string describe_scope(std::uint32_t scope, std::string_view transport) {
 
 }  // namespace
 
-std::expected<std::string, SegmentError> shm_namespace() { return shm_namespace(Environment::read().shm_namespace); }
+std::expected<std::string, SegmentError> shm_namespace() { return shm_namespace(horus::detail::Process::get().environment()->shm_namespace); }
 
 std::expected<std::string, SegmentError> shm_namespace(std::string_view ns) {
   if (ns.empty()) return "u" + std::to_string(::getuid());
@@ -153,7 +153,7 @@ std::expected<std::string, SegmentError> shm_namespace(std::string_view ns) {
   return std::string(ns);
 }
 
-std::expected<mode_t, SegmentError> shm_mode_from_environment() { return shm_mode(Environment::read().shm_mode); }
+std::expected<mode_t, SegmentError> shm_mode_from_environment() { return shm_mode(horus::detail::Process::get().environment()->shm_mode); }
 
 std::expected<mode_t, SegmentError> shm_mode(std::string_view v) {
   if (v.empty()) return static_cast<mode_t>(0600);

@@ -1,11 +1,9 @@
 #include "horus/log.hpp"
 
-#include "horus/environment.hpp"
+#include "horus/detail/process.hpp"
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
-
-#include <pthread.h>
 
 #include <array>
 #include <string>
@@ -22,11 +20,11 @@ std::shared_ptr<spdlog::logger> make_logger() {
   if (!logger) logger = spdlog::stderr_color_mt("horus");
   // fork() while another thread writes a line would leave the console's mutex locked in the
   // child forever (a forked child that logs would hang): fork waits for the line instead.
-  ::pthread_atfork([] { spdlog::details::console_mutex::mutex().lock(); },
-                   [] { spdlog::details::console_mutex::mutex().unlock(); },
-                   [] { spdlog::details::console_mutex::mutex().unlock(); });
+  horus::detail::Process::get().at_fork({[] { spdlog::details::console_mutex::mutex().lock(); },
+                                  [] { spdlog::details::console_mutex::mutex().unlock(); },
+                                  [] { spdlog::details::console_mutex::mutex().unlock(); }});
   logger->set_level(spdlog::level::info);
-  const std::string env = Environment::read().log_level;
+  const std::string env = horus::detail::Process::get().environment()->log_level;
   if (!env.empty()) {
     bool ok = false;
     for (std::size_t i = 0; i < kLevelNames.size(); ++i) {

@@ -25,7 +25,7 @@
 #include "engine.hpp"
 #include "horus/detail/network_link.hpp"
 #include "horus/discovery/registry.hpp"
-#include "horus/environment.hpp"
+#include "horus/detail/process.hpp"
 #include "horus/executor.hpp"
 #include "horus/fleet.hpp"
 #include "horus/log.hpp"
@@ -235,7 +235,7 @@ std::uint64_t host_id() {
 
 std::int64_t host_clock_unix_ns() noexcept {
   static const std::int64_t shift = [] {
-    const std::string& ms = Environment::read().test_clock_offset_ms;
+    const std::string ms = horus::detail::Process::get().environment()->test_clock_offset_ms;
     return ms.empty() ? 0 : std::strtoll(ms.c_str(), nullptr, 10) * 1'000'000LL;
   }();
   return detail::unix_ns() + shift;

@@ -12,7 +12,7 @@
 #include <thread>
 
 #include "horus/detail/bridge_port.hpp"
-#include "horus/environment.hpp"
+#include "horus/detail/process.hpp"
 #include "horus/log.hpp"
 #include "horus/shm/doorbell.hpp"
 
@@ -82,7 +82,7 @@ void EchoLedger::expire(Clock::time_point now) {
 
 // HORUS_BRIDGE: "0" keeps this process from ever bridging a fleet topic (it still uses them
 // through shared memory; another process of the host bridges); "1" or unset: it may.
-Result<bool> may_bridge_from_environment() { return may_bridge(Environment::read().bridge); }
+Result<bool> may_bridge_from_environment() { return may_bridge(horus::detail::Process::get().environment()->bridge); }
 
 Result<bool> may_bridge(std::string_view v) {
   if (v.empty() || v == "1") return true;

@@ -1,9 +1,10 @@
 // The environment variables horus reads, read in one place.
 //
-// Only core/src/environment.cpp calls getenv. The configuration (api/src/config.cpp) combines a
-// snapshot with the configuration file and passes the result down as parameters: a transport
-// opens with a net::Config, the fleet layer with FleetSettings. An empty string means unset
-// (horus treats `VAR=` as unset everywhere).
+// Only core/src/environment.cpp calls getenv, and only the process context
+// (horus/detail/process.hpp) calls read(): the layers take its snapshot. The configuration
+// (api/src/config.cpp) combines the snapshot with the configuration file and passes the result
+// down as parameters: a transport opens with a net::Config, the fleet layer with FleetSettings.
+// An empty string means unset (horus treats `VAR=` as unset everywhere).
 #pragma once
 
 #include <string>

@@ -14,6 +14,7 @@
 #include <string_view>
 
 #include "horus/backend.hpp"
+#include "horus/detail/process.hpp"
 #include "horus/topic_options.hpp"
 #include "horus/error.hpp"
 #include "horus/shm/heap_region.hpp"
@@ -135,9 +136,8 @@ Error ring_full_error(const TopicCore& core, std::chrono::nanoseconds timeout);
 /// The error of a handle that found every subscriber entry of its topic taken.
 Error subscriber_limit_error(std::string_view topic);
 
-/// This process's pid, cached (updated in a child after fork()): leases compare it with their
-/// topic's to do nothing in a forked child, which must not release its parent's pins.
-int current_pid() noexcept;
+// current_pid() (horus/detail/process.hpp): leases compare it with their topic's to do nothing in
+// a forked child, which must not release its parent's pins.
 /// Shared memory: releases what processes that died held (pins, lanes, subscriber entries), at
 /// most once per 50 ms per topic; true when some process was reaped.
 bool reap_dead_participants(TopicCore& core);

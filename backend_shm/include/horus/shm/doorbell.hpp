@@ -54,6 +54,7 @@
 #include <cstdint>
 #include <span>
 
+#include "horus/detail/process.hpp"
 #include "horus/export.hpp"
 
 HORUS_API_BEGIN
@@ -98,10 +99,10 @@ struct InlineExport {
   std::uint32_t generation = 0;
 };
 
-/// How many fork()s lie between the first process and this one (a pthread_atfork child handler
-/// counts them): one relaxed load tells a forked child's copy of process state from the parent's.
-extern std::atomic<std::uint32_t> g_fork_generation;
-inline std::uint32_t fork_generation() noexcept { return g_fork_generation.load(std::memory_order_relaxed); }
+/// How many fork()s lie between the first process and this one (the process context counts them,
+/// horus/detail/process.hpp): one relaxed load tells a forked child's copy of process state from
+/// the parent's.
+using horus::detail::fork_generation;
 
 /// Sends that find waiters registered but the doorbell not armed, before a publisher looks for
 /// waiters that died (a waiter draining messages is registered and unarmed too).
