@@ -142,26 +142,34 @@ Exchange run_exchange(NetnsLan& lan, const std::string& backend) {
   const std::string topic = "sec.pose";
   const long long start = unix_ms() + 3000;
   Exchange r;
-  // a stays 12 s (publishers -1), so that b's view below finds it alive, and publishes once b's
-  // reader matched: on a loaded machine Fast DDS's authentication took more than the 4 s after
-  // the start that a 7 s stay left (CI, 2026-11-29: a never published).
-  auto pub = lan.spawn(0, member(topic, 1, start, -1, 12, {"await-reader"}), env(backend, "a", k.fleet));
+  // a publishes once b's reader matched (on a loaded machine Fast DDS's authentication took more
+  // than the 4 s after the start that a 7 s stay left: CI, 2026-11-29), then stays (publishers
+  // -1) until b's view below saw it, at most 45 s: the view's own participant authenticates in
+  // its own time (CI, 2026-12-07: not within a's former 12 s stay).
+  auto pub = lan.spawn(0, member(topic, 1, start, -1, 45, {"await-reader"}), env(backend, "a", k.fleet));
   auto sub = lan.spawn(1, member(topic, 0, start, 1, 15), env(backend, "b", k.fleet));
   // The intruders publish too (20 ms apart, overlapping a's messages) and expect two publishers.
   auto plain = lan.spawn(2, member(topic, 2, start, 2, 5, {"period=20"}), env(backend));
   auto foreign = lan.spawn(3, member(topic, 3, start, 2, 5, {"period=20"}), env(backend, "x", k.other));
-  // b's view of the fleet, a table a second until a appears in it (below), at most 30 s: a
+  // b's view of the fleet, a table a second until a appears in it (below), at most 40 s: a
   // appears, authenticated; neither intruder ever does. The fleet layer's own participant
   // authenticates on its own time: on a loaded machine Fast DDS took more than 7 s (CI,
   // 2026-12-07: a fixed 7 s view never saw a).
-  auto view = lan.spawn(1, {HORUS_CLI, "fleet", "--duration", "30"}, env(backend, "b", k.fleet));
+  auto view = lan.spawn(1, {HORUS_CLI, "fleet", "--duration", "45"}, env(backend, "b", k.fleet));
+  const auto view_started = std::chrono::steady_clock::now();
   r.sub_exit = sub.wait(30s);
-  (void)pub.wait(20s);
   (void)plain.wait(20s);
   (void)foreign.wait(20s);
-  r.view_saw_a = view.wait_for_output("\n" + lan.host(0) + " ", 25s);
+  r.view_saw_a = view.wait_for_output("\n" + lan.host(0) + " ", 40s);
+  // A window in which an intruder may not appear: the view watches at least 12 s in all (the
+  // intruders lived the first 5), whenever a appeared.
+  const auto window = view_started + 12s - std::chrono::steady_clock::now();
+  if (window > 0s)
+    (void)view.wait_for_output("\n" + lan.host(2) + " ", std::chrono::duration_cast<std::chrono::milliseconds>(window));
   view.terminate();
   r.view_exit = view.wait(20s);
+  pub.terminate();
+  (void)pub.wait(20s);
   r.pub = pub.output();
   r.sub = sub.output();
   r.plain = plain.output();
@@ -186,7 +194,7 @@ TEST_P(SecureFleet, AuthenticatedHostsExchangeAndOthersNeitherReadNorInject) {
   EXPECT_NE(r.foreign.find("received 50 from 1 publishers"), std::string::npos) << r.foreign;
   ASSERT_EQ(r.view_exit, 0) << r.view;
   const std::string& out = r.view;
-  EXPECT_TRUE(r.view_saw_a) << "b's fleet view never listed a (" << lan.host(0) << ")";
+  EXPECT_TRUE(r.view_saw_a) << "b's fleet view never listed a (" << lan.host(0) << "); a said:\n" << r.pub;
   EXPECT_NE(out.find("security: enforce, this host is b (CN=b,O=horus)"), std::string::npos) << out;
   const std::size_t line = out.find("\n" + lan.host(0) + " ");
   ASSERT_NE(line, std::string::npos) << out;
