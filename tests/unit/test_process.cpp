@@ -13,6 +13,8 @@
 
 #include "horus/config.hpp"
 #include "horus/detail/process.hpp"
+#include "horus/msg/geometry.hpp"
+#include "horus/topic.hpp"
 
 namespace {
 
@@ -41,6 +43,20 @@ TEST(Process, TheSettingsSnapshotIsReadOnceAndAgainOnlyWhenTheEnvironmentChanged
   EXPECT_EQ(Process::get().environment_reads(), reads + 3);
   // An older snapshot stays valid for whoever holds it.
   EXPECT_EQ(set->bridge, "0");
+}
+
+TEST(Process, OpeningATopicReadsTheEnvironmentOnceForEveryLayer) {
+  // The choice of scope and backend, the configuration file, the shared-memory namespace and
+  // mode: each layer asks for the snapshot, and the first asks reads it.
+  ::setenv("HORUS_SHM_MODE", "0600", 1);
+  const std::uint64_t before = Process::get().environment_reads();
+  auto topic = horus::Topic<horus::msg::Pose2D>::open("process.read_once." + std::to_string(::getpid()));
+  ASSERT_TRUE(topic) << topic.error().message();
+  EXPECT_EQ(Process::get().environment_reads(), before + 1);
+  auto again = horus::Topic<horus::msg::Pose2D>::open("process.read_once_again." + std::to_string(::getpid()));
+  ASSERT_TRUE(again) << again.error().message();
+  EXPECT_EQ(Process::get().environment_reads(), before + 1);
+  ::unsetenv("HORUS_SHM_MODE");
 }
 
 // What the handlers below did, in order: letters, no allocation (they run around a fork).
