@@ -18,6 +18,7 @@
 #include "horus/config.hpp"
 #include "horus/discovery/registry.hpp"
 #include "horus/fleet.hpp"
+#include "horus/fleet_messages.hpp"
 #include "horus/names.hpp"
 #include "horus/record/lcm_log.hpp"
 #include "horus/record/mcap.hpp"
@@ -152,7 +153,7 @@ int cmd_record(const RecordArgs& a, const std::atomic<bool>& stop) {
   std::set<std::string, std::less<>> skipped;
   std::set<std::string, std::less<>> transports;  // Backend keeps a view of the name
   const auto wanted = [&](const std::string& name) {
-    if (a.topics.empty()) return !name.starts_with("horus.fleet.");
+    if (a.topics.empty()) return !horus::fleet::is_fleet_layer_topic(name);
     return std::any_of(a.topics.begin(), a.topics.end(), [&](const auto& p) { return topic_pattern_matches(p, name); });
   };
   const auto consider = [&](const std::string& name, const std::string& type, const std::string& scope,

@@ -30,8 +30,7 @@ class NetworkReader final : public RemoteReader, public net::Listener {
     }
     // The fleet layer's own topics (fleet_messages.hpp) travel on the transport's control
     // instance where it has one (LCM: the next port), as the fleet layer sends them.
-    const bool control = spec.topic.starts_with("horus.fleet.") && info.open_control != nullptr;
-    auto t = control ? info.open_control(*config) : info.open(*config);
+    auto t = info.open_for(spec.topic, *config);
     if (!t) {
       error = t.error().message();
       return false;

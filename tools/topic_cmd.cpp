@@ -27,6 +27,7 @@
 #include "fleet_cmd.hpp"
 #include "horus/discovery/registry.hpp"
 #include "horus/fleet.hpp"
+#include "horus/fleet_messages.hpp"
 #include "horus/horus.hpp"
 #include "horus/msg/all.hpp"
 #include "remote_reader.hpp"
@@ -244,7 +245,7 @@ int with_topic(const std::string& ns, const std::string& name, const char* cmd, 
   if (!found) {
     std::string known;
     for (const auto& t : horus::discovery::list_topics(ns))
-      if (!t.topic.starts_with("horus.fleet.")) known += (known.empty() ? "" : ", ") + t.topic;
+      if (!horus::fleet::is_fleet_layer_topic(t.topic)) known += (known.empty() ? "" : ", ") + t.topic;
     for (const auto& [n, r] : remote_topics(*fleet)) known += (known.empty() ? "" : ", ") + n + " (" + join(r.hosts) + ")";
     fmt::print(stderr, "horus topic {}: no topic '{}' on this host nor on the {} host(s) of the fleet on {}{}\n", cmd,
                name, fleet->hosts().size(), transport, known.empty() ? " (no topics at all)" : "; topics: " + known);
@@ -488,7 +489,7 @@ int cmd_list(const std::string& ns, bool json, bool verbose, const Lookup& looku
              const std::atomic<bool>& stop) {
   auto topics = horus::discovery::list_topics(ns, lookup.rate_window);
   if (!all)  // the fleet layer's own topics (horus.fleet.*): shown with --all
-    std::erase_if(topics, [](const auto& e) { return e.topic.starts_with("horus.fleet."); });
+    std::erase_if(topics, [](const auto& e) { return horus::fleet::is_fleet_layer_topic(e.topic); });
   std::map<std::string, RemoteTopic> remote;
   std::string fleet_error;
   const std::string transport = local_only ? std::string() : fleet_transport(lookup.transport);

@@ -117,7 +117,7 @@ Engine::~Engine() {
 }
 
 Result<std::shared_ptr<net::Transport>> Engine::transport_for(std::string_view name) {
-  if (!name.starts_with(kFleetTopicPrefix) || info_.open_control == nullptr) return transport_;
+  if (!info_.on_control(name)) return transport_;
   std::lock_guard lock(control_transport_mutex_);  // not mutex_: opening a participant takes a while
   if (!control_transport_) {
     auto t = info_.open_control(config_);

@@ -13,11 +13,12 @@
 #include "horus/topic_options.hpp"
 #include "horus/error.hpp"
 #include "horus/fleet_messages.hpp"
+#include "horus/transport_registry.hpp"
 
 namespace horus::fleet::detail {
 
 /// The prefix of the fleet layer's own topics (they do not keep the host announced).
-inline constexpr std::string_view kFleetTopicPrefix = "horus.fleet.";
+inline constexpr std::string_view kFleetTopicPrefix = net::TransportInfo::kControlTopicPrefix;
 
 /// Keeps this host announced on a transport while held: the agent of that transport runs in this
 /// process while one is (agent.cpp). A bridge of a fleet topic holds one, and so does a Fleet.

@@ -90,7 +90,7 @@ int send_garbage(int n) {
   const auto config = horus::net::config_from_environment();
   if (!config) return 4;
   // Where the fleet layer's own topics travel (its control instance: LCM's next port).
-  auto transport = info->open_control != nullptr ? info->open_control(*config) : info->open(*config);
+  auto transport = info->open_for(horus::fleet::kAnnounceTopic, *config);
   auto wire = horus::wire_name(*backend, horus::fleet::kAnnounceTopic);
   if (!transport || !wire) return 4;
   horus::net::EndpointSpec spec;

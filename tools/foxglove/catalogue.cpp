@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "../typed_reader.hpp"
+#include "horus/fleet_messages.hpp"
 #include "horus/idlgen/emit.hpp"
 #include "horus/names.hpp"
 #include "horus/transport_registry.hpp"
@@ -26,7 +27,7 @@ Catalogue::Catalogue(std::vector<std::string> patterns, const std::string& ns)
     : patterns_(std::move(patterns)), scanner_(ns), host_(fleet::host_name()) {}
 
 bool Catalogue::wanted(const std::string& name) const {
-  if (patterns_.empty()) return !name.starts_with("horus.fleet.");
+  if (patterns_.empty()) return !horus::fleet::is_fleet_layer_topic(name);
   return std::any_of(patterns_.begin(), patterns_.end(), [&](const auto& p) { return topic_pattern_matches(p, name); });
 }
 

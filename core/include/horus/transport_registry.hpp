@@ -49,6 +49,20 @@ struct TransportInfo {
   /// Optional: checks the transport's settings in `config` without opening anything (`horus
   /// config check`: LCM's URL and its refusal of peers); the error names where each came from.
   Result<void> (*check)(const Config& config) = nullptr;
+
+  /// Whether topic `topic` travels on the control instance: the fleet layer's own topics
+  /// (kControlTopicPrefix), when the transport has one. The one rule for the fleet layer, the
+  /// CLI's readers and the tests that stand in for either.
+  bool on_control(std::string_view topic) const noexcept {
+    return open_control != nullptr && topic.starts_with(kControlTopicPrefix);
+  }
+  /// The instance `topic` travels on (open_control or open, by on_control).
+  Result<std::shared_ptr<Transport>> open_for(std::string_view topic, const Config& config) const {
+    return on_control(topic) ? open_control(config) : open(config);
+  }
+
+  /// The names of the fleet layer's own topics (fleet/include/horus/fleet_messages.hpp).
+  static constexpr std::string_view kControlTopicPrefix = "horus.fleet.";
 };
 
 /// Adds a transport. Registering the same name again with the same functions does nothing;

@@ -13,9 +13,11 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "horus/reflect.hpp"
+#include "horus/transport_registry.hpp"
 
 #include "horus/export.hpp"
 
@@ -26,6 +28,13 @@ namespace horus::fleet {
 inline constexpr const char* kHeartbeatTopic = "horus.fleet.heartbeat";
 inline constexpr const char* kAnnounceTopic = "horus.fleet.announce";
 inline constexpr const char* kRequestTopic = "horus.fleet.request";
+
+/// Whether `topic` is one of the fleet layer's own (the three above, and the host view
+/// horus.fleet.view.<transport>): they travel on a transport's control instance, and the CLI's
+/// lists, recordings and live views leave them out unless asked.
+inline bool is_fleet_layer_topic(std::string_view topic) noexcept {
+  return topic.starts_with(net::TransportInfo::kControlTopicPrefix);
+}
 
 /// What one host last heard from another: its heartbeat's send time (the other host's steady
 /// clock) and how long ago. The other host subtracts both from its clock: the link's RTT.
