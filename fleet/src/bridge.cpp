@@ -291,10 +291,12 @@ Result<void> Bridge::become_holder(bool takeover) {
   }
   if (!prematched && (takeover || inherited) && readers_before != 0) {
     // The readers that matched the predecessor's writer must match ours before the backlog
-    // goes out, or a volatile reader would miss it (bounded: a reader may have left). The
-    // control thread opens the gate (control()).
+    // goes out, and then see it (discovery_settle), or a volatile reader would miss it
+    // (bounded: a reader may have left). The control thread opens the gate (control()).
     gate_readers_ = readers_before;
-    gate_until_ = Clock::now() + kMatchWait;
+    gate_opened_ = Clock::now();
+    gate_matched_ = {};
+    gate_until_ = gate_opened_ + kMatchWait;
     gated_.store(true, std::memory_order_release);
   }
   holder_.store(true, std::memory_order_release);
@@ -373,6 +375,11 @@ Clock::time_point Bridge::control(Clock::time_point now, bool gone) noexcept {
       } catch (...) {
       }
       if (matched < gate_readers_ && now < gate_until_) return now + std::chrono::milliseconds(1);
+      if (matched >= gate_readers_) {
+        if (gate_matched_ == Clock::time_point{}) gate_matched_ = now;
+        const auto open_at = gate_matched_ + discovery_settle(gate_matched_ - gate_opened_);
+        if (now < open_at) return open_at;
+      }
       gated_.store(false, std::memory_order_release);
       if (attached_.load(std::memory_order_acquire)) activate_inline();
       engine_->notify(*this);

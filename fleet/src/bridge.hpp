@@ -35,6 +35,7 @@
 
 #include <sys/types.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -76,6 +77,17 @@ inline constexpr std::chrono::milliseconds kLinkLowTolerance{10};
 
 /// A successor (after a takeover) waits this long at most for the remote readers to match.
 inline constexpr auto kMatchWait = std::chrono::seconds(1);
+/// Once our writer matched the remote readers, how long they may still take to match it: a DDS
+/// reader drops what comes from a writer it has not matched yet (a best-effort one never gets it
+/// again; a volatile reliable one starts after it), and no reader says when it matched. 3x the
+/// time our side took to match (how long discovery takes on this machine now), at least
+/// kDiscoverySettle, at most kDiscoverySettleMax. The asker of a hand-over waits it before it
+/// asks; a successor after a takeover before the backlog goes out.
+inline constexpr auto kDiscoverySettle = std::chrono::milliseconds(300);
+inline constexpr auto kDiscoverySettleMax = std::chrono::seconds(3);
+inline Clock::duration discovery_settle(Clock::duration our_match) noexcept {
+  return std::clamp<Clock::duration>(3 * our_match, kDiscoverySettle, kDiscoverySettleMax);
+}
 /// A 64-bit hash of a sample's bytes (the echo ledger; bridge.cpp).
 std::uint64_t body_hash(std::span<const std::byte> b) noexcept;
 /// The steady clock in ns (the bridge's timestamps).
@@ -180,6 +192,8 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener, pu
   std::atomic<bool> gated_{false};             // a successor waits for the readers to match
   std::atomic<bool> matches_changed_{false};   // the endpoint's matched counts changed (on_matched)
   Clock::time_point gate_until_{};
+  Clock::time_point gate_opened_{};            // the successor's endpoint opened
+  Clock::time_point gate_matched_{};           // it matched gate_readers_ (then the settle)
   std::uint32_t gate_readers_ = 0;
   std::uint64_t seen_owner_ = ~std::uint64_t{0};  // the claim word at the control thread's last look
   bool retry_claim_ = false;                   // a takeover failed: retry_at_

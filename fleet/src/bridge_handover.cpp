@@ -26,13 +26,9 @@ constexpr auto kAskWait = std::chrono::seconds(1);           // how long the hol
 constexpr auto kAcceptedWait = std::chrono::seconds(3);      // accepted: how long the closing may take
 constexpr auto kRingAgain = std::chrono::milliseconds(50);   // ring the holder again (it was exporting)
 constexpr auto kSettle = std::chrono::milliseconds(20);      // closed: what it sent reaches the asker first
-// Matched: how long the asker still waits before it asks, so that every remote reader discovered
-// its writer too (a DDS reader drops what comes from a writer it has not matched yet, and a
-// best-effort one never gets it again). No remote reader says when it matched us; the holder's
+// Matched: the asker still waits discovery_settle() (bridge.hpp) before it asks. The holder's
 // endpoint, which matched ours both ways, shows when our announcements went out and how long
-// discovery takes on this machine now: kDiscoverySettle, or 3x that, up to kDiscoverySettleMax.
-constexpr auto kDiscoverySettle = std::chrono::milliseconds(300);
-constexpr auto kDiscoverySettleMax = std::chrono::seconds(3);
+// discovery takes on this machine now.
 // The holder accepted (the `handover` word's low half carries the asker's participant + 1, far
 // below this bit): it has stopped exporting and closes its endpoint; the asker waits for the claim.
 constexpr std::uint64_t kAccepted = std::uint64_t{1} << 31;
@@ -170,8 +166,7 @@ Clock::time_point Bridge::handover_step(Clock::time_point now, std::uint64_t own
       }
       if (discovery) {
         if (ask_matched_ == Clock::time_point{}) ask_matched_ = now;
-        const auto settle = std::clamp<Clock::duration>(3 * (ask_matched_ - ask_opened_), kDiscoverySettle,
-                                                        kDiscoverySettleMax);
+        const auto settle = discovery_settle(ask_matched_ - ask_opened_);
         if (now < ask_matched_ + settle) return std::min(ask_matched_ + settle, now + std::chrono::milliseconds(10));
       }
       std::uint64_t other = 0;
