@@ -24,6 +24,7 @@
 #include <filesystem>
 #include <iostream>
 #include <fstream>
+#include <initializer_list>
 #include <string>
 #include <vector>
 
@@ -118,11 +119,25 @@ class SecureFleet : public ::testing::TestWithParam<horus::Backend> {
 // eProsima/Fast-DDS#3362, "Replaced SecurityManager temporary ProxyDatas with ProxyPools"). When
 // two participants are discovered at the same instant on its multicast and unicast threads, one
 // thread's copy of the other's half-written locator list trips an assertion of Debian's build
-// (asserts are on) and the process aborts. True when `output` shows that abort: the scenario is
-// then run once more, and the run says so.
-bool fastdds_discovery_race(const std::string& output) {
-  return output.find("ResourceLimitedVector.hpp") != std::string::npos &&
-         output.find("size() == other.size()") != std::string::npos;
+// (asserts are on) and the process aborts. True when one of `outputs` shows that abort: the
+// scenario is then run once more, and the run says so.
+bool fastdds_discovery_race(std::initializer_list<const std::string*> outputs) {
+  return std::any_of(outputs.begin(), outputs.end(), [](const std::string* output) {
+    return output->find("ResourceLimitedVector.hpp") != std::string::npos &&
+           output->find("size() == other.size()") != std::string::npos;
+  });
+}
+
+// Runs a scenario, and once more when a process of it aborted in that race (saying so).
+template <class Run>
+auto run_once_more_after_the_race(Run run) {
+  auto r = run();
+  if (r.upstream_race()) {
+    std::cout << "[ note ] a process aborted in Fast DDS 2.9's discovery race (eProsima/Fast-DDS#3362); "
+                 "running the scenario once more\n";
+    r = run();
+  }
+  return r;
 }
 
 // The scenario of AuthenticatedHostsExchangeAndOthersNeitherReadNorInject: a and b under enforce,
@@ -131,10 +146,7 @@ struct Exchange {
   int sub_exit = -1, view_exit = -1;
   bool view_saw_a = false;
   std::string pub, sub, plain, foreign, view;
-  bool upstream_race() const {
-    return fastdds_discovery_race(pub) || fastdds_discovery_race(sub) || fastdds_discovery_race(plain) ||
-           fastdds_discovery_race(foreign) || fastdds_discovery_race(view);
-  }
+  bool upstream_race() const { return fastdds_discovery_race({&pub, &sub, &plain, &foreign, &view}); }
 };
 
 Exchange run_exchange(NetnsLan& lan, const std::string& backend) {
@@ -181,12 +193,7 @@ Exchange run_exchange(NetnsLan& lan, const std::string& backend) {
 TEST_P(SecureFleet, AuthenticatedHostsExchangeAndOthersNeitherReadNorInject) {
   NetnsLan lan(4);
   if (!lan.ok()) GTEST_SKIP() << lan.why();
-  Exchange r = run_exchange(lan, backend());
-  if (r.upstream_race()) {
-    std::cout << "[ note ] a process aborted in Fast DDS 2.9's discovery race (eProsima/Fast-DDS#3362); "
-                 "running the scenario once more\n";
-    r = run_exchange(lan, backend());
-  }
+  const Exchange r = run_once_more_after_the_race([&] { return run_exchange(lan, backend()); });
   EXPECT_EQ(r.sub_exit, 0) << "b:\n" << r.sub << "\na:\n" << r.pub;
   EXPECT_NE(r.sub.find("received 50 from 1 publishers"), std::string::npos) << r.sub;
   // Each intruder received its own 50 only: nothing of a's.
@@ -208,10 +215,7 @@ TEST_P(SecureFleet, AuthenticatedHostsExchangeAndOthersNeitherReadNorInject) {
 struct Permissions {
   int sub_exit = -1, echo_exit = -1;
   std::string allowed, sub, denied, echo;
-  bool upstream_race() const {
-    return fastdds_discovery_race(allowed) || fastdds_discovery_race(sub) || fastdds_discovery_race(denied) ||
-           fastdds_discovery_race(echo);
-  }
+  bool upstream_race() const { return fastdds_discovery_race({&allowed, &sub, &denied, &echo}); }
 };
 
 Permissions run_permissions(NetnsLan& lan, const std::string& backend) {
@@ -241,12 +245,7 @@ Permissions run_permissions(NetnsLan& lan, const std::string& backend) {
 TEST_P(SecureFleet, AHostMayPublishOnlyWhatItsPermissionsAllow) {
   NetnsLan lan(3);
   if (!lan.ok()) GTEST_SKIP() << lan.why();
-  Permissions r = run_permissions(lan, backend());
-  if (r.upstream_race()) {
-    std::cout << "[ note ] a process aborted in Fast DDS 2.9's discovery race (eProsima/Fast-DDS#3362); "
-                 "running the scenario once more\n";
-    r = run_permissions(lan, backend());
-  }
+  const Permissions r = run_once_more_after_the_race([&] { return run_permissions(lan, backend()); });
   EXPECT_EQ(r.sub_exit, 0) << "b:\n" << r.sub << "\na:\n" << r.allowed << "\nc:\n" << r.denied;
   EXPECT_NE(r.sub.find("received 50 from 1 publishers"), std::string::npos) << r.sub;
   EXPECT_NE(r.denied.find("identity 'c' may not publish this topic"), std::string::npos) << r.denied;
