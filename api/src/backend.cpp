@@ -7,7 +7,6 @@
 #include <vector>
 
 #include "horus/backend.hpp"
-#include "horus/detail/process.hpp"
 #include "horus/names.hpp"
 #include "horus/transport_registry.hpp"
 
@@ -82,8 +81,6 @@ std::string valid_backends() {
   return out;
 }
 }  // namespace
-
-Result<Backend> backend_from_environment() { return backend_from(horus::detail::Process::get().environment()->backend); }
 
 Result<Backend> backend_from(std::string_view v) {
   if (v.empty()) return Backend::SharedMemory;

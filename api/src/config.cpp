@@ -12,16 +12,14 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <list>
-#include <mutex>
 #include <set>
 #include <span>
 #include <sstream>
 #include <type_traits>
 #include <utility>
 
-#include "horus/detail/process.hpp"
 #include "horus/names.hpp"
+#include "horus/settings.hpp"
 #include "horus/shm/ring_layout.hpp"
 #include "horus/transport_registry.hpp"
 
@@ -398,72 +396,13 @@ const TopicRule* Config::match(std::string_view topic) const noexcept {
   return nullptr;
 }
 
-namespace {
-// The file HORUS_CONFIG names, read once per value of the variable (a program sets it before its
-// first topic; a test may change it). Configurations stay alive: choices made earlier keep
-// pointing at theirs.
-Result<const Config*> file_from(const Environment& env) {
-  static std::mutex mutex;
-  static std::optional<std::string> cached_path;
-  static std::optional<Result<const Config*>> cached;
-  static std::list<Config> loaded;
-  const std::string& path = env.config;
-  std::lock_guard lock(mutex);
-  if (cached_path == path && cached) return *cached;
-  cached_path = path;
-  if (path.empty()) return *(cached = Result<const Config*>(nullptr));
-  auto c = Config::load(path);
-  if (!c)
-    return *(cached = Result<const Config*>(
-                 std::unexpected(Error(Errc::Config, "HORUS_CONFIG=" + path + ": " + c.error().message()))));
-  return *(cached = Result<const Config*>(&loaded.emplace_back(std::move(*c))));
-}
-
-net::FileDefaults file_defaults(const Config* config) {
-  if (config == nullptr) return {};
-  const auto& n = config->network();
-  const auto& s = config->security();
-  net::FileDefaults d;
-  d.domain_id = n.domain_id;
-  d.localhost_only = n.localhost_only;
-  d.lcm_url = n.lcm_url;
-  d.peers = n.peers;
-  d.link_bandwidth = n.max_bandwidth;
-  d.security_mode = s.mode;
-  d.security_keystore = s.keystore;
-  d.security_identity = s.identity;
-  d.security_line = s.line;
-  d.origin = "configuration file '" + config->file() + "'";
-  d.lcm_url_line = n.lcm_url_line;
-  d.peers_line = n.peers_line;
-  return d;
-}
-}  // namespace
-
-Result<const Config*> config_from_environment() { return file_from(*horus::detail::Process::get().environment()); }
-
-Result<net::Config> net::config_of(const horus::Config& file) { return net::config_from(Environment{}, file_defaults(&file)); }
-
-namespace net {
-Result<Config> config_from_environment() {
-  const auto snapshot = horus::detail::Process::get().environment();
-  const Environment& env = *snapshot;
-  auto config = file_from(env);
-  if (!config) return std::unexpected(config.error());
-  return config_from(env, file_defaults(*config));
-}
-Result<Config> config_from_environment(const horus::Config* file) {
-  return config_from(*horus::detail::Process::get().environment(), file_defaults(file));
-}
-}  // namespace net
-
-Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code, const Config* config) {
+Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code, const Settings& settings) {
+  const Config* config = settings.file;
+  const Environment& env = settings.env();
   TopicChoice c;
   c.config = config;
   c.rule = config != nullptr ? config->match(topic) : nullptr;
   const TopicRule* r = c.rule;
-  const auto snapshot = horus::detail::Process::get().environment();
-  const Environment& env = *snapshot;
   // Scope and backend: code, HORUS_BACKEND, the rule (its backend, else network.backend).
   if (code.backend) {
     c.backend = *code.backend;
@@ -526,12 +465,6 @@ Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code, con
   return c;
 }
 
-Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code) {
-  auto config = config_from_environment();
-  if (!config) return std::unexpected(config.error());
-  return choose(topic, code, *config);
-}
-
 TopicOptions options_of(const TopicChoice& c, const TopicOptions& code) {
   TopicOptions out = code;
   out.backend = c.backend;
@@ -547,51 +480,6 @@ Result<TopicOptions> resolve_topic_options(std::string_view topic, const TopicOp
   auto c = choose(topic, code);
   if (!c) return std::unexpected(c.error());
   return options_of(*c, code);
-}
-
-Result<std::string> fleet_transport() {
-  const auto snapshot = horus::detail::Process::get().environment();
-  const Environment& env = *snapshot;
-  if (!env.backend.empty()) {
-    auto b = backend_from(env.backend);
-    if (!b) return std::unexpected(b.error());
-    if (b->scope() == Scope::Fleet) return std::string(b->transport());
-  }
-  auto config = file_from(env);
-  if (!config) return std::unexpected(config.error());
-  if (*config != nullptr && (*config)->network().backend) return *(*config)->network().backend;
-  return std::string();
-}
-
-Result<FleetSettings> fleet_settings() {
-  const auto snapshot = horus::detail::Process::get().environment();
-  const Environment& env = *snapshot;
-  auto config = file_from(env);
-  if (!config) return std::unexpected(config.error());
-  FleetSettings out;
-  if (*config != nullptr) {
-    const FleetSection& f = (*config)->fleet();
-    if (f.announce) out.announce = *f.announce;
-    if (f.heartbeat_ms) out.heartbeat = std::chrono::milliseconds(*f.heartbeat_ms);
-    if (f.announce_ms) out.announce_period = std::chrono::milliseconds(*f.announce_ms);
-    if (f.misses) out.misses = *f.misses;
-    if (f.max_hosts) out.max_hosts = *f.max_hosts;
-    if (f.forget_after) out.forget_after = *f.forget_after;
-  }
-  if (!env.fleet_heartbeat_ms.empty()) {
-    const std::string_view text(env.fleet_heartbeat_ms);
-    std::uint64_t v = 0;
-    auto [p, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
-    if (ec != std::errc() || p != text.data() + text.size() || v < kMinHeartbeatMs || v > kMaxHeartbeatMs)
-      return fail(Errc::Config, fmt::format("HORUS_FLEET_HEARTBEAT_MS='{}' is not a heartbeat period; expected "
-                                            "milliseconds from {} to {}",
-                                            text, kMinHeartbeatMs, kMaxHeartbeatMs));
-    out.heartbeat = std::chrono::milliseconds(v);
-  }
-  auto transport = fleet_transport();
-  if (!transport) return std::unexpected(transport.error());
-  out.transport = std::move(*transport);
-  return out;
 }
 
 }  // namespace horus

@@ -19,7 +19,8 @@ std::atomic<NetworkConnector> g_connector{nullptr};
 
 void set_network_connector(NetworkConnector connector) noexcept { g_connector.store(connector); }
 
-Result<void> connect_network(TopicCore& core, const WireOps& ops, const net::Qos& qos, const TopicOptions& options) {
+Result<void> connect_network(TopicCore& core, const WireOps& ops, const net::Qos& qos, const TopicOptions& options,
+                             const Settings& settings) {
   std::lock_guard lock(core.net_mutex);
   if (core.net) return core.net->join(options);
   const NetworkConnector connect = g_connector.load();
@@ -28,14 +29,14 @@ Result<void> connect_network(TopicCore& core, const WireOps& ops, const net::Qos
                                           "with horus::horus (the package target), which installs the network "
                                           "transports and the fleet layer",
                                           core.name, to_string(core.backend)));
-  auto link = connect(core, ops, qos, options);
+  auto link = connect(core, ops, qos, options, settings);
   if (!link) return std::unexpected(std::move(link.error()));
   core.net = std::move(*link);
   return {};
 }
 
 Result<void> connect_topic(TopicCore& core, const WireOps* ops, net::Qos type_qos, const TopicOptions& options,
-                           std::string_view type_name) {
+                           std::string_view type_name, const Settings& settings) {
   if (ops == nullptr)
     return fail(Errc::TypeMismatch, fmt::format("topic '{}': the horus library has no network codec for {} (it was "
                                                 "built with HORUS_STANDARD_TYPES=OFF, or its headers and library "
@@ -50,7 +51,7 @@ Result<void> connect_topic(TopicCore& core, const WireOps* ops, net::Qos type_qo
   qos.priority = static_cast<std::int8_t>(options.priority == Priority::High  ? 1
                                           : options.priority == Priority::Low ? -1
                                                                               : 0);
-  return connect_network(core, *ops, qos, options);
+  return connect_network(core, *ops, qos, options, settings);
 }
 
 std::uint64_t network_dropped(const TopicCore& core) noexcept {

@@ -17,6 +17,7 @@
 #include "horus/detail/traffic_log.hpp"
 #include "horus/log.hpp"
 #include "horus/names.hpp"
+#include "horus/settings.hpp"
 #include "horus/transport_registry.hpp"
 
 namespace horus {
@@ -114,20 +115,22 @@ Result<Geometry> geometry_of(std::string_view name, const TypeInfo& type, const 
 // and fleet topics (so one process can use a name in two namespaces), "" for in-process ones.
 struct Placement {
   Backend backend = Backend::SharedMemory;
-  const net::TransportInfo* transport = nullptr;
+  const net::TransportInfo* transport = nullptr;  // looked up here, once per open
   bool shared = true;  // host and fleet topics: a shared-memory segment
   std::string shm_ns;
+  mode_t mode = 0600;  // a new segment's (HORUS_SHM_MODE)
   std::string key;
 };
 
-Result<Placement> place(std::string_view name, const TopicOptions& options) {
+Result<Placement> place(std::string_view name, const TopicOptions& options, const Settings& settings) {
+  const Environment& env = settings.env();
   Placement p;
   if (options.backend) {
     p.backend = *options.backend;
   } else {
-    auto env = backend_from_environment();
-    if (!env) return std::unexpected(std::move(env.error()));
-    p.backend = *env;
+    auto b = backend_from(env.backend);
+    if (!b) return std::unexpected(std::move(b.error()));
+    p.backend = *b;
   }
   if (is_network(p.backend)) {
     p.transport = net::find_transport(p.backend.transport());
@@ -141,10 +144,15 @@ Result<Placement> place(std::string_view name, const TopicOptions& options) {
       return fail(Errc::Config, fmt::format("topic '{}': {}", name, loaded.error().message()));
   }
   p.shared = p.backend.scope() != Scope::Process;
-  if (auto n = shm::shm_namespace()) {
+  if (auto n = shm::shm_namespace(env.shm_namespace)) {
     p.shm_ns = std::move(*n);
   } else if (p.shared) {
     return fail(Errc::Config, n.error().message);
+  }
+  if (p.shared) {
+    auto mode = shm::shm_mode(env.shm_mode);
+    if (!mode) return fail(Errc::Config, mode.error().message);
+    p.mode = *mode;
   }
   p.key = std::string(name) + '\0' + (p.shared ? p.shm_ns : std::string());
   return p;
@@ -217,9 +225,7 @@ Result<void> attach_segment(TopicCore& core, std::string_view name, const TypeIn
   spec.capacity = cfg.capacity;
   spec.capacity_required = options.capacity.has_value();
   spec.payload_required = !type.serialized || options.slot_size.has_value();
-  auto mode = shm::shm_mode_from_environment();
-  if (!mode) return fail(Errc::Config, mode.error().message);
-  spec.mode = *mode;
+  spec.mode = p.mode;
   if (pool_cfg.slot_bytes != 0) {
     spec.pool_slot_bytes = pool_cfg.slot_bytes;
     spec.pool_slots_per_lane = pool_cfg.slots_per_lane;
@@ -278,6 +284,7 @@ Result<std::shared_ptr<TopicCore>> make_core(std::string_view name, const TypeIn
   core->payload_size = g.payload;
   core->serialized = type.serialized;
   core->backend = p.backend;
+  core->transport = p.transport;
   core->pid = ::getpid();
   if (g.pool_bytes != 0) core->claimer = {static_cast<std::uint32_t>(core->pid), shm::process_start_time(core->pid)};
   auto made = p.shared ? attach_segment(*core, name, type, options, cfg, pool_cfg, p)
@@ -290,11 +297,11 @@ Result<std::shared_ptr<TopicCore>> make_core(std::string_view name, const TypeIn
 
 // Validate, place, look up, create.
 Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeInfo& type,
-                                             const TopicOptions& options) {
+                                             const TopicOptions& options, const Settings& settings) {
   if (auto ok = validate_topic_name(name); !ok) return std::unexpected(std::move(ok.error()));
   auto g = geometry_of(name, type, options);
   if (!g) return std::unexpected(std::move(g.error()));
-  auto p = place(name, options);
+  auto p = place(name, options, settings);
   if (!p) return std::unexpected(std::move(p.error()));
   auto& reg = open_topics();
   std::lock_guard lock(reg.mutex);

@@ -117,7 +117,8 @@ double LinkStats::loss() const noexcept {
   return 1.0 - static_cast<double>(got_.size()) / static_cast<double>(expected);
 }
 
-Agent::Agent(std::string transport) : transport_(std::move(transport)) {
+Agent::Agent(std::string transport, Settings settings)
+    : transport_(std::move(transport)), started_with_(std::move(settings)) {
   thread_ = std::thread([this] { run(); });
 }
 
@@ -132,7 +133,7 @@ Agent::~Agent() {
 }
 
 void Agent::run() {
-  auto settings = fleet_settings();
+  auto settings = fleet_settings(started_with_);
   if (!settings) {
     horus::detail::log().error("fleet: {}; this host is not announced", settings.error().message());
     return;
@@ -158,7 +159,7 @@ void Agent::run() {
   tick();
   // The announcer: a job of this transport's engine (its topics are open: the engine exists).
   if (const auto* info = net::find_transport(transport_)) {
-    if (auto engine = detail::Engine::of(*info)) {
+    if (auto engine = detail::Engine::of(*info, started_with_)) {
       engine_ = std::move(*engine);
       job_.store(engine_->add_job([this](auto now) { return announcer_step(now); }));
     }
@@ -206,13 +207,13 @@ bool Agent::open_topics() {
 namespace {
 
 // One agent per transport while something holds it.
-std::shared_ptr<void> presence(std::string_view transport) {
+std::shared_ptr<void> presence(std::string_view transport, const Settings& settings) {
   static std::mutex mutex;
   static std::map<std::string, std::weak_ptr<detail::Agent>, std::less<>> agents;
   std::lock_guard lock(mutex);
   auto& slot = agents[std::string(transport)];
   if (auto a = slot.lock()) return a;
-  auto a = std::make_shared<detail::Agent>(std::string(transport));
+  auto a = std::make_shared<detail::Agent>(std::string(transport), settings);
   slot = a;
   return a;
 }
@@ -248,7 +249,9 @@ std::string host_name() {
 }
 
 namespace detail {
-Presence acquire_presence(const std::string& transport) { return presence(transport); }
+Presence acquire_presence(const std::string& transport, const Settings& settings) {
+  return presence(transport, settings);
+}
 }  // namespace detail
 
 void install() { horus::detail::set_network_connector(&detail::Bridge::open); }

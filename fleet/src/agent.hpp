@@ -52,7 +52,8 @@ inline std::uint64_t fnv(std::uint64_t h, std::string_view s) noexcept {
 
 class Agent {
  public:
-  explicit Agent(std::string transport);
+  /// `settings`: what the operation that started it took (the agent's own come from them).
+  Agent(std::string transport, Settings settings);
   ~Agent();
   Agent(const Agent&) = delete;
   Agent& operator=(const Agent&) = delete;
@@ -95,6 +96,7 @@ class Agent {
   };
 
   const std::string transport_;
+  const Settings started_with_;
   const std::uint64_t self_ = host_id();
   const std::string name_ = host_name();
   FleetSettings settings_;

@@ -60,7 +60,7 @@ std::chrono::steady_clock::time_point Agent::announcer_step(std::chrono::steady_
   bool scan_now = now >= next_scan_;
   if (now >= next_look_) {
     next_look_ = now + std::max<Steady::duration>(std::chrono::milliseconds(500), scan_cost_ * 100);
-    if (!scanner_) scanner_ = std::make_unique<discovery::Scanner>(shm::shm_namespace().value_or(""));
+    if (!scanner_) scanner_ = std::make_unique<discovery::Scanner>(shm::shm_namespace(started_with_.env().shm_namespace).value_or(""));
     scan_now = scanner_->topics_changed() || scan_now;
   }
   if (scan_now) {
@@ -101,7 +101,7 @@ std::chrono::steady_clock::time_point Agent::announcer_step(std::chrono::steady_
 }
 
 void Agent::scan() {
-  const auto ns = shm::shm_namespace();
+  const auto ns = shm::shm_namespace(started_with_.env().shm_namespace);
   Announcement a;
   a.host_id = self_;
   a.host = name_;

@@ -82,8 +82,6 @@ void EchoLedger::expire(Clock::time_point now) {
 
 // HORUS_BRIDGE: "0" keeps this process from ever bridging a fleet topic (it still uses them
 // through shared memory; another process of the host bridges); "1" or unset: it may.
-Result<bool> may_bridge_from_environment() { return may_bridge(horus::detail::Process::get().environment()->bridge); }
-
 Result<bool> may_bridge(std::string_view v) {
   if (v.empty() || v == "1") return true;
   if (v == "0") return false;
@@ -146,8 +144,9 @@ Bridge::Bridge(horus::detail::TopicCore& core, const horus::detail::WireOps& ops
 
 Result<std::unique_ptr<horus::detail::NetworkLink>> Bridge::open(horus::detail::TopicCore& core,
                                                                  const horus::detail::WireOps& ops,
-                                                                 const net::Qos& qos, const TopicOptions& options) {
-  const auto* info = net::find_transport(core.backend.transport());
+                                                                 const net::Qos& qos, const TopicOptions& options,
+                                                                 const Settings& settings) {
+  const auto* info = core.transport;  // found once, when the topic opened
   if (info == nullptr)
     return fail(Errc::Config,
                 fmt::format("topic '{}': this build of horus has no {} backend", core.name, to_string(core.backend)));
@@ -162,19 +161,19 @@ Result<std::unique_ptr<horus::detail::NetworkLink>> Bridge::open(horus::detail::
                                       "(their threads stay in the parent). Open network topics before forking only "
                                       "in the process that keeps them, or exec the child",
                                       core.name, owner, to_string(core.backend)));
-  auto may = may_bridge_from_environment();
+  auto may = may_bridge(settings.env().bridge);
   if (!may) return std::unexpected(std::move(may.error()));
   if (!*may) return std::unique_ptr<horus::detail::NetworkLink>(new PassiveLink(core, qos));  // HORUS_BRIDGE=0
   auto wire = info->wire_name(core.name);
   if (!wire) return std::unexpected(std::move(wire.error()));
-  auto engine = Engine::of(*info);  // the transport reads its own settings (HORUS_DOMAIN_ID, HORUS_LCM_URL)
+  auto engine = Engine::of(*info, settings);  // its network settings: HORUS_DOMAIN_ID, HORUS_LCM_URL, the file
   if (!engine) return std::unexpected(std::move(engine.error()));
   g_network_pid.store(horus::detail::current_pid());
   auto transport = (*engine)->transport_for(core.name);
   if (!transport) return std::unexpected(std::move(transport.error()));
   std::unique_ptr<Bridge> b(new Bridge(core, ops, qos, std::move(*engine), std::move(*transport)));
   b->wire_topic_ = std::move(*wire);
-  b->set_budget(options);
+  b->set_budget(options, settings.file);
   const auto claim = b->segment().claim_bridge();
   if (claim == shm::ShmSegment::BridgeClaim::Claimed || claim == shm::ShmSegment::BridgeClaim::TookOver) {
     if (auto ok = b->become_holder(claim == shm::ShmSegment::BridgeClaim::TookOver); !ok) {
@@ -185,7 +184,7 @@ Result<std::unique_ptr<horus::detail::NetworkLink>> Bridge::open(horus::detail::
   b->engine_->add(*b);
   if (b->is_holder()) b->attach();
   // The fleet layer's own topics (horus.fleet.*) do not keep the host announced; the others do.
-  if (!core.name.starts_with(kFleetTopicPrefix)) b->presence_ = acquire_presence(std::string(info->name));
+  if (!core.name.starts_with(kFleetTopicPrefix)) b->presence_ = acquire_presence(std::string(info->name), settings);
   return std::unique_ptr<horus::detail::NetworkLink>(std::move(b));
 }
 

@@ -52,6 +52,7 @@
 #include "fleet_internal.hpp"
 #include "horus/detail/network_link.hpp"
 #include "horus/detail/topic_core.hpp"
+#include "horus/settings.hpp"
 
 namespace horus::fleet::detail {
 
@@ -98,7 +99,8 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener, pu
   static Result<std::unique_ptr<horus::detail::NetworkLink>> open(horus::detail::TopicCore& core,
                                                                    const horus::detail::WireOps& ops,
                                                                    const net::Qos& qos,
-                                                                   const TopicOptions& options);
+                                                                   const TopicOptions& options,
+                                                                   const Settings& settings);
   ~Bridge() override;
 
   // -- NetworkLink (user threads) ------------------------------------------------
@@ -159,8 +161,9 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener, pu
   void export_inline() noexcept;
   void drain() noexcept;
  public:
-  /// Sets the egress budget (Bridge::open, from the opening handle's options).
-  void set_budget(const TopicOptions& options) noexcept;
+  /// Sets the egress budget (Bridge::open, from the opening handle's options and the host's link
+  /// budget in the configuration file `file`, or none).
+  void set_budget(const TopicOptions& options, const Config* file) noexcept;
  private:
   void release_export() noexcept;
   bool has_export_work() const noexcept;

@@ -15,7 +15,7 @@ namespace horus::fleet::detail {
 
 using horus::detail::log;
 
-void Bridge::set_budget(const TopicOptions& options) noexcept {
+void Bridge::set_budget(const TopicOptions& options, const Config* file) noexcept {
   if (options.max_rate_hz && *options.max_rate_hz > 0)
     budget_.min_interval_ns = static_cast<std::int64_t>(1e9 / *options.max_rate_hz);
   if (options.max_bandwidth && *options.max_bandwidth > 0)
@@ -24,9 +24,8 @@ void Bridge::set_budget(const TopicOptions& options) noexcept {
   // The host's link budget: how long the link may stay busy with what the host's bridges sent
   // (beyond now) for this topic to go too. High always goes; Low keeps the last 40 ms for the
   // others.
-  const auto file = horus::config_from_environment();
-  if (file && *file != nullptr) {
-    if (const auto& link = (*file)->network().max_bandwidth; link && *link > 0) {
+  if (file != nullptr) {
+    if (const auto& link = file->network().max_bandwidth; link && *link > 0) {
       link_ns_per_byte_ = 1e9 / static_cast<double>(*link);
       link_tolerance_ns_ = priority_ == Priority::High  ? INT64_MAX
                            : priority_ == Priority::Low ? kLinkLowTolerance.count()

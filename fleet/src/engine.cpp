@@ -53,18 +53,18 @@ Registry& registry() {
 }
 }  // namespace
 
-Result<std::shared_ptr<Engine>> Engine::of(const net::TransportInfo& info) {
+Result<std::shared_ptr<Engine>> Engine::of(const net::TransportInfo& info, const Settings& settings) {
   Registry& r = registry();
   std::lock_guard lock(r.mutex);
   if (auto it = r.engines.find(info.name); it != r.engines.end())
     if (auto e = it->second.lock()) return e;
-  auto config = net::config_from_environment();
+  auto config = network_config(settings);
   if (!config) return std::unexpected(std::move(config.error()));
   auto transport = info.open(*config);
   if (!transport) return std::unexpected(std::move(transport.error()));
-  auto ns = shm::shm_namespace();
+  auto ns = shm::shm_namespace(settings.env().shm_namespace);
   if (!ns) return fail(Errc::Config, ns.error().message);
-  auto mode = shm::shm_mode_from_environment();
+  auto mode = shm::shm_mode(settings.env().shm_mode);
   if (!mode) return fail(Errc::Config, mode.error().message);
   auto bell = shm::EngineBell::claim(*ns, *mode);
   if (!bell)

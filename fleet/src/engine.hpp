@@ -35,6 +35,7 @@
 
 #include "horus/error.hpp"
 #include "horus/network.hpp"
+#include "horus/settings.hpp"
 #include "horus/shm/engine_board.hpp"
 #include "horus/transport_registry.hpp"
 
@@ -78,8 +79,10 @@ inline thread_local bool t_engine_thread = false;
 
 class Engine {
  public:
-  /// This process's engine for `info` (made at the first call, kept while held).
-  static Result<std::shared_ptr<Engine>> of(const net::TransportInfo& info);
+  /// This process's engine for `info` (made at the first call, kept while held). The first call's
+  /// `settings` open the transport (its network settings) and the engine's bell (the
+  /// shared-memory namespace and mode); later calls return the engine they made.
+  static Result<std::shared_ptr<Engine>> of(const net::TransportInfo& info, const Settings& settings);
   ~Engine();
   Engine(const Engine&) = delete;
   Engine& operator=(const Engine&) = delete;

@@ -50,6 +50,7 @@ using fleet::Request;
 // asks on, its callbacks and its executor.
 struct Fleet::State {
   std::string transport;
+  std::optional<std::string> shm_ns;  // the host's shared-memory namespace (the open's settings)
   std::uint64_t self = fleet::host_id();
   fleet::detail::Presence presence;  // keeps this host announced while the Fleet lives
   Clock::time_point last_check{};    // check()'s previous run (the executor's thread)
@@ -163,7 +164,9 @@ Result<std::unique_ptr<Fleet>> Fleet::open(FleetOptions options) {
 }
 
 Result<std::unique_ptr<Fleet>> Fleet::open(Executor& executor, FleetOptions options) {
-  auto settings = fleet_settings();
+  auto taken = Settings::current();  // once, passed down
+  if (!taken) return std::unexpected(taken.error());
+  auto settings = fleet_settings(*taken);
   if (!settings) return std::unexpected(settings.error());
   auto state = std::make_shared<State>();
   state->transport = options.transport.value_or(settings->transport);
@@ -182,9 +185,10 @@ Result<std::unique_ptr<Fleet>> Fleet::open(Executor& executor, FleetOptions opti
   state->transport = std::string(info->name);
   if (misses == 0) return fail(Errc::InvalidArgument, "horus::Fleet: misses must be at least 1");
   state->table.emplace(fleet::detail::HostTable::Limits{state->self, misses, settings->max_hosts, settings->forget_after});
-  auto may = fleet::detail::may_bridge_from_environment();
+  if (auto ns = shm::shm_namespace(taken->env().shm_namespace)) state->shm_ns = std::move(*ns);
+  auto may = fleet::detail::may_bridge(taken->env().bridge);
   if (!may) return std::unexpected(may.error());
-  if (*may) state->presence = fleet::detail::acquire_presence(state->transport);
+  if (*may) state->presence = fleet::detail::acquire_presence(state->transport, *taken);
 
   auto rq = Topic<Request>::open(fleet::kRequestTopic, fleet::detail::request_options(state->transport));
   if (!rq) return std::unexpected(rq.error());
@@ -252,7 +256,7 @@ void Fleet::refresh() { state_->ask(0); }
 std::uint64_t Fleet::malformed() const {
   std::uint64_t n = state_->malformed.load(std::memory_order_relaxed);
   // What the host's bridges of the two topics could not decode (counted in their segments).
-  if (auto ns = shm::shm_namespace()) {
+  if (const auto& ns = state_->shm_ns) {
     for (const char* t : {fleet::kHeartbeatTopic, fleet::kAnnounceTopic})
       if (auto e = discovery::find_topic(*ns, t)) n += e->malformed;
   }

@@ -13,6 +13,7 @@
 #include "horus/topic_options.hpp"
 #include "horus/error.hpp"
 #include "horus/fleet_messages.hpp"
+#include "horus/settings.hpp"
 #include "horus/transport_registry.hpp"
 
 namespace horus::fleet::detail {
@@ -23,12 +24,11 @@ inline constexpr std::string_view kFleetTopicPrefix = net::TransportInfo::kContr
 /// Keeps this host announced on a transport while held: the agent of that transport runs in this
 /// process while one is (agent.cpp). A bridge of a fleet topic holds one, and so does a Fleet.
 using Presence = std::shared_ptr<void>;
-Presence acquire_presence(const std::string& transport);
+/// `settings`: the opening operation's; the agent it starts takes its own from them.
+Presence acquire_presence(const std::string& transport, const Settings& settings);
 
-/// HORUS_BRIDGE: whether this process may bridge fleet topics (0: never; 1 or unset: it may); a
-/// process that may not neither bridges nor announces its host (bridge.cpp).
-Result<bool> may_bridge_from_environment();
-/// Whether `value` (of HORUS_BRIDGE) lets this process bridge; empty: yes.
+/// Whether `value` (of HORUS_BRIDGE) lets this process bridge fleet topics (0: never; 1 or
+/// empty: it may); a process that may not neither bridges nor announces its host (bridge.cpp).
 Result<bool> may_bridge(std::string_view value);
 
 

@@ -216,7 +216,7 @@ TEST(SerializedTopic, AMessageThatDoesNotDecodeIsSkippedCountedAndLaterOnesArriv
   const auto name = unique_name("serial");
   Topic<Blob> sub(name);
   const horus::detail::TypeInfo type{horus::type_name<Blob>(), horus::type_hash<Blob>, 64 * 1024, true};
-  auto core = horus::detail::open_core(name, type, {});
+  auto core = horus::detail::open_core(name, type, {}, *horus::Settings::current());
   ASSERT_TRUE(core) << core.error().message();
   horus::shm::RingWriter<horus::shm::ByteMessage> raw((*core)->ring, horus::detail::next_token());
   ASSERT_TRUE(raw.ensure_lane());
@@ -239,8 +239,8 @@ TEST(SerializedTopic, ASlotWhoseLengthExceedsTheLimitIsSkippedAsCorruptNotReturn
   Topic<Blob> sub(name);
   pub->send(make_blob(1, 2));
   // The first publisher writes lane 0, slot 0: [seq][length][bytes]. Damage the length.
-  auto core = horus::detail::open_core(name, {horus::type_name<Blob>(), horus::type_hash<Blob>, 1024, true},
-                                       {});
+  auto core = horus::detail::open_core(name, {horus::type_name<Blob>(), horus::type_hash<Blob>, 1024, true}, {},
+                                       *horus::Settings::current());
   ASSERT_TRUE(core);
   const std::uint64_t bad = 1024 + 64;
   std::memcpy((*core)->ring.lane_slots(0) + 8, &bad, 8);

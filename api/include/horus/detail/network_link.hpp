@@ -26,6 +26,10 @@
 
 HORUS_API_BEGIN
 
+namespace horus {
+struct Settings;
+}
+
 namespace horus::detail {
 
 struct TopicCore;
@@ -102,20 +106,23 @@ class NetworkLink {
 };
 
 /// What the fleet layer installs: makes the bridge of a fleet topic's first handle in this
-/// process. `qos` holds the type's defaults with the options' overrides.
+/// process. `qos` holds the type's defaults with the options' overrides; `settings` are the
+/// open's (horus/settings.hpp): the bridge, the network engine and the agent take theirs from it.
 using NetworkConnector = Result<std::unique_ptr<NetworkLink>> (*)(TopicCore& core, const WireOps& ops,
-                                                                   const net::Qos& qos, const TopicOptions& options);
+                                                                   const net::Qos& qos, const TopicOptions& options,
+                                                                   const Settings& settings);
 /// Installed once, before main(), by the composition root (fleet::install()).
 void set_network_connector(NetworkConnector connector) noexcept;
 
 /// A fleet topic's handle connects: the first one of the topic in this process makes the
 /// bridge (through the installed connector), later ones join it.
-Result<void> connect_network(TopicCore& core, const WireOps& ops, const net::Qos& qos, const TopicOptions& options);
+Result<void> connect_network(TopicCore& core, const WireOps& ops, const net::Qos& qos, const TopicOptions& options,
+                             const Settings& settings);
 /// The same for a handle that Topic<T>::make opens: the QoS from the type's defaults
 /// (`type_qos`'s reliability and durability) and the options (which win), the ring's depth;
 /// `ops` null is an error naming the type (a library without its standard codec).
 Result<void> connect_topic(TopicCore& core, const WireOps* ops, net::Qos type_qos, const TopicOptions& options,
-                           std::string_view type_name);
+                           std::string_view type_name, const Settings& settings);
 /// What a handle of a fleet topic reports (zero on other topics): messages lost on the way
 /// (host-wide: the bridge's dropped count), remote writers and readers matched by the host's
 /// bridge, the bridge's own lane and entry (not user handles), problems this process's

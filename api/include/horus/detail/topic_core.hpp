@@ -17,6 +17,7 @@
 #include "horus/detail/process.hpp"
 #include "horus/topic_options.hpp"
 #include "horus/error.hpp"
+#include "horus/transport_registry.hpp"
 #include "horus/shm/heap_region.hpp"
 #include "horus/shm/pool.hpp"
 #include "horus/shm/ring.hpp"
@@ -25,6 +26,10 @@
 #include "horus/export.hpp"
 
 HORUS_API_BEGIN
+
+namespace horus {
+struct Settings;
+}
 
 namespace horus::detail {
 
@@ -81,6 +86,7 @@ struct TopicCore {
   std::uint32_t payload_size = 0;  // ring payload: sizeof(T), or 8 + largest encoded message
   bool serialized = false;
   Backend backend = Backend::InProcess;
+  const net::TransportInfo* transport = nullptr;  // a fleet topic's, found once when it opened
   int pid = 0;                             // the process that opened it (a forked child opens its own)
   shm::HeapRegion region;                  // Scope::Process
   std::optional<shm::ShmSegment> segment;  // Scope::Host and Scope::Fleet
@@ -111,8 +117,10 @@ struct TopicCore {
 };
 
 /// Finds or creates the topic `name` for a message type; checks name, type and configuration.
+/// `settings`: the open's (horus/settings.hpp), which the topic's placement reads (its backend
+/// when `options` has none, the shared-memory namespace and mode).
 Result<std::shared_ptr<TopicCore>> open_core(std::string_view name, const TypeInfo& type,
-                                             const TopicOptions& options);
+                                             const TopicOptions& options, const Settings& settings);
 /// A host-unique, non-zero identity for a handle's lane and subscriber entry: (pid << 32) | n.
 std::uint64_t next_token() noexcept;
 /// Logs (once per handle) that a send found no free lane / a receive no free subscriber entry.

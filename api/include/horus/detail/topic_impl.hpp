@@ -10,6 +10,7 @@
 #include <string>
 
 #include "horus/config.hpp"
+#include "horus/settings.hpp"
 #include "horus/topic.hpp"
 
 #include "horus/export.hpp"
@@ -20,13 +21,16 @@ namespace horus {
 
 template <class T>
 Result<Topic<T>> Topic<T>::make(std::string_view name, const TopicOptions& requested) {
-  // Code > environment > HORUS_CONFIG's file > defaults (horus/config.hpp).
-  auto choice = choose(name, requested);
+  // The settings, taken once and passed down (horus/settings.hpp); code > environment >
+  // HORUS_CONFIG's file > defaults (horus/config.hpp).
+  auto settings = Settings::current();
+  if (!settings) return std::unexpected(std::move(settings.error()));
+  auto choice = choose(name, requested, *settings);
   if (!choice) return std::unexpected(std::move(choice.error()));
   const TopicOptions options = options_of(*choice, requested);
   const detail::TypeInfo type{horus::type_name<T>(), horus::type_hash<T>, Codec::kPayloadBytes, kSerialized,
                               Codec::kPoolBytes, &reflect::type_signature<T>};
-  auto core = detail::open_core(name, type, options);
+  auto core = detail::open_core(name, type, options, *settings);
   if (!core) return std::unexpected(std::move(core.error()));
   Topic topic(std::move(*core));
   if (choice->verbose) {
@@ -40,7 +44,8 @@ Result<Topic<T>> Topic<T>::make(std::string_view name, const TopicOptions& reque
   auto& c = topic.core();
   if (is_network(c.backend)) {
     const net::Qos defaults{net::default_qos<T>::reliability, net::default_qos<T>::durability};
-    if (auto ok = detail::connect_topic(c, wire_ops(), defaults, options, horus::type_name<T>()); !ok)
+    if (auto ok = detail::connect_topic(c, wire_ops(), defaults, options, horus::type_name<T>(), *settings);
+        !ok)
       return std::unexpected(std::move(ok.error()));
     topic.net_dropped_base_ = detail::network_dropped(c);
   }
