@@ -1,12 +1,10 @@
 // Unit tests of the geometry messages (angles, Pose2D, CmdVel, Twist, Point3, Vector3, Quaternion,
 // Pose3D, TransformStamped), the properties of every core message, printing and Eigen interop.
 // The sensor, joint and heartbeat messages are in test_msg_sensors.cpp.
-#include <bit>
-#include <cstring>
-#include <type_traits>
+#include "msg_core_test.hpp"
+#include "msg_properties_test.hpp"
 
 #include "horus/msg/eigen.hpp"
-#include "msg_core_test.hpp"
 
 namespace {
 
@@ -315,10 +313,7 @@ TEST(TransformStamped, IsValidRejectsNonFiniteTranslation) {
 }
 
 // ===========================================================================
-// Properties of every message
-
-template <class T>
-T sample();
+// Properties of every core message: samples with non-default values, and the typed suite
 
 template <>
 Point3 sample<Point3>() { return Point3::make(1.5, -2.25, 3.0); }
@@ -406,49 +401,10 @@ Heartbeat sample<Heartbeat>() {
   return hb;
 }
 
-template <class T>
-class EveryMessage : public ::testing::Test {};
-using AllMessages = ::testing::Types<Point3, Vector3, Quaternion, CmdVel, Twist, Pose2D, Pose3D, TransformStamped, Imu,
-                                     LaserScan, Odometry, JointState, JointCommand, Heartbeat>;
-TYPED_TEST_SUITE(EveryMessage, AllMessages);
-
-TYPED_TEST(EveryMessage, IsTriviallyCopyableAndStandardLayout) {
-  static_assert(std::is_trivially_copyable_v<TypeParam>);
-  static_assert(std::is_standard_layout_v<TypeParam>);
-  static_assert(horus::reflect::is_fixed_size<TypeParam>);
-  static_assert(std::is_aggregate_v<TypeParam>);
-  // A memcpy is a full copy.
-  const TypeParam original = sample<TypeParam>();
-  TypeParam copy{};
-  std::memcpy(&copy, &original, sizeof(TypeParam));
-  EXPECT_EQ(copy, original);
-}
-
-TYPED_TEST(EveryMessage, DefaultValueIsAllZeros) {
-  const auto zero = std::bit_cast<TypeParam>(std::array<unsigned char, sizeof(TypeParam)>{});
-  EXPECT_EQ(TypeParam{}, zero);
-}
-
-TYPED_TEST(EveryMessage, JsonRoundTripGivesAnEqualMessage) {
-  const TypeParam original = sample<TypeParam>();
-  ASSERT_NE(original, TypeParam{}) << "the sample should exercise non-default values";
-  const nlohmann::json j = horus::to_json(original);
-  EXPECT_EQ(horus::from_json<TypeParam>(j), original);
-  // And through text, as a file or a socket would carry it.
-  EXPECT_EQ(horus::from_json<TypeParam>(nlohmann::json::parse(j.dump())), original) << j.dump();
-}
-
-TYPED_TEST(EveryMessage, FormatsWithItsShortTypeName) {
-  const std::string text = fmt::format("{}", sample<TypeParam>());
-  const std::string_view qualified = horus::type_name<TypeParam>();
-  const std::string short_name(qualified.substr(qualified.rfind("::") + 2));
-  EXPECT_EQ(text.rfind(short_name + " { ", 0), 0u) << text;
-  EXPECT_EQ(text, horus::to_string(sample<TypeParam>()));
-}
-
-TYPED_TEST(EveryMessage, LivesInHorusMsgNamespace) {
-  EXPECT_EQ(horus::type_name<TypeParam>().rfind("horus::msg::", 0), 0u) << horus::type_name<TypeParam>();
-}
+// The core family's types: the properties every message has (msg_properties_test.hpp).
+using CoreMessages = ::testing::Types<Point3, Vector3, Quaternion, CmdVel, Twist, Pose2D, Pose3D, TransformStamped,
+                                      Imu, LaserScan, Odometry, JointState, JointCommand, Heartbeat>;
+INSTANTIATE_TYPED_TEST_SUITE_P(Core, MessageProperties, CoreMessages);
 
 // ===========================================================================
 // Printing

@@ -1,6 +1,7 @@
 // The motion, power, GNSS, actuator, time and input messages as a whole: the layouts the spec
 // fixes, and the properties of every message (POD, zero default, every field sampled, JSON).
 #include "msg_motion_test.hpp"
+#include "msg_properties_test.hpp"
 
 namespace {
 
@@ -77,9 +78,6 @@ TEST(Layout, OffsetsMatchTheHorusRustLayout) {
 // ===========================================================================
 // Properties of every message: POD, zero default, every field sampled, JSON
 // round trip, fmt.
-
-template <class T>
-T sample();
 
 template <>
 Accel sample<Accel>() {
@@ -207,43 +205,18 @@ KeyboardInput sample<KeyboardInput>() {
   return k;
 }
 
-template <class T>
-class EveryMotionMessage : public ::testing::Test {};
+// The motion family's types: the properties every message has (msg_properties_test.hpp), and
+// what only this family checks: every field sampled, in the JSON and in the text, a short summary.
 using MotionMessages = ::testing::Types<Accel, AccelStamped, PoseWithCovariance, TwistWithCovariance, Range,
                                         BatteryState, NavSatFix, MotorCommand, DifferentialDriveCommand, ServoCommand,
                                         PidConfig, TrajectoryPoint, Clock, TimeReference, JoystickInput, KeyboardInput>;
+INSTANTIATE_TYPED_TEST_SUITE_P(Motion, MessageProperties, MotionMessages);
+
+template <class T>
+class EveryMotionMessage : public ::testing::Test {};
 TYPED_TEST_SUITE(EveryMotionMessage, MotionMessages);
 
-TYPED_TEST(EveryMotionMessage, IsTriviallyCopyableStandardLayoutAggregate) {
-  static_assert(std::is_trivially_copyable_v<TypeParam>);
-  static_assert(std::is_standard_layout_v<TypeParam>);
-  static_assert(horus::reflect::is_fixed_size<TypeParam>);
-  static_assert(std::is_aggregate_v<TypeParam>);
-  const TypeParam original = sample<TypeParam>();
-  TypeParam copy{};
-  std::memcpy(&copy, &original, sizeof(TypeParam));
-  EXPECT_EQ(copy, original);
-}
-
-TYPED_TEST(EveryMotionMessage, DefaultValueIsAllZeros) {
-  const auto zero = std::bit_cast<TypeParam>(std::array<unsigned char, sizeof(TypeParam)>{});
-  EXPECT_EQ(TypeParam{}, zero);
-}
-
-TYPED_TEST(EveryMotionMessage, SampleSetsEveryFieldToANonDefaultValue) {
-  const TypeParam s = sample<TypeParam>();
-  const TypeParam d{};
-  horus::reflect::for_each_field_desc<TypeParam>(
-      [&](const auto& fd) { EXPECT_FALSE(fd.get(s) == fd.get(d)) << "field " << fd.name << " keeps its default"; });
-}
-
-TYPED_TEST(EveryMotionMessage, JsonRoundTripGivesAnEqualMessage) {
-  const TypeParam original = sample<TypeParam>();
-  const nlohmann::json j = horus::to_json(original);
-  EXPECT_EQ(horus::from_json<TypeParam>(j), original) << j.dump();
-  // And through text, as a file or a socket would carry it.
-  EXPECT_EQ(horus::from_json<TypeParam>(nlohmann::json::parse(j.dump())), original) << j.dump();
-}
+TYPED_TEST(EveryMotionMessage, SampleSetsEveryFieldToANonDefaultValue) { ExpectSampleSetsEveryField<TypeParam>(); }
 
 TYPED_TEST(EveryMotionMessage, JsonHasOneKeyPerField) {
   const nlohmann::json j = horus::to_json(sample<TypeParam>());
@@ -253,16 +226,10 @@ TYPED_TEST(EveryMotionMessage, JsonHasOneKeyPerField) {
       [&](const auto& fd) { EXPECT_TRUE(j.contains(std::string(fd.name))) << fd.name << " in " << j.dump(); });
 }
 
-TYPED_TEST(EveryMotionMessage, FormatsWithItsTypeNameAndItsFields) {
-  const TypeParam s = sample<TypeParam>();
-  const std::string text = fmt::format("{}", s);
-  const std::string_view qualified = horus::type_name<TypeParam>();
-  EXPECT_EQ(qualified.rfind("horus::msg::", 0), 0u) << qualified;
-  const std::string short_name(qualified.substr(qualified.rfind("::") + 2));
-  EXPECT_EQ(text.rfind(short_name + " { ", 0), 0u) << text;
+TYPED_TEST(EveryMotionMessage, FormatsEveryFieldByName) {
+  const std::string text = fmt::format("{}", sample<TypeParam>());
   horus::reflect::for_each_field_desc<TypeParam>(
       [&](const auto& fd) { EXPECT_TRUE(contains(text, std::string(fd.name) + ": ")) << fd.name << " in " << text; });
-  EXPECT_EQ(text, horus::to_string(s));
 }
 
 TYPED_TEST(EveryMotionMessage, LogSummaryIsShort) {
