@@ -1,11 +1,12 @@
 // What the files of `horus bench` share, internal to tools/: bench_cmd.cpp (the handshake, the
-// choices, the argument checks, the pong side), bench_ping.cpp (the ping side and its outputs),
+// choices, the argument checks, the pong side), bench_ping.cpp (the ping side), bench_output.cpp (its outputs),
 // bench_local.cpp (`horus bench local`). The commands themselves are in bench_cmd.hpp.
 #pragma once
 
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <cstdio>
 #include <map>
 #include <optional>
 #include <string>
@@ -214,9 +215,17 @@ void choose_clock(const BenchArgs& a, const std::string& hostid, Fleet* fleet, P
 // One ping run: the handshake with a pong, the warm-up, the measurement and the drain.
 PingResult run_ping(const BenchArgs& a, const std::optional<Backend>& backend, const std::atomic<bool>& stop);
 
+// -- bench_output.cpp: the ping's outputs -----------------------------------------------------
+
 double msgs_per_s(const PingResult& r);
 
 // Writes `text` to `file` ("-": stdout), appending or truncating; false with `error` set when it cannot.
 bool write_text(const std::string& file, const std::string& text, bool append, std::string& error);
+
+// The human summary, on `out` (stderr when the JSON or CSV goes to stdout).
+void print_result(std::FILE* out, const BenchArgs& a, const PingResult& r);
+
+// --json, --csv and --plot; false, with the error printed, when one cannot be written.
+bool write_outputs(const BenchArgs& a, const PingResult& r);
 
 }  // namespace horus::tools::bench_detail
