@@ -40,6 +40,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <optional>
 #include <string>
 
 #include "horus/backend.hpp"
@@ -60,101 +61,114 @@ namespace {
 std::atomic<bool> g_stop{false};
 extern "C" void on_signal(int) { g_stop.store(true); }
 
-}  // namespace
+// The command line's variables (several subcommands share one: --json, NAME, --count, ...) and
+// the subcommands that dispatch asks which one was given.
+struct Cli {
+  horus::tools::Lookup lookup;
+  bool json = false, verbose = false, local_only = false, all = false, once = false;
+  double rate_window_s = 1.0, timeout_s = 0, duration_s = 0, window_s = 1.0, rate_hz = 0;
+  long count = 0;
+  int fleet_wait_ms = 1000;
+  std::string name, type, message, config_file, record_file, recover_out;
+  horus::tools::RecordArgs rec;
+  horus::tools::FoxgloveArgs fox;
+  horus::tools::PlayArgs play_args;
+  horus::tools::BenchArgs bench_args;
+  CLI::App *list = nullptr, *info = nullptr, *echo = nullptr, *hz = nullptr, *bw = nullptr, *pub = nullptr;
+  CLI::App *fleet = nullptr, *clean = nullptr, *check = nullptr, *explain = nullptr, *settings = nullptr;
+  CLI::App *record = nullptr, *record_info = nullptr, *recover = nullptr, *foxglove = nullptr, *play = nullptr;
+  CLI::App *bench_pong = nullptr, *bench_ping = nullptr, *bench_local = nullptr;
+};
 
-int main(int argc, char** argv) {
-  CLI::App app{"horus: topics on this host and the fleet"};
-  app.set_version_flag("--version", "horus " + std::string(horus::version()), "print the version of this build and exit");
-  app.require_subcommand(1);
+// horus topic list | info | echo | hz | bw | pub.
+void add_topic_commands(CLI::App& app, Cli& c) {
   auto* topic = app.add_subcommand("topic", "inspect and publish topics");
   topic->require_subcommand(1);
-  horus::tools::Lookup lookup;
-  auto fleet_flags = [&](CLI::App* c) {
-    c->add_option("--backend", lookup.transport, "network backend of the fleet (default: HORUS_BACKEND's, else the "
-                                                 "configuration file's network.backend)");
-    c->add_option("--wait", lookup.wait_ms, "milliseconds to wait for other hosts' announcements (echo, hz, bw: "
-                                            "also for a topic of this host to appear)")
+  auto fleet_flags = [&](CLI::App* s) {
+    s->add_option("--backend", c.lookup.transport, "network backend of the fleet (default: HORUS_BACKEND's, else the "
+                                                   "configuration file's network.backend)");
+    s->add_option("--wait", c.lookup.wait_ms, "milliseconds to wait for other hosts' announcements (echo, hz, bw: "
+                                              "also for a topic of this host to appear)")
         ->check(CLI::Range(0, 60000));
   };
 
-  bool json = false, verbose = false, local_only = false, all = false;
-  auto* list = topic->add_subcommand("list", "list every topic on this host and the fleet's");
-  list->add_flag("--json", json, "print JSON");
-  list->add_flag("-v,--verbose", verbose, "show the processes of each topic");
-  list->add_flag("--local", local_only, "this host's topics only");
-  list->add_flag("--all", all, "also the fleet layer's own topics (horus.fleet.*)");
-  double rate_window_s = 1.0;
-  auto rate_flag = [&](CLI::App* c) {
-    c->add_option("--window", rate_window_s, "seconds over which rates are measured (default 1; 0: no rates)")
+  c.list = topic->add_subcommand("list", "list every topic on this host and the fleet's");
+  c.list->add_flag("--json", c.json, "print JSON");
+  c.list->add_flag("-v,--verbose", c.verbose, "show the processes of each topic");
+  c.list->add_flag("--local", c.local_only, "this host's topics only");
+  c.list->add_flag("--all", c.all, "also the fleet layer's own topics (horus.fleet.*)");
+  auto rate_flag = [&](CLI::App* s) {
+    s->add_option("--window", c.rate_window_s, "seconds over which rates are measured (default 1; 0: no rates)")
         ->check(CLI::Range(0.0, 60.0));
   };
-  rate_flag(list);
-  fleet_flags(list);
+  rate_flag(c.list);
+  fleet_flags(c.list);
 
-  std::string name;
-  auto* info = topic->add_subcommand("info", "describe one topic");
-  info->add_option("name", name, "topic name")->required();
-  rate_flag(info);
-  fleet_flags(info);
+  c.info = topic->add_subcommand("info", "describe one topic");
+  c.info->add_option("name", c.name, "topic name")->required();
+  rate_flag(c.info);
+  fleet_flags(c.info);
 
-  long count = 0;
-  double timeout_s = 0;
-  auto* echo = topic->add_subcommand("echo", "print a topic's messages");
-  echo->add_option("name", name, "topic name")->required();
-  echo->add_flag("--json", json, "one JSON object per line");
-  echo->add_option("-n,--count", count, "stop after N messages (exit 1 if fewer arrive before --timeout)");
-  echo->add_option("--timeout", timeout_s, "stop after S seconds, waiting for the topic to appear included")
+  c.echo = topic->add_subcommand("echo", "print a topic's messages");
+  c.echo->add_option("name", c.name, "topic name")->required();
+  c.echo->add_flag("--json", c.json, "one JSON object per line");
+  c.echo->add_option("-n,--count", c.count, "stop after N messages (exit 1 if fewer arrive before --timeout)");
+  c.echo->add_option("--timeout", c.timeout_s, "stop after S seconds, waiting for the topic to appear included")
       ->check(CLI::PositiveNumber);
-  fleet_flags(echo);
+  fleet_flags(c.echo);
 
-  double duration_s = 0, window_s = 1.0;
-  auto* hz = topic->add_subcommand("hz", "measure a topic's rate");
-  hz->add_option("name", name, "topic name")->required();
-  hz->add_option("--duration", duration_s, "stop after S seconds (default: until Ctrl-C)")->check(CLI::PositiveNumber);
-  hz->add_option("--window", window_s, "seconds between reports")->check(CLI::Range(0.05, 3600.0));
-  fleet_flags(hz);
+  c.hz = topic->add_subcommand("hz", "measure a topic's rate");
+  c.hz->add_option("name", c.name, "topic name")->required();
+  c.hz->add_option("--duration", c.duration_s, "stop after S seconds (default: until Ctrl-C)")
+      ->check(CLI::PositiveNumber);
+  c.hz->add_option("--window", c.window_s, "seconds between reports")->check(CLI::Range(0.05, 3600.0));
+  fleet_flags(c.hz);
 
-  auto* bw = topic->add_subcommand("bw", "measure a topic's bandwidth and message sizes");
-  bw->add_option("name", name, "topic name")->required();
-  bw->add_option("--duration", duration_s, "stop after S seconds (default: until Ctrl-C)")->check(CLI::PositiveNumber);
-  bw->add_option("--window", window_s, "seconds between reports")->check(CLI::Range(0.05, 3600.0));
-  fleet_flags(bw);
+  c.bw = topic->add_subcommand("bw", "measure a topic's bandwidth and message sizes");
+  c.bw->add_option("name", c.name, "topic name")->required();
+  c.bw->add_option("--duration", c.duration_s, "stop after S seconds (default: until Ctrl-C)")
+      ->check(CLI::PositiveNumber);
+  c.bw->add_option("--window", c.window_s, "seconds between reports")->check(CLI::Range(0.05, 3600.0));
+  fleet_flags(c.bw);
 
-  std::string type, message;
-  double rate_hz = 0;
-  auto* pub = topic->add_subcommand("pub", "publish messages (a standard type, given as JSON)");
-  pub->add_option("name", name, "topic name")->required();
-  pub->add_option("type", type, "message type (Pose2D or horus::msg::Pose2D)")->required();
-  pub->add_option("json", message, "the message as JSON, e.g. '{\"x\": 1.5}' (missing fields keep their defaults)")
+  c.pub = topic->add_subcommand("pub", "publish messages (a standard type, given as JSON)");
+  c.pub->add_option("name", c.name, "topic name")->required();
+  c.pub->add_option("type", c.type, "message type (Pose2D or horus::msg::Pose2D)")->required();
+  c.pub->add_option("json", c.message, "the message as JSON, e.g. '{\"x\": 1.5}' (missing fields keep their defaults)")
       ->required();
-  pub->add_option("-r,--rate", rate_hz, "messages per second (default: once)")->check(CLI::Range(0.0, 1e6));
-  pub->add_option("-n,--count", count, "messages to send (default: 1, or until Ctrl-C with --rate)");
-  fleet_flags(pub);
+  c.pub->add_option("-r,--rate", c.rate_hz, "messages per second (default: once)")->check(CLI::Range(0.0, 1e6));
+  c.pub->add_option("-n,--count", c.count, "messages to send (default: 1, or until Ctrl-C with --rate)");
+  fleet_flags(c.pub);
+}
 
-  bool once = false;
-  int fleet_wait_ms = 1000;
-  auto* fleet = app.add_subcommand("fleet", "the fleet's hosts: state, heartbeat age, RTT, processes, topics");
-  fleet->add_flag("--json", json, "print JSON");
-  fleet->add_flag("--once", once, "print one snapshot and exit");
-  fleet->add_option("--backend", lookup.transport, "network backend (default: HORUS_BACKEND's, else the file's)");
-  fleet->add_option("--wait", fleet_wait_ms, "milliseconds to listen before the first snapshot")->check(CLI::Range(0, 60000));
-  fleet->add_option("--duration", duration_s, "stop after S seconds (default: until Ctrl-C)")
+// horus fleet, horus clean and horus config check | explain | settings.
+void add_fleet_config_commands(CLI::App& app, Cli& c) {
+  c.fleet = app.add_subcommand("fleet", "the fleet's hosts: state, heartbeat age, RTT, processes, topics");
+  c.fleet->add_flag("--json", c.json, "print JSON");
+  c.fleet->add_flag("--once", c.once, "print one snapshot and exit");
+  c.fleet->add_option("--backend", c.lookup.transport, "network backend (default: HORUS_BACKEND's, else the file's)");
+  c.fleet->add_option("--wait", c.fleet_wait_ms, "milliseconds to listen before the first snapshot")
+      ->check(CLI::Range(0, 60000));
+  c.fleet->add_option("--duration", c.duration_s, "stop after S seconds (default: until Ctrl-C)")
       ->check(CLI::PositiveNumber);
 
-  auto* clean = app.add_subcommand("clean", "remove shared-memory segments whose processes are all gone");
+  c.clean = app.add_subcommand("clean", "remove shared-memory segments whose processes are all gone");
 
   auto* config = app.add_subcommand("config", "check and explain the configuration file (HORUS_CONFIG)");
   config->require_subcommand(1);
-  std::string config_file;
-  auto* check = config->add_subcommand("check", "validate a configuration file");
-  check->add_option("file", config_file, "the YAML file")->required();
-  auto* explain = config->add_subcommand("explain", "what a topic name gets, and from where");
-  explain->add_option("name", name, "topic name")->required();
-  explain->add_option("--file", config_file, "the YAML file (default: HORUS_CONFIG's)");
-  auto* settings = config->add_subcommand("settings", "the per-topic settings: file keys, code, examples (Markdown)");
+  c.check = config->add_subcommand("check", "validate a configuration file");
+  c.check->add_option("file", c.config_file, "the YAML file")->required();
+  c.explain = config->add_subcommand("explain", "what a topic name gets, and from where");
+  c.explain->add_option("name", c.name, "topic name")->required();
+  c.explain->add_option("--file", c.config_file, "the YAML file (default: HORUS_CONFIG's)");
+  c.settings = config->add_subcommand("settings", "the per-topic settings: file keys, code, examples (Markdown)");
+}
 
-  horus::tools::RecordArgs rec;
-  auto* record = app.add_subcommand("record", "record topics into an MCAP file (or an LCM log)");
+// horus record (and record info | recover).
+void add_record_commands(CLI::App& app, Cli& c) {
+  auto& rec = c.rec;
+  c.record = app.add_subcommand("record", "record topics into an MCAP file (or an LCM log)");
+  auto* record = c.record;
   record->require_subcommand(0, 1);
   record->add_option("-o,--output", rec.output, "the file to write (FILE.mcap; with --split-size, FILE_1.mcap, ...)");
   record->add_option("--topics", rec.topics, "topic patterns to record ('*' one segment, '**' any): 'robot.**'");
@@ -170,17 +184,20 @@ int main(int argc, char** argv) {
                    "also record, beside each topic Foxglove's panels draw (images, clouds, scans, poses, "
                    "transforms), TOPIC/foxglove in Foxglove's own schema");
   record->add_option("--frame", rec.frame, "with --foxglove: the frame of messages that name none (default world)");
-  std::string record_file, recover_out;
-  auto* record_info = record->add_subcommand("info", "topics, types, counts, duration and size of a recording");
-  record_info->add_option("file", record_file, "an MCAP file or an LCM log")->required();
-  record_info->add_flag("--json", json, "print JSON");
-  auto* recover = record->add_subcommand("recover", "copy what a killed recorder left into a whole file");
-  recover->add_option("file", record_file, "the MCAP file or LCM log")->required();
-  recover->add_option("-o,--output", recover_out, "the new file (default: FILE.recovered.mcap)");
+  c.record_info = record->add_subcommand("info", "topics, types, counts, duration and size of a recording");
+  c.record_info->add_option("file", c.record_file, "an MCAP file or an LCM log")->required();
+  c.record_info->add_flag("--json", c.json, "print JSON");
+  c.recover = record->add_subcommand("recover", "copy what a killed recorder left into a whole file");
+  c.recover->add_option("file", c.record_file, "the MCAP file or LCM log")->required();
+  c.recover->add_option("-o,--output", c.recover_out, "the new file (default: FILE.recovered.mcap)");
+}
 
-  horus::tools::FoxgloveArgs fox;
-  auto* foxglove = app.add_subcommand(
+// horus foxglove.
+void add_foxglove_command(CLI::App& app, Cli& c) {
+  auto& fox = c.fox;
+  c.foxglove = app.add_subcommand(
       "foxglove", "serve this host's and the fleet's topics to Foxglove (WebSocket) and a status page, on one port");
+  auto* foxglove = c.foxglove;
   foxglove->add_option("--port", fox.port, "TCP port (default 8765; 0: any free one, printed)");
   foxglove->add_option("--address", fox.address,
                        "address to listen on (default 127.0.0.1; 0.0.0.0 serves every interface)");
@@ -191,9 +208,13 @@ int main(int argc, char** argv) {
   foxglove->add_option("--backend", fox.backend, "network backend of the fleet (default: the configuration's)");
   foxglove->add_option("--duration", fox.duration_s, "stop after S seconds (default: until Ctrl-C)")
       ->check(CLI::PositiveNumber);
+}
 
-  horus::tools::PlayArgs play_args;
-  auto* play = app.add_subcommand("play", "publish a recording into horus topics with its timing");
+// horus play.
+void add_play_command(CLI::App& app, Cli& c) {
+  auto& play_args = c.play_args;
+  c.play = app.add_subcommand("play", "publish a recording into horus topics with its timing");
+  auto* play = c.play;
   play->add_option("file", play_args.file, "an MCAP file or an LCM log (lcm-logger's too)")->required();
   play->add_option("--rate", play_args.rate, "speed factor (2: twice as fast; 0: as fast as possible)")
       ->check(CLI::Range(0.0, 1e6));
@@ -201,25 +222,28 @@ int main(int argc, char** argv) {
   play->add_flag("--loop", play_args.loop, "start over at the end, until Ctrl-C");
   play->add_option("--topics", play_args.topics, "topic patterns to play (default: all)");
   play->add_option("--remap", play_args.remap, "publish recorded topic OLD into topic NEW (OLD=NEW)");
+}
 
-  horus::tools::BenchArgs bench_args;
+// horus bench pong | ping | local.
+void add_bench_commands(CLI::App& app, Cli& c) {
+  auto& bench_args = c.bench_args;
   auto* bench = app.add_subcommand("bench", "measure latency and throughput between hosts (ping/pong) or on this one (local)");
   bench->require_subcommand(1);
-  auto common_bench = [&](CLI::App* c) {
-    c->add_option("--topic-prefix", bench_args.prefix, "topics PREFIX.control, PREFIX.ping.TYPE, PREFIX.pong.TYPE (default bench)");
-    c->add_option("--backend", bench_args.backend, "inproc, shm or a network backend (default: what HORUS_BACKEND and HORUS_CONFIG choose)");
-    c->add_flag("--spin", bench_args.spin, "poll with pause instead of sleeping in recv_for");
-    c->add_flag("-q,--quiet", bench_args.quiet, "no progress line");
+  auto common_bench = [&](CLI::App* s) {
+    s->add_option("--topic-prefix", bench_args.prefix, "topics PREFIX.control, PREFIX.ping.TYPE, PREFIX.pong.TYPE (default bench)");
+    s->add_option("--backend", bench_args.backend, "inproc, shm or a network backend (default: what HORUS_BACKEND and HORUS_CONFIG choose)");
+    s->add_flag("--spin", bench_args.spin, "poll with pause instead of sleeping in recv_for");
+    s->add_flag("-q,--quiet", bench_args.quiet, "no progress line");
   };
-  auto payload_bench = [&](CLI::App* c) {
-    c->add_option("--type", bench_args.type, "a standard message type (Pose2D, CmdVel, Imu, Image, ...; default Pose2D)");
-    c->add_option("--size", bench_args.size, "payload bytes: CompressedImage below 64 KiB, Image (the pool) from 64 KiB; with --type, that type's payload");
+  auto payload_bench = [&](CLI::App* s) {
+    s->add_option("--type", bench_args.type, "a standard message type (Pose2D, CmdVel, Imu, Image, ...; default Pose2D)");
+    s->add_option("--size", bench_args.size, "payload bytes: CompressedImage below 64 KiB, Image (the pool) from 64 KiB; with --type, that type's payload");
   };
-  auto* bench_pong = bench->add_subcommand("pong", "answer pings (run it on the other host)");
+  auto* bench_pong = c.bench_pong = bench->add_subcommand("pong", "answer pings (run it on the other host)");
   common_bench(bench_pong);
   bench_pong->add_flag("--once", bench_args.once, "exit after one ping's run");
   bench_pong->add_option("--cpu", bench_args.cpu, "pin the echo threads to this CPU");
-  auto* bench_ping = bench->add_subcommand("ping", "measure round trips to a pong: one-way latency, jitter, losses, throughput");
+  auto* bench_ping = c.bench_ping = bench->add_subcommand("ping", "measure round trips to a pong: one-way latency, jitter, losses, throughput");
   common_bench(bench_ping);
   payload_bench(bench_ping);
   bench_ping->add_option("--rate", bench_args.rate, "messages per second (default 1000)");
@@ -234,49 +258,85 @@ int main(int argc, char** argv) {
   bench_ping->add_option("--json", bench_args.json, "write the summary as JSON to FILE ('-': stdout)");
   bench_ping->add_option("--csv", bench_args.csv, "append the summary as a CSV row to FILE (a header first in a new file; '-': stdout)");
   bench_ping->add_option("--plot", bench_args.plot, "draw the latency histogram and CDF into FILE.png (gnuplot)");
-  auto* bench_local = bench->add_subcommand("local", "in-process and cross-process latency and throughput beside this machine's true floor");
+  auto* bench_local = c.bench_local = bench->add_subcommand("local", "in-process and cross-process latency and throughput beside this machine's true floor");
   payload_bench(bench_local);
   bench_local->add_option("--duration", bench_args.duration, "seconds per path (default 1)");
   bench_local->add_option("--window", bench_args.window, "messages in flight in the flood rows (default: half the ring)");
   bench_local->add_option("--json", bench_args.json, "write the table as JSON to FILE ('-': stdout)");
+}
 
-  const auto security = horus::tools::add_security_commands(app);
-  CLI11_PARSE(app, argc, argv);
-  if (const int rc = horus::tools::run_security(*security); rc >= 0) return rc;
-  lookup.rate_window = std::chrono::milliseconds(static_cast<long long>(rate_window_s * 1000));
-  // echo, hz and bw wait for a topic that does not exist yet (here or on another host) when asked
-  // to: --wait, else echo's --timeout.
-  for (const auto* c : {echo, hz, bw})
-    if (*c && c->count("--wait") > 0) lookup.appear_wait = std::chrono::milliseconds(lookup.wait_ms);
-  if (*echo && echo->count("--wait") == 0 && timeout_s > 0)
-    lookup.appear_wait = std::chrono::milliseconds(static_cast<long long>(timeout_s * 1000));
-  if (*record_info) return horus::tools::cmd_record_info(record_file, json);
-  if (*recover) return horus::tools::cmd_record_recover(record_file, recover_out);
-  if (*check) return horus::tools::cmd_config_check(config_file);
-  if (*explain) return horus::tools::cmd_config_explain(name, config_file);
-  if (*settings) {
+// The commands that read neither the environment nor the segments; nothing when another was given.
+std::optional<int> run_offline_command(Cli& c) {
+  if (*c.record_info) return horus::tools::cmd_record_info(c.record_file, c.json);
+  if (*c.recover) return horus::tools::cmd_record_recover(c.record_file, c.recover_out);
+  if (*c.check) return horus::tools::cmd_config_check(c.config_file);
+  if (*c.explain) return horus::tools::cmd_config_explain(c.name, c.config_file);
+  if (*c.settings) {
     fmt::print("{}", horus::settings_table());
     return 0;
   }
+  return std::nullopt;
+}
+
+// The commands that read this host's segments, in the namespace `ns`.
+int run_host_command(Cli& c, const std::string& ns) {
+  if (*c.clean) {
+    const auto removed = horus::discovery::clean(ns);
+    for (const auto& t : removed) fmt::print("removed stale topic {} (/dev/shm/horus.{}.{})\n", t, ns, t);
+    fmt::print("{} stale segment{} removed from namespace '{}'\n", removed.size(), removed.size() == 1 ? "" : "s", ns);
+    return 0;
+  }
+  if (*c.record) {
+    if (c.rec.output.empty()) {
+      fmt::print(stderr, "horus record: name the file to write with -o FILE.mcap\n");
+      return 2;
+    }
+    c.rec.ns = ns;
+    return horus::tools::cmd_record(c.rec, g_stop);
+  }
+  if (*c.foxglove) {
+    c.fox.ns = ns;
+    return horus::tools::cmd_foxglove(c.fox, g_stop);
+  }
+  if (*c.list) return horus::tools::cmd_list(ns, c.json, c.verbose, c.lookup, c.local_only, c.all, g_stop);
+  if (*c.info) return horus::tools::cmd_info(ns, c.name, c.lookup, g_stop);
+  if (*c.echo) return horus::tools::cmd_echo(ns, c.name, c.lookup, c.json, c.count, c.timeout_s, g_stop);
+  if (*c.hz) return horus::tools::cmd_hz(ns, c.name, c.lookup, c.duration_s, c.window_s, g_stop);
+  if (*c.bw) return horus::tools::cmd_bw(ns, c.name, c.lookup, c.duration_s, c.window_s, g_stop);
+  if (*c.pub) return horus::tools::cmd_pub(ns, c.name, c.type, c.message, c.lookup, c.rate_hz, c.count, g_stop);
+  return 2;
+}
+
+// The parsed command line's command, run.
+int run_command(Cli& c) {
+  c.lookup.rate_window = std::chrono::milliseconds(static_cast<long long>(c.rate_window_s * 1000));
+  // echo, hz and bw wait for a topic that does not exist yet (here or on another host) when asked
+  // to: --wait, else echo's --timeout.
+  for (const auto* s : {c.echo, c.hz, c.bw})
+    if (*s && s->count("--wait") > 0) c.lookup.appear_wait = std::chrono::milliseconds(c.lookup.wait_ms);
+  if (*c.echo && c.echo->count("--wait") == 0 && c.timeout_s > 0)
+    c.lookup.appear_wait = std::chrono::milliseconds(static_cast<long long>(c.timeout_s * 1000));
+  if (auto rc = run_offline_command(c)) return *rc;
   // The environment as programs read it: a bad HORUS_BACKEND or HORUS_CONFIG is an error here too
   // (a CLI that ignored it would show another fleet than the programs it watches see).
   if (auto b = horus::backend_from_environment(); !b) {
     fmt::print(stderr, "horus: {}\n", b.error().message());
     return 2;
   }
-  if (auto c = horus::config_from_environment(); !c) {
-    fmt::print(stderr, "horus: {}\n", c.error().message());
+  if (auto e = horus::config_from_environment(); !e) {
+    fmt::print(stderr, "horus: {}\n", e.error().message());
     return 2;
   }
   ::signal(SIGINT, on_signal);
   ::signal(SIGTERM, on_signal);
-  if (*fleet) return horus::tools::cmd_fleet(lookup.transport, json, once, fleet_wait_ms, duration_s, g_stop);
-  if (*play) return horus::tools::cmd_play(play_args, g_stop);
-  if (*bench_pong) return horus::tools::cmd_bench_pong(bench_args, g_stop);
-  if (*bench_ping) return horus::tools::cmd_bench_ping(bench_args, g_stop);
-  if (*bench_local) {
-    if (bench_local->count("--duration") == 0) bench_args.duration = 1;
-    return horus::tools::cmd_bench_local(bench_args, g_stop);
+  if (*c.fleet)
+    return horus::tools::cmd_fleet(c.lookup.transport, c.json, c.once, c.fleet_wait_ms, c.duration_s, g_stop);
+  if (*c.play) return horus::tools::cmd_play(c.play_args, g_stop);
+  if (*c.bench_pong) return horus::tools::cmd_bench_pong(c.bench_args, g_stop);
+  if (*c.bench_ping) return horus::tools::cmd_bench_ping(c.bench_args, g_stop);
+  if (*c.bench_local) {
+    if (c.bench_local->count("--duration") == 0) c.bench_args.duration = 1;
+    return horus::tools::cmd_bench_local(c.bench_args, g_stop);
   }
 
   auto ns = horus::shm::shm_namespace();
@@ -284,29 +344,24 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "horus: {}\n", ns.error().message);
     return 2;
   }
-  if (*clean) {
-    const auto removed = horus::discovery::clean(*ns);
-    for (const auto& t : removed) fmt::print("removed stale topic {} (/dev/shm/horus.{}.{})\n", t, *ns, t);
-    fmt::print("{} stale segment{} removed from namespace '{}'\n", removed.size(), removed.size() == 1 ? "" : "s", *ns);
-    return 0;
-  }
-  if (*record) {
-    if (rec.output.empty()) {
-      fmt::print(stderr, "horus record: name the file to write with -o FILE.mcap\n");
-      return 2;
-    }
-    rec.ns = *ns;
-    return horus::tools::cmd_record(rec, g_stop);
-  }
-  if (*foxglove) {
-    fox.ns = *ns;
-    return horus::tools::cmd_foxglove(fox, g_stop);
-  }
-  if (*list) return horus::tools::cmd_list(*ns, json, verbose, lookup, local_only, all, g_stop);
-  if (*info) return horus::tools::cmd_info(*ns, name, lookup, g_stop);
-  if (*echo) return horus::tools::cmd_echo(*ns, name, lookup, json, count, timeout_s, g_stop);
-  if (*hz) return horus::tools::cmd_hz(*ns, name, lookup, duration_s, window_s, g_stop);
-  if (*bw) return horus::tools::cmd_bw(*ns, name, lookup, duration_s, window_s, g_stop);
-  if (*pub) return horus::tools::cmd_pub(*ns, name, type, message, lookup, rate_hz, count, g_stop);
-  return 2;
+  return run_host_command(c, *ns);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"horus: topics on this host and the fleet"};
+  app.set_version_flag("--version", "horus " + std::string(horus::version()), "print the version of this build and exit");
+  app.require_subcommand(1);
+  Cli cli;
+  add_topic_commands(app, cli);
+  add_fleet_config_commands(app, cli);
+  add_record_commands(app, cli);
+  add_foxglove_command(app, cli);
+  add_play_command(app, cli);
+  add_bench_commands(app, cli);
+  const auto security = horus::tools::add_security_commands(app);
+  CLI11_PARSE(app, argc, argv);
+  if (const int rc = horus::tools::run_security(*security); rc >= 0) return rc;
+  return run_command(cli);
 }
