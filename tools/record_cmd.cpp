@@ -97,48 +97,44 @@ class Progress {
   std::map<std::string, std::uint64_t> last_;
 };
 
-}  // namespace
-
-int cmd_record(const RecordArgs& a, const std::atomic<bool>& stop) {
+// Checks the arguments and sets the recorder's options from them; false, with the error printed,
+// when they are wrong.
+bool record_options(const RecordArgs& a, RecorderOptions& o) {
   if (a.foxglove && a.format != "mcap") {
     fmt::print(stderr, "horus record: --foxglove records Foxglove's schemas, which only MCAP holds (not --format {})\n",
                a.format);
-    return 2;
+    return false;
   }
   if (a.topics.empty() && !a.all) {
     fmt::print(stderr, "horus record: name the topics to record with --topics PATTERN (e.g. --topics 'robot.**') "
                        "or record every topic with --all\n");
-    return 2;
+    return false;
   }
   for (const auto& p : a.topics)
     if (auto ok = check_topic_pattern(p); !ok) {
       fmt::print(stderr, "horus record: --topics '{}': {}\n", p, ok.error().message());
-      return 2;
+      return false;
     }
-  RecorderOptions o;
   auto format = parse_record_format(a.format);
   auto compression = mcap::parse_compression(a.compression);
   if (!format || !compression) {
     fmt::print(stderr, "horus record: {}\n", (!format ? format.error() : compression.error()).message());
-    return 2;
+    return false;
   }
   if (!(a.split_mb >= 0) || !(a.duration_s >= 0)) {
     fmt::print(stderr, "horus record: --split-size and --duration must be >= 0\n");
-    return 2;
+    return false;
   }
   o.format = *format;
   o.compression = *compression;
   o.split_size = static_cast<std::uint64_t>(a.split_mb * 1e6);
   o.overwrite = a.overwrite;
-  auto rec = Recorder::open(a.output, o);
-  if (!rec) {
-    fmt::print(stderr, "horus record: {}\n", rec.error().message());
-    return 1;
-  }
-  Recorder& recorder = **rec;
+  return true;
+}
 
-  // Fleet topics that only other hosts have: through the fleet layer, when a network backend
-  // is configured (this process then bridges them to this host, as any subscriber would).
+// Fleet topics that only other hosts have: through the fleet layer, when a network backend
+// is configured (this process then bridges them to this host, as any subscriber would).
+std::unique_ptr<Fleet> open_record_fleet(const RecordArgs& a) {
   std::string transport = a.backend;
   if (transport.empty())
     if (auto s = fleet_settings(); s) transport = s->transport;
@@ -149,15 +145,24 @@ int cmd_record(const RecordArgs& a, const std::atomic<bool>& stop) {
     if (auto f = Fleet::open(fo); f) fleet = std::move(*f);
     else fmt::print(stderr, "horus record: other hosts' topics are not recorded: {}\n", f.error().message());
   }
+  return fleet;
+}
 
+// The topics to record, found on this host and the fleet's hosts as they appear, added to the
+// recorder (each once; one that cannot be recorded is said once and skipped).
+struct RecordScan {
+  const RecordArgs& a;
+  Recorder& recorder;
+  std::unique_ptr<Fleet> fleet;
   std::set<std::string, std::less<>> skipped;
   std::set<std::string, std::less<>> transports;  // Backend keeps a view of the name
-  const auto wanted = [&](const std::string& name) {
+
+  bool wanted(const std::string& name) const {
     if (a.topics.empty()) return !horus::fleet::is_fleet_layer_topic(name);
     return std::any_of(a.topics.begin(), a.topics.end(), [&](const auto& p) { return topic_pattern_matches(p, name); });
-  };
-  const auto consider = [&](const std::string& name, const std::string& type, const std::string& scope,
-                            const std::string& via) {
+  }
+
+  void consider(const std::string& name, const std::string& type, const std::string& scope, const std::string& via) {
     if (skipped.contains(name) || !wanted(name) || recorder.recording(name)) return;
     std::optional<Backend> backend = Backend::SharedMemory;
     if (scope == "fleet") backend = Backend::network(*transports.insert(via).first);
@@ -185,8 +190,9 @@ int cmd_record(const RecordArgs& a, const std::atomic<bool>& stop) {
       else fmt::print(stderr, "horus record: not recording '{}{}': {}\n", name, fox::kConvertedSuffix, ok.error().message());
     }
     std::fflush(stdout);
-  };
-  const auto discover = [&] {
+  }
+
+  void discover() {
     for (const auto& t : discovery::list_topics(a.ns))
       if (!t.stale) consider(t.topic, t.type_name, t.scope, t.transport);
     if (fleet)
@@ -195,30 +201,32 @@ int cmd_record(const RecordArgs& a, const std::atomic<bool>& stop) {
         for (const auto& t : h.topics)
           if (t.scope == "fleet") consider(t.name, t.type_name, t.scope, t.transport);
       }
-  };
+  }
+};
 
-  fmt::print("recording into {} ({}{}); Ctrl-C stops\n", a.output, a.format,
-             o.format == RecordFormat::Mcap ? ", " + std::string(a.compression) + " chunks" : "");
-  std::fflush(stdout);
-  Progress progress(::isatty(STDOUT_FILENO) == 1);
-  const auto start = Clock::now();
+std::string record_patterns(const RecordArgs& a) {
+  return a.topics.empty() ? std::string("--all") : fmt::format("--topics '{}'", fmt::join(a.topics, "' '"));
+}
+
+// Records until Ctrl-C, --duration or the recorder's error: a scan every 500 ms, a line of
+// progress every second.
+void record_until_stopped(const RecordArgs& a, const std::atomic<bool>& stop, RecordScan& scan, Progress& progress,
+                          Clock::time_point start) {
+  Recorder& recorder = scan.recorder;
   auto next_scan = start, next_show = start + std::chrono::seconds(1);
   bool said_none = false;  // "no topic matches yet", once
-  const auto patterns = [&] {
-    return a.topics.empty() ? std::string("--all") : fmt::format("--topics '{}'", fmt::join(a.topics, "' '"));
-  };
   while (!stop.load()) {
     const auto now = Clock::now();
     const double elapsed = std::chrono::duration<double>(now - start).count();
     if (a.duration_s > 0 && elapsed >= a.duration_s) break;
     if (recorder.error()) break;
     if (now >= next_scan) {
-      discover();
+      scan.discover();
       next_scan = now + std::chrono::milliseconds(500);
-      if (!said_none && skipped.empty() && recorder.stats().topics.empty()) {
+      if (!said_none && scan.skipped.empty() && recorder.stats().topics.empty()) {
         said_none = true;
         fmt::print(stderr, "horus record: no topic matches {} yet ({} topics on this host{}); recording what appears\n",
-                   patterns(), discovery::list_topics(a.ns).size(), fleet ? " and the fleet's" : "");
+                   record_patterns(a), discovery::list_topics(a.ns).size(), scan.fleet ? " and the fleet's" : "");
       }
     }
     if (now >= next_show) {
@@ -229,7 +237,10 @@ int cmd_record(const RecordArgs& a, const std::atomic<bool>& stop) {
     // recorder runs all shift, its idle cost is what it costs.
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
-  const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Closes the recording and prints what it holds; the exit code.
+int finish_recording(const RecordArgs& a, Recorder& recorder, double elapsed) {
   auto closed = recorder.close();
   const auto s = recorder.stats();
   fmt::print("recorded {} messages of {} topics in {:.1f} s: {} of messages, {} in {}\n", s.messages, s.topics.size(),
@@ -244,11 +255,168 @@ int cmd_record(const RecordArgs& a, const std::atomic<bool>& stop) {
     return 1;
   }
   if (s.topics.empty()) {
-    fmt::print(stderr, "horus record: no topic matched {} in {:.1f} s: {} holds no messages\n", patterns(), elapsed,
-               fmt::join(s.files, ", "));
+    fmt::print(stderr, "horus record: no topic matched {} in {:.1f} s: {} holds no messages\n", record_patterns(a),
+               elapsed, fmt::join(s.files, ", "));
     return 1;
   }
   return 0;
+}
+
+// recover's default output: FILE.recovered.EXT (FILE.recovered.mcap without an extension).
+std::string recovered_name(const std::string& file) {
+  const auto dot = file.rfind('.');
+  return (dot == std::string::npos || file.find('/', dot) != std::string::npos ? file : file.substr(0, dot)) +
+         ".recovered" + (dot == std::string::npos ? std::string(".mcap") : file.substr(dot));
+}
+
+// What recover copied.
+struct Recovered {
+  std::uint64_t copied = 0;
+  std::size_t channels = 0;
+  bool truncated = false;
+};
+
+// Copies an LCM log's whole events into a new log.
+Result<void> recover_lcm_log(const std::string& file, const std::string& out, Recovered& got) {
+  auto r = lcmlog::Reader::open(file);
+  if (!r) return std::unexpected(r.error());
+  auto w = lcmlog::Writer::create(out);
+  if (!w) return std::unexpected(w.error());
+  Result<void> ok;
+  std::set<std::string, std::less<>> seen;
+  ok = (*r)->read([&](const lcmlog::Event& e) {
+    if (auto written = (*w)->write(e.channel, e.timestamp_us, e.data); !written) {
+      ok = written;
+      return false;
+    }
+    seen.emplace(e.channel);
+    ++got.copied;
+    return true;
+  });
+  got.truncated = (*r)->truncated();
+  got.channels = seen.size();
+  if (ok) ok = (*w)->close();
+  return ok;
+}
+
+// Copies an MCAP file's readable messages, with their schemas and channels, into a new file.
+Result<void> recover_mcap(const std::string& file, const std::string& out, Recovered& got) {
+  mcap::ReadOptions ro;
+  ro.recover = true;
+  auto r = mcap::Reader::open(file, ro);
+  if (!r) return std::unexpected(r.error());
+  auto w = mcap::Writer::create(out);
+  if (!w) return std::unexpected(w.error());
+  std::map<std::uint16_t, std::uint16_t> schema_ids, channel_ids;  // old -> new
+  Result<void> failed;
+  auto read = (*r)->read_messages([&](const mcap::Channel& ch, const mcap::Schema* schema, const mcap::Message& m) {
+    if (!channel_ids.contains(ch.id)) {
+      std::uint16_t sid = 0;
+      if (schema != nullptr) {
+        if (auto it = schema_ids.find(schema->id); it != schema_ids.end()) {
+          sid = it->second;
+        } else if (auto id = (*w)->add_schema(schema->name, schema->encoding, schema->data); id) {
+          sid = schema_ids[schema->id] = *id;
+        } else {
+          failed = std::unexpected(id.error());
+          return false;
+        }
+      }
+      auto id = (*w)->add_channel(sid, ch.topic, ch.message_encoding, ch.metadata);
+      if (!id) {
+        failed = std::unexpected(id.error());
+        return false;
+      }
+      channel_ids[ch.id] = *id;
+    }
+    mcap::Message copy = m;
+    copy.channel_id = channel_ids[ch.id];
+    if (auto written = (*w)->write(copy); !written) {
+      failed = written;
+      return false;
+    }
+    ++got.copied;
+    return true;
+  });
+  Result<void> ok = !read ? read : failed;
+  got.truncated = (*r)->truncated();
+  got.channels = channel_ids.size();
+  if (ok) ok = (*w)->close();
+  return ok;
+}
+
+// play's --remap OLD=NEW pairs; false, with the error printed, when one is not two topic names.
+bool parse_remap(const PlayArgs& a, std::map<std::string, std::string, std::less<>>& remap) {
+  for (const auto& r : a.remap) {
+    const auto eq = r.find('=');
+    const std::string from = r.substr(0, eq), to = eq == std::string::npos ? "" : r.substr(eq + 1);
+    if (eq == std::string::npos || !validate_topic_name(from) || !validate_topic_name(to)) {
+      fmt::print(stderr, "horus play: --remap '{}': expected OLD=NEW, two topic names\n", r);
+      return false;
+    }
+    remap[from] = to;
+  }
+  return true;
+}
+
+// Binds a recorded channel to a topic of its standard type (its --remap name); false, with the
+// reason printed, when it is skipped.
+bool bind_channel(const PlayArgs& a, Player& player, const PlayChannel& c,
+                  const std::map<std::string, std::string, std::less<>>& remap) {
+  if (!a.topics.empty() &&
+      std::none_of(a.topics.begin(), a.topics.end(), [&](const auto& p) { return topic_pattern_matches(p, c.topic); }))
+    return false;
+  if (auto ok = Player::playable(c); !ok) {
+    fmt::print(stderr, "horus play: skipping '{}': {}\n", c.topic, ok.error().message());
+    return false;
+  }
+  const bool lcm = c.encoding == "lcm";
+  const std::string type = lcm ? standard_type_by_lcm_fingerprint(c.lcm_fingerprint) : standard_type(c.type);
+  if (type.empty()) {
+    fmt::print(stderr, "horus play: skipping '{}': {} is not a standard horus message (a program plays its own types "
+                       "with horus::Player::bind<T>)\n",
+               c.topic, lcm ? fmt::format("LCM type {:016x}", c.lcm_fingerprint) : c.type);
+    return false;
+  }
+  const auto it = remap.find(c.topic);
+  const std::string to = it == remap.end() ? c.topic : it->second;
+  std::uint64_t hash = 0;
+  std::string error;
+  auto sink = open_play_sink(type, to, lcm, hash, error);
+  if (sink && !lcm && c.type_hash != 0 && c.type_hash != hash)
+    error = fmt::format("it was recorded with type hash {:016x}; this build's {} has {:016x}", c.type_hash, type, hash);
+  if (!error.empty() || !sink) {
+    fmt::print(stderr, "horus play: skipping '{}': {}\n", c.topic, error);
+    return false;
+  }
+  if (auto ok = player.bind(c.topic, std::move(sink)); !ok) {
+    fmt::print(stderr, "horus play: skipping '{}': {}\n", c.topic, ok.error().message());
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+int cmd_record(const RecordArgs& a, const std::atomic<bool>& stop) {
+  RecorderOptions o;
+  if (!record_options(a, o)) return 2;
+  auto rec = Recorder::open(a.output, o);
+  if (!rec) {
+    fmt::print(stderr, "horus record: {}\n", rec.error().message());
+    return 1;
+  }
+  Recorder& recorder = **rec;
+  RecordScan scan{a, recorder, open_record_fleet(a), {}, {}};
+
+  fmt::print("recording into {} ({}{}); Ctrl-C stops\n", a.output, a.format,
+             o.format == RecordFormat::Mcap ? ", " + std::string(a.compression) + " chunks" : "");
+  std::fflush(stdout);
+  Progress progress(::isatty(STDOUT_FILENO) == 1);
+  const auto start = Clock::now();
+  record_until_stopped(a, stop, scan, progress, start);
+  const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+  return finish_recording(a, recorder, elapsed);
 }
 
 int cmd_record_info(const std::string& file, bool json) {
@@ -305,113 +473,25 @@ int cmd_record_info(const std::string& file, bool json) {
 }
 
 int cmd_record_recover(const std::string& file, const std::string& output) {
-  std::string out = output;
-  if (out.empty()) {
-    const auto dot = file.rfind('.');
-    out = (dot == std::string::npos || file.find('/', dot) != std::string::npos ? file : file.substr(0, dot)) +
-          ".recovered" + (dot == std::string::npos ? std::string(".mcap") : file.substr(dot));
-  }
+  const std::string out = output.empty() ? recovered_name(file) : output;
   if (out == file) {
     fmt::print(stderr, "horus record recover: the output must not be the input file\n");
     return 2;
   }
-  std::uint64_t copied = 0;
-  std::size_t channels = 0;
-  bool truncated = false;
-  Result<void> ok;
-  if (lcmlog::looks_like_log(file)) {
-    auto r = lcmlog::Reader::open(file);
-    if (!r) {
-      fmt::print(stderr, "horus record recover: {}\n", r.error().message());
-      return 1;
-    }
-    auto w = lcmlog::Writer::create(out);
-    if (!w) {
-      fmt::print(stderr, "horus record recover: {}\n", w.error().message());
-      return 1;
-    }
-    std::set<std::string, std::less<>> seen;
-    ok = (*r)->read([&](const lcmlog::Event& e) {
-      if (auto written = (*w)->write(e.channel, e.timestamp_us, e.data); !written) {
-        ok = written;
-        return false;
-      }
-      seen.emplace(e.channel);
-      ++copied;
-      return true;
-    });
-    truncated = (*r)->truncated();
-    channels = seen.size();
-    if (ok) ok = (*w)->close();
-  } else {
-    mcap::ReadOptions ro;
-    ro.recover = true;
-    auto r = mcap::Reader::open(file, ro);
-    if (!r) {
-      fmt::print(stderr, "horus record recover: {}\n", r.error().message());
-      return 1;
-    }
-    auto w = mcap::Writer::create(out);
-    if (!w) {
-      fmt::print(stderr, "horus record recover: {}\n", w.error().message());
-      return 1;
-    }
-    std::map<std::uint16_t, std::uint16_t> schema_ids, channel_ids;  // old -> new
-    Result<void> failed;
-    auto read = (*r)->read_messages([&](const mcap::Channel& ch, const mcap::Schema* schema, const mcap::Message& m) {
-      if (!channel_ids.contains(ch.id)) {
-        std::uint16_t sid = 0;
-        if (schema != nullptr) {
-          if (auto it = schema_ids.find(schema->id); it != schema_ids.end()) {
-            sid = it->second;
-          } else if (auto id = (*w)->add_schema(schema->name, schema->encoding, schema->data); id) {
-            sid = schema_ids[schema->id] = *id;
-          } else {
-            failed = std::unexpected(id.error());
-            return false;
-          }
-        }
-        auto id = (*w)->add_channel(sid, ch.topic, ch.message_encoding, ch.metadata);
-        if (!id) {
-          failed = std::unexpected(id.error());
-          return false;
-        }
-        channel_ids[ch.id] = *id;
-      }
-      mcap::Message copy = m;
-      copy.channel_id = channel_ids[ch.id];
-      if (auto written = (*w)->write(copy); !written) {
-        failed = written;
-        return false;
-      }
-      ++copied;
-      return true;
-    });
-    ok = !read ? read : failed;
-    truncated = (*r)->truncated();
-    channels = channel_ids.size();
-    if (ok) ok = (*w)->close();
-  }
+  Recovered got;
+  const Result<void> ok = lcmlog::looks_like_log(file) ? recover_lcm_log(file, out, got) : recover_mcap(file, out, got);
   if (!ok) {
     fmt::print(stderr, "horus record recover: {}\n", ok.error().message());
     return 1;
   }
-  fmt::print("{} messages of {} topics from {} ({}) into {}\n", copied, channels, file,
-             truncated ? "it ended early; read up to its last complete chunk" : "it was whole", out);
+  fmt::print("{} messages of {} topics from {} ({}) into {}\n", got.copied, got.channels, file,
+             got.truncated ? "it ended early; read up to its last complete chunk" : "it was whole", out);
   return 0;
 }
 
 int cmd_play(const PlayArgs& a, const std::atomic<bool>& stop) {
   std::map<std::string, std::string, std::less<>> remap;
-  for (const auto& r : a.remap) {
-    const auto eq = r.find('=');
-    const std::string from = r.substr(0, eq), to = eq == std::string::npos ? "" : r.substr(eq + 1);
-    if (eq == std::string::npos || !validate_topic_name(from) || !validate_topic_name(to)) {
-      fmt::print(stderr, "horus play: --remap '{}': expected OLD=NEW, two topic names\n", r);
-      return 2;
-    }
-    remap[from] = to;
-  }
+  if (!parse_remap(a, remap)) return 2;
   for (const auto& p : a.topics)
     if (auto ok = check_topic_pattern(p); !ok) {
       fmt::print(stderr, "horus play: --topics '{}': {}\n", p, ok.error().message());
@@ -431,36 +511,7 @@ int cmd_play(const PlayArgs& a, const std::atomic<bool>& stop) {
   std::size_t bound = 0;
   std::uint64_t messages = 0;
   for (const auto& c : player.channels()) {
-    if (!a.topics.empty() &&
-        std::none_of(a.topics.begin(), a.topics.end(), [&](const auto& p) { return topic_pattern_matches(p, c.topic); }))
-      continue;
-    if (auto ok = Player::playable(c); !ok) {
-      fmt::print(stderr, "horus play: skipping '{}': {}\n", c.topic, ok.error().message());
-      continue;
-    }
-    const bool lcm = c.encoding == "lcm";
-    const std::string type = lcm ? standard_type_by_lcm_fingerprint(c.lcm_fingerprint) : standard_type(c.type);
-    if (type.empty()) {
-      fmt::print(stderr, "horus play: skipping '{}': {} is not a standard horus message (a program plays its own types "
-                         "with horus::Player::bind<T>)\n",
-                 c.topic, lcm ? fmt::format("LCM type {:016x}", c.lcm_fingerprint) : c.type);
-      continue;
-    }
-    const auto it = remap.find(c.topic);
-    const std::string to = it == remap.end() ? c.topic : it->second;
-    std::uint64_t hash = 0;
-    std::string error;
-    auto sink = open_play_sink(type, to, lcm, hash, error);
-    if (sink && !lcm && c.type_hash != 0 && c.type_hash != hash)
-      error = fmt::format("it was recorded with type hash {:016x}; this build's {} has {:016x}", c.type_hash, type, hash);
-    if (!error.empty() || !sink) {
-      fmt::print(stderr, "horus play: skipping '{}': {}\n", c.topic, error);
-      continue;
-    }
-    if (auto ok = player.bind(c.topic, std::move(sink)); !ok) {
-      fmt::print(stderr, "horus play: skipping '{}': {}\n", c.topic, ok.error().message());
-      continue;
-    }
+    if (!bind_channel(a, player, c, remap)) continue;
     ++bound;
     messages += c.messages;
   }
