@@ -248,27 +248,20 @@ void flush_stamps(Control& control, PongSession& s, std::int64_t now, bool force
   send_stamps(control, s.run, batch, last);
 }
 
-}  // namespace
+// The pong's sessions, one per ping run it answers, and its answers on the control topic.
+struct Pong {
+  Pong(const BenchArgs& args, const std::optional<Backend>& b, Control& c) : a(args), backend(b), control(c) {}
 
-int run_pong(const BenchArgs& a, const std::optional<Backend>& backend, const std::atomic<bool>& stop,
-             std::atomic<bool>* ready_flag) {
-  auto control = Control::open(a.prefix, backend);
-  if (!control) {
-    fmt::print(stderr, "horus bench pong: {}\n", control.error().message());
-    if (ready_flag != nullptr) ready_flag->store(true);  // horus bench local's ping then fails with the reason
-    return 2;
-  }
+  const BenchArgs& a;
+  const std::optional<Backend>& backend;
+  Control& control;
   const std::string host = host_name(), hostid = host_id();
   const std::string pid = std::to_string(::getpid());
-  if (!a.quiet)
-    fmt::print("horus bench pong: answering on {} ({}) on host {}, pid {}; Ctrl-C stops\n", control->name(),
-               where_text(control->backend()), host, pid);
-  std::fflush(stdout);
-  if (ready_flag != nullptr) ready_flag->store(true);
   std::map<std::string, std::unique_ptr<PongSession>> sessions;
   std::deque<std::string> closed;  // the runs closed last
   int finished = 0;
-  auto close = [&](const std::string& run, const char* why) {
+
+  void close(const std::string& run, const char* why) {
     auto it = sessions.find(run);
     if (it == sessions.end()) return;
     auto& s = *it->second;
@@ -282,70 +275,100 @@ int run_pong(const BenchArgs& a, const std::optional<Backend>& backend, const st
     ++finished;
     closed.push_back(run);  // a repeated bye is answered too
     if (closed.size() > 16) closed.pop_front();
-  };
-  while (!stop.load()) {
-    (void)control->wait(std::chrono::milliseconds(sessions.empty() ? 100 : 20));
-    while (auto f = control->recv()) {
-      const std::string op = get(*f, "op"), run = get(*f, "run");
-      if (op == "hello") {
-        auto it = sessions.find(run);
-        if (it != sessions.end()) {  // a repeated hello: answer again
-          control->send({{"op", "ready"}, {"run", run}, {"host", host}, {"hostid", hostid}, {"pid", pid}});
-          continue;
-        }
-        const std::string ping_topic = get(*f, "ping");
-        const PongSession* other = nullptr;
-        for (const auto& [r, s] : sessions)
-          if (s->ping_topic == ping_topic) other = s.get();
-        if (other != nullptr) {
-          control->send({{"op", "busy"}, {"run", run}, {"host", host}, {"pid", pid}, {"serving", other->peer}});
-          continue;
-        }
-        BenchPayload payload{get(*f, "type"), std::strtoull(get(*f, "size").c_str(), nullptr, 10)};
-        std::string error;
-        auto peer = open_bench_peer(payload, BenchEndpoints{ping_topic, get(*f, "pong"), backend}, error);
-        if (!peer) {
-          control->send({{"op", "error"}, {"run", run}, {"host", host}, {"pid", pid}, {"what", error}});
-          if (!a.quiet) fmt::print(stderr, "horus bench pong: run {}: {}\n", run, error);
-          continue;
-        }
-        auto s = std::make_unique<PongSession>();
-        s->run = run;
-        s->peer = fmt::format("{} (pid {})", get(*f, "host"), get(*f, "pid"));
-        s->ping_topic = ping_topic;
-        s->peer_endpoint = std::move(peer);
-        s->last_ns.store(bench_now_ns());
-        s->clock_base = clock_base();
-        auto* raw = s.get();
-        s->thread = std::thread([raw, spin = a.spin, cpu = a.cpu] { echo_loop(*raw, spin, cpu); });
-        if (!a.quiet)
-          fmt::print("run {} from {}: {} on {} -> {}\n", run, s->peer, s->peer_endpoint->describe(), ping_topic,
-                     get(*f, "pong"));
-        std::fflush(stdout);
-        sessions.emplace(run, std::move(s));
-        control->send({{"op", "ready"}, {"run", run}, {"host", host}, {"hostid", hostid}, {"pid", pid}});
-      } else if (op == "start") {
-        if (get(*f, "host") != host || get(*f, "pid") != pid) close(run, "the ping chose another pong");
-        else if (auto it = sessions.find(run); it != sessions.end() && get(*f, "stamps") == "1")
-          it->second->stamps.store(true);
-      } else if (op == "flush") {
-        if (auto it = sessions.find(run); it != sessions.end()) flush_stamps(*control, *it->second, bench_now_ns(), true, true);
-      } else if (op == "bye") {
-        if (sessions.contains(run) || std::find(closed.begin(), closed.end(), run) != closed.end())
-          control->send({{"op", "closed"}, {"run", run}, {"host", host}, {"pid", pid}});
-        close(run, "done");
-      }
+  }
+
+  // A ping's hello: ready (a new session and its echo thread), busy (another ping reads the same
+  // ping topic here) or error (the topics do not open).
+  void on_hello(const Fields& f, const std::string& run) {
+    auto it = sessions.find(run);
+    if (it != sessions.end()) {  // a repeated hello: answer again
+      control.send({{"op", "ready"}, {"run", run}, {"host", host}, {"hostid", hostid}, {"pid", pid}});
+      return;
     }
-    const auto now = bench_now_ns();
+    const std::string ping_topic = get(f, "ping");
+    const PongSession* other = nullptr;
+    for (const auto& [r, s] : sessions)
+      if (s->ping_topic == ping_topic) other = s.get();
+    if (other != nullptr) {
+      control.send({{"op", "busy"}, {"run", run}, {"host", host}, {"pid", pid}, {"serving", other->peer}});
+      return;
+    }
+    BenchPayload payload{get(f, "type"), std::strtoull(get(f, "size").c_str(), nullptr, 10)};
+    std::string error;
+    auto peer = open_bench_peer(payload, BenchEndpoints{ping_topic, get(f, "pong"), backend}, error);
+    if (!peer) {
+      control.send({{"op", "error"}, {"run", run}, {"host", host}, {"pid", pid}, {"what", error}});
+      if (!a.quiet) fmt::print(stderr, "horus bench pong: run {}: {}\n", run, error);
+      return;
+    }
+    auto s = std::make_unique<PongSession>();
+    s->run = run;
+    s->peer = fmt::format("{} (pid {})", get(f, "host"), get(f, "pid"));
+    s->ping_topic = ping_topic;
+    s->peer_endpoint = std::move(peer);
+    s->last_ns.store(bench_now_ns());
+    s->clock_base = clock_base();
+    auto* raw = s.get();
+    s->thread = std::thread([raw, spin = a.spin, cpu = a.cpu] { echo_loop(*raw, spin, cpu); });
+    if (!a.quiet)
+      fmt::print("run {} from {}: {} on {} -> {}\n", run, s->peer, s->peer_endpoint->describe(), ping_topic,
+                 get(f, "pong"));
+    std::fflush(stdout);
+    sessions.emplace(run, std::move(s));
+    control.send({{"op", "ready"}, {"run", run}, {"host", host}, {"hostid", hostid}, {"pid", pid}});
+  }
+
+  void on_message(const Fields& f) {
+    const std::string op = get(f, "op"), run = get(f, "run");
+    if (op == "hello") {
+      on_hello(f, run);
+    } else if (op == "start") {
+      if (get(f, "host") != host || get(f, "pid") != pid) close(run, "the ping chose another pong");
+      else if (auto it = sessions.find(run); it != sessions.end() && get(f, "stamps") == "1")
+        it->second->stamps.store(true);
+    } else if (op == "flush") {
+      if (auto it = sessions.find(run); it != sessions.end()) flush_stamps(control, *it->second, bench_now_ns(), true, true);
+    } else if (op == "bye") {
+      if (sessions.contains(run) || std::find(closed.begin(), closed.end(), run) != closed.end())
+        control.send({{"op", "closed"}, {"run", run}, {"host", host}, {"pid", pid}});
+      close(run, "done");
+    }
+  }
+
+  // The sessions' echo times, and the end of those idle for kPongIdleNs.
+  void tick(std::int64_t now) {
     std::vector<std::string> idle;
     for (const auto& [r, s] : sessions) {
-      flush_stamps(*control, *s, now, false);
+      flush_stamps(control, *s, now, false);
       if (now - s->last_ns.load() > kPongIdleNs) idle.push_back(r);
     }
     for (const auto& r : idle) close(r, "no traffic for 10 s");
-    if (a.once && finished > 0 && sessions.empty()) break;
   }
-  while (!sessions.empty()) close(sessions.begin()->first, "stopped");
+};
+
+}  // namespace
+
+int run_pong(const BenchArgs& a, const std::optional<Backend>& backend, const std::atomic<bool>& stop,
+             std::atomic<bool>* ready_flag) {
+  auto control = Control::open(a.prefix, backend);
+  if (!control) {
+    fmt::print(stderr, "horus bench pong: {}\n", control.error().message());
+    if (ready_flag != nullptr) ready_flag->store(true);  // horus bench local's ping then fails with the reason
+    return 2;
+  }
+  Pong pong(a, backend, *control);
+  if (!a.quiet)
+    fmt::print("horus bench pong: answering on {} ({}) on host {}, pid {}; Ctrl-C stops\n", control->name(),
+               where_text(control->backend()), pong.host, pong.pid);
+  std::fflush(stdout);
+  if (ready_flag != nullptr) ready_flag->store(true);
+  while (!stop.load()) {
+    (void)control->wait(std::chrono::milliseconds(pong.sessions.empty() ? 100 : 20));
+    while (auto f = control->recv()) pong.on_message(*f);
+    pong.tick(bench_now_ns());
+    if (a.once && pong.finished > 0 && pong.sessions.empty()) break;
+  }
+  while (!pong.sessions.empty()) pong.close(pong.sessions.begin()->first, "stopped");
   return 0;
 }
 
