@@ -173,6 +173,94 @@ class RemoteSource final : public Source {
   std::unique_ptr<horus::tools::RemoteReader> r_;
 };
 
+using TopicLookup = std::expected<horus::discovery::TopicEntry, std::string>;
+
+// A reader of a topic of this host (its standard type); null, with the error printed, when it
+// cannot be read.
+std::unique_ptr<horus::tools::TypedReader> open_local_reader(const horus::discovery::TopicEntry& entry,
+                                                             const std::string& name, const char* cmd) {
+  std::string error;
+  // A fleet topic is opened as one (a host topic of the same name would be a scope conflict);
+  // this short-lived observer never bridges it (HORUS_BRIDGE=0).
+  horus::Backend backend = horus::Backend::SharedMemory;
+  if (entry.scope == "fleet") {
+    backend = horus::Backend::network(entry.transport);
+    ::setenv("HORUS_BRIDGE", "0", 1);
+  }
+  auto reader = horus::tools::open_reader(entry.type_name, name, backend, error);
+  if (!reader && !error.empty()) {
+    fmt::print(stderr, "horus topic {}: {}\n", cmd, error);
+    return nullptr;
+  }
+  if (!reader) {
+    fmt::print(stderr,
+               "horus topic {}: topic '{}' carries {} (layout hash {:016x}, {} bytes), which is not a standard horus "
+               "message; this tool decodes the {} standard types on this host, and any type of a fleet topic "
+               "that another host announces\n",
+               cmd, name, entry.type_name, entry.type_hash, entry.message_size, horus::msg::AllMessages::size);
+    return nullptr;
+  }
+  return reader;
+}
+
+// Waits for `name` among other hosts' topics (or, asked to wait for it, on this host: then `e`
+// holds it and nothing is returned).
+std::optional<RemoteTopic> wait_for_remote(const horus::Fleet& fleet, const std::string& ns, const std::string& name,
+                                           const Lookup& lookup, const std::atomic<bool>& stop, TopicLookup& e) {
+  std::optional<RemoteTopic> found;
+  const auto deadline =
+      clock_type::now() + std::max<clock_type::duration>(std::chrono::milliseconds(lookup.wait_ms), lookup.appear_wait);
+  while (!found && !stop.load() && clock_type::now() < deadline) {
+    auto all = remote_topics(fleet);
+    if (auto it = all.find(name); it != all.end()) {
+      found = it->second;
+    } else if (lookup.appear_wait.count() > 0 && (e = horus::discovery::find_topic(ns, name))) {
+      return std::nullopt;
+    } else {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
+  return found;
+}
+
+// The error of a topic found nowhere, with the topics that exist here and on the fleet.
+void print_no_topic(const horus::Fleet& fleet, const std::string& ns, const std::string& name,
+                    const std::string& transport, const char* cmd) {
+  std::string known;
+  for (const auto& t : horus::discovery::list_topics(ns))
+    if (!horus::fleet::is_fleet_layer_topic(t.topic)) known += (known.empty() ? "" : ", ") + t.topic;
+  for (const auto& [n, r] : remote_topics(fleet)) known += (known.empty() ? "" : ", ") + n + " (" + join(r.hosts) + ")";
+  fmt::print(stderr, "horus topic {}: no topic '{}' on this host nor on the {} host(s) of the fleet on {}{}\n", cmd,
+             name, fleet.hosts().size(), transport, known.empty() ? " (no topics at all)" : "; topics: " + known);
+}
+
+// A reader of another host's fleet topic, through the type signature announced with it; null,
+// with the error printed, when it cannot be read here.
+std::unique_ptr<horus::tools::RemoteReader> open_remote_reader(const RemoteTopic& found, const std::string& name,
+                                                               const char* cmd) {
+  const auto& t = found.topic;
+  if (t.scope != "fleet") {
+    fmt::print(stderr, "horus topic {}: topic '{}' is a {} topic of {}: its messages never leave that host\n", cmd, name,
+               t.scope, join(found.hosts));
+    return nullptr;
+  }
+  if (t.signature.empty()) {
+    fmt::print(stderr,
+               "horus topic {}: cannot decode topic '{}': {} (layout hash {:016x}, {} bytes) was announced without "
+               "its type signature\n",
+               cmd, name, t.type_name, t.type_hash, t.message_size);
+    return nullptr;
+  }
+  std::string error;
+  auto reader = horus::tools::RemoteReader::open(name, t.transport, t.type_name, t.type_hash, t.signature, error);
+  if (!reader) {
+    fmt::print(stderr, "horus topic {}: topic '{}' ({}, layout hash {:016x}, {} bytes): {}\n", cmd, name, t.type_name,
+               t.type_hash, t.message_size, error);
+    return nullptr;
+  }
+  return reader;
+}
+
 // Opens `name` on this host (its standard type) or, when it is not here and a network backend
 // is configured, where other hosts announce it; runs body(source). Errors name what exists.
 template <class Body>
@@ -180,31 +268,12 @@ int with_topic(const std::string& ns, const std::string& name, const char* cmd, 
                const std::atomic<bool>& stop, Body&& body) {
   // A topic of this host: read through its segment.
   auto local = [&](const horus::discovery::TopicEntry& entry) -> int {
-    std::string error;
-    // A fleet topic is opened as one (a host topic of the same name would be a scope conflict);
-    // this short-lived observer never bridges it (HORUS_BRIDGE=0).
-    horus::Backend backend = horus::Backend::SharedMemory;
-    if (entry.scope == "fleet") {
-      backend = horus::Backend::network(entry.transport);
-      ::setenv("HORUS_BRIDGE", "0", 1);
-    }
-    auto reader = horus::tools::open_reader(entry.type_name, name, backend, error);
-    if (!reader && !error.empty()) {
-      fmt::print(stderr, "horus topic {}: {}\n", cmd, error);
-      return 1;
-    }
-    if (!reader) {
-      fmt::print(stderr,
-                 "horus topic {}: topic '{}' carries {} (layout hash {:016x}, {} bytes), which is not a standard horus "
-                 "message; this tool decodes the {} standard types on this host, and any type of a fleet topic "
-                 "that another host announces\n",
-                 cmd, name, entry.type_name, entry.type_hash, entry.message_size, horus::msg::AllMessages::size);
-      return 1;
-    }
+    auto reader = open_local_reader(entry, name, cmd);
+    if (!reader) return 1;
     LocalSource src(std::move(reader));
     return body(static_cast<Source&>(src));
   };
-  auto e = horus::discovery::find_topic(ns, name);
+  TopicLookup e = horus::discovery::find_topic(ns, name);
   if (e) return local(*e);
   // Asked to wait (--wait, or echo's --timeout): the topic may appear meanwhile, here or (with a
   // network backend) on another host.
@@ -228,48 +297,17 @@ int with_topic(const std::string& ns, const std::string& name, const char* cmd, 
     fmt::print(stderr, "horus topic {}: {}\n", cmd, error);
     return 1;
   }
-  std::optional<RemoteTopic> found;
-  const auto deadline =
-      clock_type::now() + std::max<clock_type::duration>(std::chrono::milliseconds(lookup.wait_ms), lookup.appear_wait);
-  while (!found && !stop.load() && clock_type::now() < deadline) {
-    auto all = remote_topics(*fleet);
-    if (auto it = all.find(name); it != all.end()) {
-      found = it->second;
-    } else if (lookup.appear_wait.count() > 0 && (e = horus::discovery::find_topic(ns, name))) {
-      fleet.reset();
-      return local(*e);
-    } else {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
+  const auto found = wait_for_remote(*fleet, ns, name, lookup, stop, e);
+  if (!found && e) {
+    fleet.reset();
+    return local(*e);
   }
   if (!found) {
-    std::string known;
-    for (const auto& t : horus::discovery::list_topics(ns))
-      if (!horus::fleet::is_fleet_layer_topic(t.topic)) known += (known.empty() ? "" : ", ") + t.topic;
-    for (const auto& [n, r] : remote_topics(*fleet)) known += (known.empty() ? "" : ", ") + n + " (" + join(r.hosts) + ")";
-    fmt::print(stderr, "horus topic {}: no topic '{}' on this host nor on the {} host(s) of the fleet on {}{}\n", cmd,
-               name, fleet->hosts().size(), transport, known.empty() ? " (no topics at all)" : "; topics: " + known);
+    print_no_topic(*fleet, ns, name, transport, cmd);
     return 1;
   }
-  const auto& t = found->topic;
-  if (t.scope != "fleet") {
-    fmt::print(stderr, "horus topic {}: topic '{}' is a {} topic of {}: its messages never leave that host\n", cmd, name,
-               t.scope, join(found->hosts));
-    return 1;
-  }
-  if (t.signature.empty()) {
-    fmt::print(stderr,
-               "horus topic {}: cannot decode topic '{}': {} (layout hash {:016x}, {} bytes) was announced without "
-               "its type signature\n",
-               cmd, name, t.type_name, t.type_hash, t.message_size);
-    return 1;
-  }
-  auto reader = horus::tools::RemoteReader::open(name, t.transport, t.type_name, t.type_hash, t.signature, error);
-  if (!reader) {
-    fmt::print(stderr, "horus topic {}: topic '{}' ({}, layout hash {:016x}, {} bytes): {}\n", cmd, name, t.type_name,
-               t.type_hash, t.message_size, error);
-    return 1;
-  }
+  auto reader = open_remote_reader(*found, name, cmd);
+  if (!reader) return 1;
   fleet.reset();  // the reader has its own endpoint
   RemoteSource src(std::move(reader));
   return body(static_cast<Source&>(src));
