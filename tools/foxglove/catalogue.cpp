@@ -21,6 +21,19 @@ using json = nlohmann::json;
 
 std::string graph_id(const std::string& host, std::uint32_t pid) { return fmt::format("{}/pid {}", host, pid); }
 
+// A fleet host's row on the status page.
+json host_json(const FleetHost& h) {
+  return {{"name", h.name},
+          {"state", h.self ? "this host" : std::string(to_string(h.state))},
+          {"self", h.self},
+          {"age_ms", h.heartbeat_age.count()},
+          {"rtt_us", h.rtt ? json(h.rtt->count()) : json(nullptr)},
+          {"clock_offset_us", h.clock_offset ? json(h.clock_offset->count()) : json(nullptr)},
+          {"loss", h.loss},
+          {"topics", h.topics.size()},
+          {"processes", h.processes.size()}};
+}
+
 }  // namespace
 
 Catalogue::Catalogue(std::vector<std::string> patterns, const std::string& ns)
@@ -84,16 +97,33 @@ void Catalogue::add_channels(std::map<std::string, Desc>& out, Desc d) {
   }
 }
 
-Scan Catalogue::scan(Fleet* fleet) {
-  Scan r;
-  auto& want = r.channels;
+// The messages a topic sent per second since the last scan at least 0.9 s old (-1: not known
+// yet); `counts` keeps the count and time the next scan measures from.
+double Catalogue::rate_of(const discovery::TopicEntry& t, Clock::time_point now,
+                          std::map<std::string, std::pair<std::uint64_t, Clock::time_point>>& counts) {
+  double rate = -1;
+  if (auto it = last_counts_.find(t.topic); it != last_counts_.end()) {
+    const double dt = std::chrono::duration<double>(now - it->second.second).count();
+    if (dt >= 0.9) {
+      rate = static_cast<double>(t.messages_sent - std::min(t.messages_sent, it->second.first)) / dt;
+      counts[t.topic] = {t.messages_sent, now};
+      rates_[t.topic] = rate;
+    } else {
+      counts[t.topic] = it->second;
+      rate = rates_.contains(t.topic) ? rates_[t.topic] : -1;
+    }
+  } else {
+    counts[t.topic] = {t.messages_sent, now};
+  }
+  return rate;
+}
+
+// This host's topics that another process uses: channels, graph, status rows (`local_names`).
+void Catalogue::scan_local(Scan& r, std::set<std::string>& local_names) {
   auto& graph = r.graph;
-  auto& topics = r.topics;
-  auto& hosts = r.hosts;
   const auto me = static_cast<std::uint32_t>(::getpid());
   std::map<std::string, std::pair<std::uint64_t, Clock::time_point>> counts;
   const auto now = Clock::now();
-  std::set<std::string> local_names;
   for (const auto& t : scanner_.scan()) {
     std::vector<std::string> pubs, subs;
     bool others = false;
@@ -112,97 +142,87 @@ Scan Catalogue::scan(Fleet* fleet) {
     d.type = t.type_name;
     d.hash = t.type_hash;
     d.signature = t.signature;
-    add_channels(want, std::move(d));
+    add_channels(r.channels, std::move(d));
     // rate: the sent count since the last scan that is at least 0.9 s old
-    double rate = -1;
-    if (auto it = last_counts_.find(t.topic); it != last_counts_.end()) {
-      const double dt = std::chrono::duration<double>(now - it->second.second).count();
-      if (dt >= 0.9) {
-        rate = static_cast<double>(t.messages_sent - std::min(t.messages_sent, it->second.first)) / dt;
-        counts[t.topic] = {t.messages_sent, now};
-        rates_[t.topic] = rate;
-      } else {
-        counts[t.topic] = it->second;
-        rate = rates_.contains(t.topic) ? rates_[t.topic] : -1;
-      }
-    } else {
-      counts[t.topic] = {t.messages_sent, now};
-    }
-    topics.push_back({{"name", t.topic},
-                      {"type", t.type_name},
-                      {"scope", t.scope},
-                      {"hosts", {host_}},
-                      {"publishers", t.publishers},
-                      {"subscribers", t.subscribers},
-                      {"rate_hz", rate},
-                      {"message_bytes", t.message_size},
-                      {"bandwidth_bps", rate < 0 ? -1.0 : rate * t.message_size},
-                      {"dropped", t.dropped}});
+    const double rate = rate_of(t, now, counts);
+    r.topics.push_back({{"name", t.topic},
+                        {"type", t.type_name},
+                        {"scope", t.scope},
+                        {"hosts", {host_}},
+                        {"publishers", t.publishers},
+                        {"subscribers", t.subscribers},
+                        {"rate_hz", rate},
+                        {"message_bytes", t.message_size},
+                        {"bandwidth_bps", rate < 0 ? -1.0 : rate * t.message_size},
+                        {"dropped", t.dropped}});
   }
   last_counts_ = std::move(counts);
+}
 
-  if (fleet) {
-    std::map<std::string, json> remote_topics;
-    for (const auto& h : fleet->hosts()) {
-      json hj{{"name", h.name},
-              {"state", h.self ? "this host" : std::string(to_string(h.state))},
-              {"self", h.self},
-              {"age_ms", h.heartbeat_age.count()},
-              {"rtt_us", h.rtt ? json(h.rtt->count()) : json(nullptr)},
-              {"clock_offset_us", h.clock_offset ? json(h.clock_offset->count()) : json(nullptr)},
-              {"loss", h.loss},
-              {"topics", h.topics.size()},
-              {"processes", h.processes.size()}};
-      hosts.push_back(hj);
-      if (h.self || h.state == HostState::Lost) continue;
-      for (const auto& t : h.topics) {
-        if (t.scope != "fleet" || !wanted(t.name)) continue;
-        if (t.publishers) graph.published.push_back({t.name, {h.name}});
-        if (t.subscribers) graph.subscribed.push_back({t.name, {h.name}});
-        auto& rt = remote_topics[t.name];
-        if (rt.is_null())
-          rt = {{"name", t.name},        {"type", t.type_name}, {"scope", "fleet"}, {"hosts", json::array()},
-                {"publishers", 0},       {"subscribers", 0},    {"rate_hz", -1.0},  {"message_bytes", t.message_size},
-                {"bandwidth_bps", -1.0}, {"dropped", 0}};
-        rt["hosts"].push_back(h.name);
-        rt["publishers"] = rt["publishers"].get<std::uint32_t>() + t.publishers;
-        rt["subscribers"] = rt["subscribers"].get<std::uint32_t>() + t.subscribers;
-        if (t.rate_hz >= 0 && t.publishers > 0) {
-          rt["rate_hz"] = std::max(rt["rate_hz"].get<double>(), 0.0) + t.rate_hz;
-          rt["bandwidth_bps"] = rt["rate_hz"].get<double>() * t.message_size;
-        }
-        if (local_names.contains(t.name) || want.contains(t.name)) continue;
-        Desc d;
-        d.horus_topic = t.name;
-        d.type = t.type_name;
-        d.hash = t.type_hash;
-        d.signature = t.signature;
-        d.via = t.transport;
-        add_channels(want, std::move(d));
+// The fleet's hosts, and the fleet topics of the other hosts: channels (those not on this host),
+// graph, status rows (one per topic, merged into this host's row of the same name).
+void Catalogue::scan_fleet(Scan& r, const Fleet& fleet, const std::set<std::string>& local_names) {
+  auto& graph = r.graph;
+  std::map<std::string, json> remote_topics;
+  for (const auto& h : fleet.hosts()) {
+    r.hosts.push_back(host_json(h));
+    if (h.self || h.state == HostState::Lost) continue;
+    for (const auto& t : h.topics) {
+      if (t.scope != "fleet" || !wanted(t.name)) continue;
+      if (t.publishers) graph.published.push_back({t.name, {h.name}});
+      if (t.subscribers) graph.subscribed.push_back({t.name, {h.name}});
+      auto& rt = remote_topics[t.name];
+      if (rt.is_null())
+        rt = {{"name", t.name},        {"type", t.type_name}, {"scope", "fleet"}, {"hosts", json::array()},
+              {"publishers", 0},       {"subscribers", 0},    {"rate_hz", -1.0},  {"message_bytes", t.message_size},
+              {"bandwidth_bps", -1.0}, {"dropped", 0}};
+      rt["hosts"].push_back(h.name);
+      rt["publishers"] = rt["publishers"].get<std::uint32_t>() + t.publishers;
+      rt["subscribers"] = rt["subscribers"].get<std::uint32_t>() + t.subscribers;
+      if (t.rate_hz >= 0 && t.publishers > 0) {
+        rt["rate_hz"] = std::max(rt["rate_hz"].get<double>(), 0.0) + t.rate_hz;
+        rt["bandwidth_bps"] = rt["rate_hz"].get<double>() * t.message_size;
       }
+      if (local_names.contains(t.name) || r.channels.contains(t.name)) continue;
+      Desc d;
+      d.horus_topic = t.name;
+      d.type = t.type_name;
+      d.hash = t.type_hash;
+      d.signature = t.signature;
+      d.via = t.transport;
+      add_channels(r.channels, std::move(d));
     }
-    for (auto& [name, rt] : remote_topics) {
-      bool merged = false;
-      for (auto& lt : topics)
-        if (lt["name"] == name) {
-          for (const auto& h : rt["hosts"]) lt["hosts"].push_back(h);
-          merged = true;
-        }
-      if (!merged) topics.push_back(std::move(rt));
-    }
-  } else {
-    hosts.push_back({{"name", host_},
-                     {"state", "this host"},
-                     {"self", true},
-                     {"age_ms", 0},
-                     {"rtt_us", nullptr},
-                     {"clock_offset_us", nullptr},
-                     {"loss", -1},
-                     {"topics", topics.size()},
-                     {"processes", nullptr}});
   }
-  std::sort(graph.published.begin(), graph.published.end(), [](auto& a, auto& b) { return a.name < b.name; });
-  std::sort(graph.subscribed.begin(), graph.subscribed.end(), [](auto& a, auto& b) { return a.name < b.name; });
+  for (auto& [name, rt] : remote_topics) {
+    bool merged = false;
+    for (auto& lt : r.topics)
+      if (lt["name"] == name) {
+        for (const auto& h : rt["hosts"]) lt["hosts"].push_back(h);
+        merged = true;
+      }
+    if (!merged) r.topics.push_back(std::move(rt));
+  }
+}
+
+Scan Catalogue::scan(Fleet* fleet) {
+  Scan r;
+  std::set<std::string> local_names;
+  scan_local(r, local_names);
+  if (fleet) {
+    scan_fleet(r, *fleet, local_names);
+  } else {
+    r.hosts.push_back({{"name", host_},
+                       {"state", "this host"},
+                       {"self", true},
+                       {"age_ms", 0},
+                       {"rtt_us", nullptr},
+                       {"clock_offset_us", nullptr},
+                       {"loss", -1},
+                       {"topics", r.topics.size()},
+                       {"processes", nullptr}});
+  }
+  std::sort(r.graph.published.begin(), r.graph.published.end(), [](auto& a, auto& b) { return a.name < b.name; });
+  std::sort(r.graph.subscribed.begin(), r.graph.subscribed.end(), [](auto& a, auto& b) { return a.name < b.name; });
 
   return r;
 }

@@ -54,6 +54,10 @@ class Catalogue {
   using Clock = std::chrono::steady_clock;
   bool wanted(const std::string& name) const;
   void add_channels(std::map<std::string, Desc>& out, Desc d);
+  double rate_of(const discovery::TopicEntry& t, Clock::time_point now,
+                 std::map<std::string, std::pair<std::uint64_t, Clock::time_point>>& counts);
+  void scan_local(Scan& r, std::set<std::string>& local_names);
+  void scan_fleet(Scan& r, const Fleet& fleet, const std::set<std::string>& local_names);
 
   std::vector<std::string> patterns_;
   discovery::Scanner scanner_;

@@ -439,11 +439,11 @@ class HubImpl final : public Hub {
     }
   }
 
-  void scan() {
-    Scan s = catalogue_.scan(fleet_.get());
+  // Unadvertises the channels that went (or changed), advertises those that came, and sends the
+  // graph's changes to the clients that asked for it. Holds mu_.
+  void update_channels(Scan& s) {
     auto& want = s.channels;
     auto& graph = s.graph;
-    std::lock_guard lock(mu_);
     // unadvertise what went (or changed), advertise what came
     std::vector<std::uint32_t> gone;
     for (auto it = channels_.begin(); it != channels_.end();) {
@@ -479,9 +479,10 @@ class HubImpl final : public Hub {
         if (auto u = graph_update(graph_, graph)) st.client->send_text(*u);
     }
     graph_ = std::move(graph);
-    if (dirty_) wake_.fire();
+  }
 
-    // the status page's figures
+  // The status page's channels. Holds mu_.
+  json channels_status() const {
     json channels = json::array();
     for (const auto& [id, d] : channels_) {
       json c{{"id", id},
@@ -498,6 +499,11 @@ class HubImpl final : public Hub {
       }
       channels.push_back(std::move(c));
     }
+    return channels;
+  }
+
+  // The status page's clients. Holds mu_.
+  json clients_status() const {
     json clients = json::array();
     for (const auto& [id, st] : clients_) {
       const auto cs = st.client->stats();
@@ -512,6 +518,18 @@ class HubImpl final : public Hub {
                          {"published", published},
                          {"connected_s", std::chrono::duration<double>(Clock::now() - st.since).count()}});
     }
+    return clients;
+  }
+
+  void scan() {
+    Scan s = catalogue_.scan(fleet_.get());
+    std::lock_guard lock(mu_);
+    update_channels(s);
+    if (dirty_) wake_.fire();
+
+    // the status page's figures
+    json channels = channels_status();
+    json clients = clients_status();
     json all{{"server",
               {{"name", o_.name},
                {"host", s.host},

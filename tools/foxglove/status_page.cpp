@@ -2,8 +2,9 @@
 
 namespace horus::tools::fox {
 
-std::string_view status_page_html() {
-  static constexpr std::string_view kPage = R"HTML(<!doctype html>
+namespace {
+
+constexpr std::string_view kPage = R"HTML(<!doctype html>
 <html lang="en">
 <head>
 <meta charset="utf-8">
@@ -93,7 +94,9 @@ setInterval(refresh, 1000);
 </body>
 </html>
 )HTML";
-  return kPage;
-}
+
+}  // namespace
+
+std::string_view status_page_html() { return kPage; }
 
 }  // namespace horus::tools::fox
