@@ -137,9 +137,8 @@ std::size_t config_check(const std::string& file) {
   return c.rules().size();
 }
 
-}  // namespace
-
-void bind_tools(py::module_& m) {
+// horus.Fleet and the types it returns.
+void bind_fleet(py::module_& m) {
   py::class_<FleetProcess>(m, "FleetProcess")
       .def_readonly("pid", &FleetProcess::pid)
       .def_readonly("name", &FleetProcess::name)
@@ -193,14 +192,17 @@ void bind_tools(py::module_& m) {
         });
       }, py::arg("callback"), "Calls callback(event) on the fleet's thread when a host joins, is lost, rejoins or changes")
       .def("remove", &Fleet::remove);
+}
 
+void bind_config(py::module_& m) {
   py::module_ config = m.def_submodule("config", "The configuration file: check and explain (as horus config)");
   config.def("check", &config_check, py::arg("file"),
              "Validates a configuration file as `horus config check` does; the number of rules, or raises ConfigError");
   config.def("explain", &config_explain, py::arg("topic"), py::arg("file") = py::none(),
              "What topic gets from the environment and the file (HORUS_CONFIG unless file): a dict of value and source");
+}
 
-  py::module_ record = m.def_submodule("record", "MCAP and LCM-log recording and replay");
+void bind_recorder(py::module_& record) {
   py::class_<Recorder>(record, "Recorder", "Records topics into an MCAP file (or an LCM log: format='lcm')")
       .def(py::init([](const std::string& path, const std::string& format, std::uint64_t split_size) {
              RecorderOptions o;
@@ -231,7 +233,9 @@ void bind_tools(py::module_& m) {
       .def("close", [](Recorder& r) { ok_or_raise(without_gil([&] { return r.close(); })); })
       .def("__enter__", [](py::object self) { return self; })
       .def("__exit__", [](Recorder& r, py::args) { ok_or_raise(without_gil([&] { return r.close(); })); });
+}
 
+void bind_player(py::module_& record) {
   py::class_<Player>(record, "Player", "Plays an MCAP file or an LCM log into topics")
       .def(py::init([](const std::string& path, bool recover) { return ok_or_raise(Player::open(path, recover)); }),
            py::arg("path"), py::arg("recover") = false)
@@ -280,6 +284,16 @@ void bind_tools(py::module_& m) {
         d["per_topic"] = st.per_topic;
         return d;
       }, py::arg("rate") = 1.0, "Publishes the bound topics' messages, spaced as recorded (divided by rate; 0: at once)");
+}
+
+}  // namespace
+
+void bind_tools(py::module_& m) {
+  bind_fleet(m);
+  bind_config(m);
+  py::module_ record = m.def_submodule("record", "MCAP and LCM-log recording and replay");
+  bind_recorder(record);
+  bind_player(record);
 }
 
 }  // namespace horus::python

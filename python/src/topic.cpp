@@ -147,16 +147,9 @@ class PyWaitSet {
   std::map<WaitSet::Id, py::object> attached_;
 };
 
-}  // namespace
-
-void bind_topics(py::module_& m) {
-  py::class_<PyLoan>(m, "Loan", "A pool slot lent by Topic.loan(): fill .data, then topic.send(loan)")
-      .def_property_readonly("data", [](py::object self) { return self.cast<PyLoan&>().data(self); })
-      .def_property_readonly("message", [](py::object self) { return self.cast<PyLoan&>().message(self); })
-      .def_property_readonly("sent", &PyLoan::sent);
-
-  py::class_<PyTopic>(m, "Topic", "A typed topic: horus.Topic('odom', horus.msg.Odometry, capacity=..., scope=...)")
-      .def(py::init<const std::string&, py::handle, const py::kwargs&>(), py::arg("name"), py::arg("type"))
+// Topic's constructor, sending and receiving, and loans.
+void def_topic_traffic(py::class_<PyTopic>& c) {
+  c.def(py::init<const std::string&, py::handle, const py::kwargs&>(), py::arg("name"), py::arg("type"))
       .def("send", [](PyTopic& s, py::handle msg) { s.use([&](AnyTopic& t) { t.send(msg); }); }, py::arg("msg"),
            "Publishes; never blocks (a full ring overwrites its oldest message)")
       .def("try_send", [](PyTopic& s, py::handle msg) { return s.use([&](AnyTopic& t) { return t.try_send(msg); }); },
@@ -175,8 +168,12 @@ void bind_topics(py::module_& m) {
              return s.use_shared([&](const std::shared_ptr<AnyTopic>& t) { return t->loan(args, t); });
            },
            py::keep_alive<0, 1>(),
-           "Large data: a pool slot for Type.describe(*args) (or a descriptor), filled through Loan.data")
-      .def("publish_only", [](PyTopic& s) { s.use([](AnyTopic& t) { t.publish_only(); }); })
+           "Large data: a pool slot for Type.describe(*args) (or a descriptor), filled through Loan.data");
+}
+
+// Topic's counts and properties, its metrics, and its Python protocols (with, iteration, repr).
+void def_topic_state(py::class_<PyTopic>& c) {
+  c.def("publish_only", [](PyTopic& s) { s.use([](AnyTopic& t) { t.publish_only(); }); })
       .def("has_message", [](PyTopic& s) { return s.use([](AnyTopic& t) { return t.has_message(); }); })
       .def("pending_count", [](PyTopic& s) { return s.use([](AnyTopic& t) { return t.pending_count(); }); })
       .def("dropped_count", [](PyTopic& s) { return s.use([](AnyTopic& t) { return t.dropped_count(); }); })
@@ -220,7 +217,10 @@ void bind_topics(py::module_& m) {
                              to_string(t.backend().scope()), to_string(t.backend()));
         });
       });
+}
 
+// Trigger and WaitSet.
+void bind_waiting(py::module_& m) {
   py::class_<Trigger>(m, "Trigger", "A condition a WaitSet waits on, fired from any thread")
       .def(py::init<>())
       .def("fire", &Trigger::fire)
@@ -234,7 +234,22 @@ void bind_topics(py::module_& m) {
       .def("wait", &PyWaitSet::wait, py::arg("timeout") = py::none(),
            "The attached topics and triggers that are ready (empty when the timeout passed)")
       .def("__len__", &PyWaitSet::size);
+}
 
+}  // namespace
+
+void bind_topics(py::module_& m) {
+  py::class_<PyLoan>(m, "Loan", "A pool slot lent by Topic.loan(): fill .data, then topic.send(loan)")
+      .def_property_readonly("data", [](py::object self) { return self.cast<PyLoan&>().data(self); })
+      .def_property_readonly("message", [](py::object self) { return self.cast<PyLoan&>().message(self); })
+      .def_property_readonly("sent", &PyLoan::sent);
+
+  py::class_<PyTopic> topic(m, "Topic",
+                            "A typed topic: horus.Topic('odom', horus.msg.Odometry, capacity=..., scope=...)");
+  def_topic_traffic(topic);
+  def_topic_state(topic);
+
+  bind_waiting(m);
 }
 
 }  // namespace horus::python
