@@ -145,6 +145,12 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener, pu
   // The hand-over: the bridge follows the host's publisher (bridge.cpp, "the hand-over").
   enum class Ask { Idle, Matching, Asked };
   Clock::time_point handover_step(Clock::time_point now, std::uint64_t owner) noexcept;  // a publishing watcher
+  Clock::time_point ask_if_quiet(Clock::time_point now, std::uint64_t owner, bool holder_alive,
+                                 std::uint64_t mine) noexcept;
+  Clock::time_point ask_once_matched(Clock::time_point now, std::uint64_t owner, bool holder_alive,
+                                     std::uint64_t mine) noexcept;
+  Clock::time_point wait_for_answer(Clock::time_point now, std::uint64_t owner, bool holder_alive,
+                                    std::uint64_t mine) noexcept;
   void cancel_ask(bool refused) noexcept;
   Clock::time_point hand_over(Clock::time_point now) noexcept;  // the holder, asked (control thread)
   void finish_hand_over() noexcept;

@@ -100,111 +100,126 @@ bool Bridge::owns_lane(pid_t pid, bool skip_import) const noexcept {
 Clock::time_point Bridge::handover_step(Clock::time_point now, std::uint64_t owner) noexcept {
   const std::uint64_t mine = segment().bridge_word();
   const bool holder_alive = owner != 0 && segment().bridge_word_alive(owner);
-  const bool discovery = info_.format != net::WireFormat::Lcm;  // LCM matches nothing: counts stay 0
   switch (ask_) {
-    case Ask::Idle: {
-      if (now < ask_next_) return ask_next_;
-      ask_next_ = now + kAskLook;
-      if (!owns_lane(::getpid(), false)) {  // its publishers closed: nothing to follow
-        publishes_.store(false, std::memory_order_release);
-        return Clock::time_point::max();
-      }
-      if (!holder_alive || mine == 0) return ask_next_;  // nobody holds it: the claim takes it
-      if (owns_lane(static_cast<pid_t>(owner >> 32), true)) {
-        ask_next_ = now + kAskBackOff;  // the holder publishes too: it keeps the bridge
-        return ask_next_;
-      }
-      const std::uint64_t imported = state().imported.load(std::memory_order_relaxed);
-      if (imported != quiet_imported_) {
-        quiet_imported_ = imported;
-        quiet_since_ = now;
-        return ask_next_;
-      }
-      if (now - quiet_since_ < kQuiet) return ask_next_;
-      ask_readers_ = state().matched_subscribers.load(std::memory_order_relaxed);
-      ask_writers_ = state().matched_publishers.load(std::memory_order_relaxed);
-      ask_opened_ = now;
-      ask_matched_ = {};
-      if (auto ok = open_endpoint(true); !ok) {
-        log().warn("topic '{}': this process publishes on it but could not open its {} endpoint to take the "
-                   "host's bridge over ({}); the bridge stays with pid {}",
-                   core_.name, info_.name, ok.error().message(), owner >> 32);
-        ask_next_ = now + kAskBackOffMax;
-        return ask_next_;
-      }
-      ask_ = Ask::Matching;
-      ask_until_ = now + kMatchWait;
-      return now + kAskPoll;
+    case Ask::Idle: return ask_if_quiet(now, owner, holder_alive, mine);
+    case Ask::Matching: return ask_once_matched(now, owner, holder_alive, mine);
+    case Ask::Asked: return wait_for_answer(now, owner, holder_alive, mine);
+  }
+  return Clock::time_point::max();
+}
+
+// handover_step, Idle: whether to ask (this process publishes, the holder does not, the import
+// was quiet for kQuiet); then this process's endpoint opens and the step is Matching.
+Clock::time_point Bridge::ask_if_quiet(Clock::time_point now, std::uint64_t owner, bool holder_alive,
+                                       std::uint64_t mine) noexcept {
+  if (now < ask_next_) return ask_next_;
+  ask_next_ = now + kAskLook;
+  if (!owns_lane(::getpid(), false)) {  // its publishers closed: nothing to follow
+    publishes_.store(false, std::memory_order_release);
+    return Clock::time_point::max();
+  }
+  if (!holder_alive || mine == 0) return ask_next_;  // nobody holds it: the claim takes it
+  if (owns_lane(static_cast<pid_t>(owner >> 32), true)) {
+    ask_next_ = now + kAskBackOff;  // the holder publishes too: it keeps the bridge
+    return ask_next_;
+  }
+  const std::uint64_t imported = state().imported.load(std::memory_order_relaxed);
+  if (imported != quiet_imported_) {
+    quiet_imported_ = imported;
+    quiet_since_ = now;
+    return ask_next_;
+  }
+  if (now - quiet_since_ < kQuiet) return ask_next_;
+  ask_readers_ = state().matched_subscribers.load(std::memory_order_relaxed);
+  ask_writers_ = state().matched_publishers.load(std::memory_order_relaxed);
+  ask_opened_ = now;
+  ask_matched_ = {};
+  if (auto ok = open_endpoint(true); !ok) {
+    log().warn("topic '{}': this process publishes on it but could not open its {} endpoint to take the "
+               "host's bridge over ({}); the bridge stays with pid {}",
+               core_.name, info_.name, ok.error().message(), owner >> 32);
+    ask_next_ = now + kAskBackOffMax;
+    return ask_next_;
+  }
+  ask_ = Ask::Matching;
+  ask_until_ = now + kMatchWait;
+  return now + kAskPoll;
+}
+
+// handover_step, Matching: waits until this process's endpoint matched what the holder's did,
+// and the settle; then asks (the `handover` word) and rings the holder: Asked.
+Clock::time_point Bridge::ask_once_matched(Clock::time_point now, std::uint64_t owner, bool holder_alive,
+                                           std::uint64_t mine) noexcept {
+  const bool discovery = info_.format != net::WireFormat::Lcm;  // LCM matches nothing: counts stay 0
+  if (!holder_alive) {
+    cancel_ask(false);
+    return now;
+  }
+  std::uint32_t readers = 0, writers = 0;
+  try {
+    readers = endpoint_->matched_subscribers();
+    writers = endpoint_->matched_publishers();
+  } catch (...) {
+  }
+  // DDS: the holder's endpoint matched ours both ways (its counts of readers and of writers
+  // grew) and ours matched as many as the holder's (each counts the other): every remote
+  // endpoint matched ours too. Then the settle (kDiscoverySettle), for the remote readers.
+  const std::uint32_t holder_readers = state().matched_subscribers.load(std::memory_order_relaxed);
+  const std::uint32_t holder_writers = state().matched_publishers.load(std::memory_order_relaxed);
+  const bool matched = !discovery || (holder_readers > ask_readers_ && holder_writers > ask_writers_ &&
+                                      readers >= holder_readers && writers >= holder_writers);
+  if (!matched) {
+    if (now < ask_until_ && ask_matched_ == Clock::time_point{}) return now + kAskPoll;
+    // Not matched within kMatchWait, or a remote endpoint went while settling: the holder
+    // keeps the bridge (its export reaches every reader); look again later.
+    log().debug("topic '{}': this process's {} endpoint did not match what the holder's did (readers {} of {}, "
+                "writers {} of {}); the host's bridge stays with pid {} for now",
+                core_.name, info_.name, readers, holder_readers, writers, holder_writers, owner >> 32);
+    cancel_ask(false);
+    return ask_next_;
+  }
+  if (discovery) {
+    if (ask_matched_ == Clock::time_point{}) ask_matched_ = now;
+    const auto settle = discovery_settle(ask_matched_ - ask_opened_);
+    if (now < ask_matched_ + settle) return std::min(ask_matched_ + settle, now + std::chrono::milliseconds(10));
+  }
+  std::uint64_t other = 0;
+  if (!state().handover.compare_exchange_strong(other, mine, std::memory_order_acq_rel)) {
+    if (segment().bridge_word_alive(other & ~kAccepted) && (other & ~kAccepted) != mine) {
+      cancel_ask(false);  // another process asks: one at a time
+      return ask_next_;
     }
-    case Ask::Matching: {
-      if (!holder_alive) {
-        cancel_ask(false);
-        return now;
-      }
-      std::uint32_t readers = 0, writers = 0;
-      try {
-        readers = endpoint_->matched_subscribers();
-        writers = endpoint_->matched_publishers();
-      } catch (...) {
-      }
-      // DDS: the holder's endpoint matched ours both ways (its counts of readers and of writers
-      // grew) and ours matched as many as the holder's (each counts the other): every remote
-      // endpoint matched ours too. Then the settle (kDiscoverySettle), for the remote readers.
-      const std::uint32_t holder_readers = state().matched_subscribers.load(std::memory_order_relaxed);
-      const std::uint32_t holder_writers = state().matched_publishers.load(std::memory_order_relaxed);
-      const bool matched = !discovery || (holder_readers > ask_readers_ && holder_writers > ask_writers_ &&
-                                          readers >= holder_readers && writers >= holder_writers);
-      if (!matched) {
-        if (now < ask_until_ && ask_matched_ == Clock::time_point{}) return now + kAskPoll;
-        // Not matched within kMatchWait, or a remote endpoint went while settling: the holder
-        // keeps the bridge (its export reaches every reader); look again later.
-        log().debug("topic '{}': this process's {} endpoint did not match what the holder's did (readers {} of {}, "
-                    "writers {} of {}); the host's bridge stays with pid {} for now",
-                    core_.name, info_.name, readers, holder_readers, writers, holder_writers, owner >> 32);
-        cancel_ask(false);
-        return ask_next_;
-      }
-      if (discovery) {
-        if (ask_matched_ == Clock::time_point{}) ask_matched_ = now;
-        const auto settle = discovery_settle(ask_matched_ - ask_opened_);
-        if (now < ask_matched_ + settle) return std::min(ask_matched_ + settle, now + std::chrono::milliseconds(10));
-      }
-      std::uint64_t other = 0;
-      if (!state().handover.compare_exchange_strong(other, mine, std::memory_order_acq_rel)) {
-        if (segment().bridge_word_alive(other & ~kAccepted) && (other & ~kAccepted) != mine) {
-          cancel_ask(false);  // another process asks: one at a time
-          return ask_next_;
-        }
-        if (!state().handover.compare_exchange_strong(other, mine, std::memory_order_acq_rel)) {
-          cancel_ask(false);
-          return ask_next_;
-        }
-      }
-      prematched_ = true;  // no gate: every reader matched ours
-      ask_ = Ask::Asked;
-      ask_until_ = now + kAskWait;
-      rang_at_ = now;
-      (void)core_.ring.wake_waiters(shm::Doorbell::kArmedBridge);
-      return now + kAskPoll;
-    }
-    case Ask::Asked: {
-      const std::uint64_t word = state().handover.load(std::memory_order_acquire);
-      if (word == (mine | kAccepted)) {  // the holder closes its endpoint; the claim comes next
-        if (now < ask_until_ + kAcceptedWait) return now + kAskPoll;
-      } else if (word == mine && holder_alive && now < ask_until_) {
-        if (now - rang_at_ >= kRingAgain) {  // the holder was exporting: ring again
-          rang_at_ = now;
-          (void)core_.ring.wake_waiters(shm::Doorbell::kArmedBridge);
-        }
-        return now + kAskPoll;
-      }
-      log().debug("topic '{}': the host's bridge stays with pid {} (it did not hand it over)", core_.name,
-                  owner >> 32);
-      cancel_ask(true);
+    if (!state().handover.compare_exchange_strong(other, mine, std::memory_order_acq_rel)) {
+      cancel_ask(false);
       return ask_next_;
     }
   }
-  return Clock::time_point::max();
+  prematched_ = true;  // no gate: every reader matched ours
+  ask_ = Ask::Asked;
+  ask_until_ = now + kAskWait;
+  rang_at_ = now;
+  (void)core_.ring.wake_waiters(shm::Doorbell::kArmedBridge);
+  return now + kAskPoll;
+}
+
+// handover_step, Asked: waits for the holder's answer (ringing it again while it was exporting);
+// refused or not answered, gives up.
+Clock::time_point Bridge::wait_for_answer(Clock::time_point now, std::uint64_t owner, bool holder_alive,
+                                          std::uint64_t mine) noexcept {
+  const std::uint64_t word = state().handover.load(std::memory_order_acquire);
+  if (word == (mine | kAccepted)) {  // the holder closes its endpoint; the claim comes next
+    if (now < ask_until_ + kAcceptedWait) return now + kAskPoll;
+  } else if (word == mine && holder_alive && now < ask_until_) {
+    if (now - rang_at_ >= kRingAgain) {  // the holder was exporting: ring again
+      rang_at_ = now;
+      (void)core_.ring.wake_waiters(shm::Doorbell::kArmedBridge);
+    }
+    return now + kAskPoll;
+  }
+  log().debug("topic '{}': the host's bridge stays with pid {} (it did not hand it over)", core_.name,
+              owner >> 32);
+  cancel_ask(true);
+  return ask_next_;
 }
 
 // Gives up asking: the request word (unless accepted) and this process's endpoint go; looks again
