@@ -166,6 +166,41 @@ CycloneEndpoint::~CycloneEndpoint() {
   if (topic_ > 0) dds_delete(topic_);
 }
 
+namespace {
+
+// The writer's QoS, which the reader shares but for DEADLINE and LIFESPAN (create()).
+void set_endpoint_qos(dds_qos_t* qos, const net::Qos& q) {
+  dds_data_representation_id_t xcdr1 = DDS_DATA_REPRESENTATION_XCDR1;
+  if (q.reliability == net::Reliability::Reliable)
+    dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, kMaxBlockingTime);
+  else
+    dds_qset_reliability(qos, DDS_RELIABILITY_BEST_EFFORT, 0);
+  dds_qset_durability(qos, q.durability == net::Durability::TransientLocal ? DDS_DURABILITY_TRANSIENT_LOCAL
+                                                                            : DDS_DURABILITY_VOLATILE);
+  // Reliable: KEEP_ALL, so nothing is dropped silently under load. A writer whose unacknowledged
+  // samples pile up blocks (max_blocking_time) and the bridge retries: the back-pressure reaches
+  // the host's publishers through the ring. A reader holds at most kReaderSamples not yet taken
+  // and refuses more (unacknowledged: the writer sends them again). Best effort: KEEP_LAST depth.
+  if (q.reliability == net::Reliability::Reliable) {
+    dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
+    dds_qset_resource_limits(qos, kReaderSamples, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
+  } else {
+    dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, static_cast<int32_t>(q.depth));
+  }
+  // Cyclone keeps durability_service.history (default KEEP_LAST 1) for late joiners.
+  dds_qset_durability_service(qos, 0, DDS_HISTORY_KEEP_LAST, static_cast<int32_t>(q.depth),
+                              DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
+  dds_qset_data_representation(qos, 1, &xcdr1);
+  dds_qset_ignorelocal(qos, DDS_IGNORELOCAL_PARTICIPANT);
+  // DEADLINE and LIFESPAN on the writer only (create()'s reader has neither): what it offers
+  // other vendors' readers. A reader requesting a deadline would not match writers of hosts
+  // that offer none; horus's handles enforce both themselves (horus/detail/watch.hpp).
+  if (q.deadline_ns > 0) dds_qset_deadline(qos, q.deadline_ns);
+  if (q.lifespan_ns > 0) dds_qset_lifespan(qos, q.lifespan_ns);
+}
+
+}  // namespace
+
 Result<void> CycloneEndpoint::create() {
   const net::EndpointSpec& spec = core_->spec();
   const dds_entity_t participant = transport_->participant();
@@ -194,33 +229,7 @@ Result<void> CycloneEndpoint::create() {
 
   QosPtr qos(dds_create_qos());
   if (!qos) return fail(Errc::Io, core_->label() + ": out of memory");
-  if (spec.qos.reliability == net::Reliability::Reliable)
-    dds_qset_reliability(qos.get(), DDS_RELIABILITY_RELIABLE, kMaxBlockingTime);
-  else
-    dds_qset_reliability(qos.get(), DDS_RELIABILITY_BEST_EFFORT, 0);
-  dds_qset_durability(qos.get(), spec.qos.durability == net::Durability::TransientLocal
-                                     ? DDS_DURABILITY_TRANSIENT_LOCAL
-                                     : DDS_DURABILITY_VOLATILE);
-  // Reliable: KEEP_ALL, so nothing is dropped silently under load. A writer whose unacknowledged
-  // samples pile up blocks (max_blocking_time) and the bridge retries: the back-pressure reaches
-  // the host's publishers through the ring. A reader holds at most kReaderSamples not yet taken
-  // and refuses more (unacknowledged: the writer sends them again). Best effort: KEEP_LAST depth.
-  if (spec.qos.reliability == net::Reliability::Reliable) {
-    dds_qset_history(qos.get(), DDS_HISTORY_KEEP_ALL, 0);
-    dds_qset_resource_limits(qos.get(), kReaderSamples, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
-  } else {
-    dds_qset_history(qos.get(), DDS_HISTORY_KEEP_LAST, static_cast<int32_t>(spec.qos.depth));
-  }
-  // Cyclone keeps durability_service.history (default KEEP_LAST 1) for late joiners.
-  dds_qset_durability_service(qos.get(), 0, DDS_HISTORY_KEEP_LAST, static_cast<int32_t>(spec.qos.depth),
-                              DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
-  dds_qset_data_representation(qos.get(), 1, &xcdr1);
-  dds_qset_ignorelocal(qos.get(), DDS_IGNORELOCAL_PARTICIPANT);
-  // DEADLINE and LIFESPAN on the writer only (the reader below has neither): what it offers
-  // other vendors' readers. A reader requesting a deadline would not match writers of hosts
-  // that offer none; horus's handles enforce both themselves (horus/detail/watch.hpp).
-  if (spec.qos.deadline_ns > 0) dds_qset_deadline(qos.get(), spec.qos.deadline_ns);
-  if (spec.qos.lifespan_ns > 0) dds_qset_lifespan(qos.get(), spec.qos.lifespan_ns);
+  set_endpoint_qos(qos.get(), spec.qos);
 
   ListenerPtr writer_listener(dds_create_listener(core_.get()));
   ListenerPtr reader_listener(dds_create_listener(core_.get()));

@@ -222,14 +222,23 @@ Result<void> FastddsEndpoint::write(std::size_t body_size, const net::BodyWriter
                             " bytes (return code " + std::to_string(rc()) + ")");
 }
 
-Result<void> FastddsEndpoint::create(fd::Topic* topic, fd::ContentFilteredTopic* filtered) {
-  filtered_ = filtered;
-  const net::EndpointSpec& spec = core_->spec();
+namespace {
+
+std::int32_t history_depth(const net::Qos& q) {
+  return static_cast<std::int32_t>(std::min<std::uint32_t>(q.depth, 1u << 20));
+}
+
+eprosima::fastrtps::Duration_t max_blocking_time() {
+  return eprosima::fastrtps::Duration_t(0, static_cast<std::uint32_t>(kMaxBlockingMs) * 1000000u);
+}
+
+// The DataWriter's QoS for `spec` (`paced`: through the link budget's flow controller).
+fd::DataWriterQos writer_qos(const net::EndpointSpec& spec, bool paced) {
   const net::Qos& q = spec.qos;
-  const auto depth = static_cast<std::int32_t>(std::min<std::uint32_t>(q.depth, 1u << 20));
+  const auto depth = history_depth(q);
   const bool reliable = q.reliability == net::Reliability::Reliable;
   const bool transient = q.durability == net::Durability::TransientLocal;
-  const eprosima::fastrtps::Duration_t max_blocking(0, static_cast<std::uint32_t>(kMaxBlockingMs) * 1000000u);
+  const eprosima::fastrtps::Duration_t max_blocking = max_blocking_time();
 
   fd::DataWriterQos wq;
   wq.reliability().kind = reliable ? fd::RELIABLE_RELIABILITY_QOS : fd::BEST_EFFORT_RELIABILITY_QOS;
@@ -260,6 +269,31 @@ Result<void> FastddsEndpoint::create(fd::Topic* topic, fd::ContentFilteredTopic*
   wq.reliable_writer_qos().times.heartbeatPeriod =
       eprosima::fastrtps::Duration_t(0, static_cast<std::uint32_t>(kHeartbeatMs) * 1000000u);
 
+  // DEADLINE and LIFESPAN on the writer only: what it offers other vendors' readers. A reader
+  // requesting a deadline would not match writers of hosts that offer none; horus's handles
+  // enforce both themselves (horus/detail/watch.hpp).
+  auto duration = [](std::int64_t ns) {
+    return eprosima::fastrtps::Duration_t(static_cast<std::int32_t>(ns / 1000000000),
+                                          static_cast<std::uint32_t>(ns % 1000000000));
+  };
+  if (q.deadline_ns > 0) wq.deadline().period = duration(q.deadline_ns);
+  if (q.lifespan_ns > 0) wq.lifespan().duration = duration(q.lifespan_ns);
+  // The host's link budget: fragments paced by the participant's flow controller, by priority
+  // (fastdds.sfc.priority: -10 the highest, 10 the lowest). The write returns at once; the
+  // controller's thread sends.
+  if (paced) {
+    wq.publish_mode().kind = fd::ASYNCHRONOUS_PUBLISH_MODE;
+    wq.publish_mode().flow_controller_name = kLinkFlowController;
+    wq.properties().properties().emplace_back("fastdds.sfc.priority", q.priority > 0 ? "-10" : q.priority < 0 ? "10" : "0");
+  }
+  return wq;
+}
+
+// The DataReader's QoS: the writer's (`wq`) reliability, durability and history.
+fd::DataReaderQos reader_qos(const net::Qos& q, const fd::DataWriterQos& wq) {
+  const auto depth = history_depth(q);
+  const bool reliable = q.reliability == net::Reliability::Reliable;
+  const eprosima::fastrtps::Duration_t max_blocking = max_blocking_time();
   fd::DataReaderQos rq;
   rq.reliability().kind = wq.reliability().kind;
   rq.reliability().max_blocking_time = max_blocking;
@@ -276,24 +310,16 @@ Result<void> FastddsEndpoint::create(fd::Topic* topic, fd::ContentFilteredTopic*
   rq.data_sharing().off();
   rq.type_consistency().representation.m_value = {fd::XCDR_DATA_REPRESENTATION};
   rq.endpoint().history_memory_policy = rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+  return rq;
+}
 
-  // DEADLINE and LIFESPAN on the writer only: what it offers other vendors' readers. A reader
-  // requesting a deadline would not match writers of hosts that offer none; horus's handles
-  // enforce both themselves (horus/detail/watch.hpp).
-  auto duration = [](std::int64_t ns) {
-    return eprosima::fastrtps::Duration_t(static_cast<std::int32_t>(ns / 1000000000),
-                                          static_cast<std::uint32_t>(ns % 1000000000));
-  };
-  if (q.deadline_ns > 0) wq.deadline().period = duration(q.deadline_ns);
-  if (q.lifespan_ns > 0) wq.lifespan().duration = duration(q.lifespan_ns);
-  // The host's link budget: fragments paced by the participant's flow controller, by priority
-  // (fastdds.sfc.priority: -10 the highest, 10 the lowest). The write returns at once; the
-  // controller's thread sends.
-  if (transport_->paced()) {
-    wq.publish_mode().kind = fd::ASYNCHRONOUS_PUBLISH_MODE;
-    wq.publish_mode().flow_controller_name = kLinkFlowController;
-    wq.properties().properties().emplace_back("fastdds.sfc.priority", q.priority > 0 ? "-10" : q.priority < 0 ? "10" : "0");
-  }
+}  // namespace
+
+Result<void> FastddsEndpoint::create(fd::Topic* topic, fd::ContentFilteredTopic* filtered) {
+  filtered_ = filtered;
+  const net::Qos& q = core_->spec().qos;
+  const fd::DataWriterQos wq = writer_qos(core_->spec(), transport_->paced());
+  const fd::DataReaderQos rq = reader_qos(q, wq);
 
   // The reader is created disabled (subscriber QoS), so the core knows it before data can arrive.
   // Under DDS-Security, the host's permissions may allow only one direction (Fast DDS then

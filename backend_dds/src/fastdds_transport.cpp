@@ -117,6 +117,63 @@ void quiet_fastdds_log() {
   });
 }
 
+// Discovery without multicast: on loopback only, or by unicast to the configured peers (both
+// with the transport `udp`'s settings); nothing when multicast discovery applies.
+Result<void> set_unicast_discovery(fd::DomainParticipantQos& pq, eprosima::fastdds::rtps::UDPv4TransportDescriptor& udp,
+                                   const net::Config& config) {
+  if (config.localhost_only) {
+    udp.interfaceWhiteList.emplace_back("127.0.0.1");
+    rtps::Locator_t loopback;
+    loopback.kind = LOCATOR_KIND_UDPv4;
+    eprosima::fastrtps::rtps::IPLocator::setIPv4(loopback, 127, 0, 0, 1);
+    loopback.port = 0;  // 0: the well-known ports of the domain and participant index
+    // A metatraffic unicast locator and no multicast one: discovery without multicast.
+    pq.wire_protocol().builtin.metatrafficUnicastLocatorList.push_back(loopback);
+    pq.wire_protocol().builtin.initialPeersList.push_back(loopback);  // probes kInitialPeersRange indexes
+    pq.wire_protocol().default_unicast_locator_list.push_back(loopback);
+  } else if (!config.peers.empty()) {
+    // A network without multicast: discovery by unicast to the peers' well-known ports of
+    // participant indexes 0..kMaxPeerIndex, and a unicast metatraffic locator of our own (any
+    // interface) with no multicast one, so that nothing goes to 239.255.0.1.
+    udp.maxInitialPeersRange = net::kMaxPeerIndex + 1;
+    rtps::Locator_t any;
+    any.kind = LOCATOR_KIND_UDPv4;
+    eprosima::fastrtps::rtps::IPLocator::setIPv4(any, 0, 0, 0, 0);
+    any.port = 0;
+    pq.wire_protocol().builtin.metatrafficUnicastLocatorList.push_back(any);
+    pq.wire_protocol().default_unicast_locator_list.push_back(any);
+    for (const std::string& peer : config.peers) {
+      auto address = resolve_ipv4(peer);
+      if (!address)
+        return fail(Errc::Config, config.peers_origin + ": peer '" + peer + "' " + address.error().message());
+      rtps::Locator_t locator;
+      locator.kind = LOCATOR_KIND_UDPv4;
+      eprosima::fastrtps::rtps::IPLocator::setIPv4(locator, (*address)[0], (*address)[1], (*address)[2], (*address)[3]);
+      locator.port = 0;  // 0: the well-known ports of the domain and participant index
+      pq.wire_protocol().builtin.initialPeersList.push_back(locator);
+    }
+  }
+  return {};
+}
+
+// The host's link budget (network.max_bandwidth, `link_bandwidth` bytes per second): the flow
+// controller the writers send through, and the transport `udp`'s datagrams.
+void set_link_budget(fd::DomainParticipantQos& pq, eprosima::fastdds::rtps::UDPv4TransportDescriptor& udp,
+                     std::uint64_t link_bandwidth) {
+  // A constrained link (Wi-Fi): datagrams that fit one Ethernet frame, so that a lost packet
+  // loses one RTPS fragment, not a whole IP-fragmented datagram, and lost IP fragments never
+  // fill the receiving kernel's reassembly memory (seen: 4 MiB of incomplete datagrams after
+  // a congested run made every fragmented datagram fail for 30 s).
+  udp.maxMessageSize = kLinkDatagramBytes;
+  auto fc = std::make_shared<eprosima::fastdds::rtps::FlowControllerDescriptor>();
+  fc->name = kLinkFlowController;
+  fc->scheduler = eprosima::fastdds::rtps::FlowControllerSchedulerPolicy::HIGH_PRIORITY;
+  fc->max_bytes_per_period = static_cast<std::int32_t>(
+      std::clamp<std::uint64_t>(link_bandwidth * kLinkPeriodMs / 1000, 1500, INT32_MAX));
+  fc->period_ms = kLinkPeriodMs;
+  pq.flow_controllers().push_back(fc);
+}
+
 }  // namespace
 
 // ---- participant listener ---------------------------------------------------------------------
@@ -154,38 +211,7 @@ Result<void> FastddsTransport::start() {
   udp->sendBufferSize = kSocketBuffer;
   udp->receiveBufferSize = kSocketBuffer;
   udp->maxInitialPeersRange = kInitialPeersRange;
-  if (config_.localhost_only) {
-    udp->interfaceWhiteList.emplace_back("127.0.0.1");
-    rtps::Locator_t loopback;
-    loopback.kind = LOCATOR_KIND_UDPv4;
-    eprosima::fastrtps::rtps::IPLocator::setIPv4(loopback, 127, 0, 0, 1);
-    loopback.port = 0;  // 0: the well-known ports of the domain and participant index
-    // A metatraffic unicast locator and no multicast one: discovery without multicast.
-    pq.wire_protocol().builtin.metatrafficUnicastLocatorList.push_back(loopback);
-    pq.wire_protocol().builtin.initialPeersList.push_back(loopback);  // probes kInitialPeersRange indexes
-    pq.wire_protocol().default_unicast_locator_list.push_back(loopback);
-  } else if (!config_.peers.empty()) {
-    // A network without multicast: discovery by unicast to the peers' well-known ports of
-    // participant indexes 0..kMaxPeerIndex, and a unicast metatraffic locator of our own (any
-    // interface) with no multicast one, so that nothing goes to 239.255.0.1.
-    udp->maxInitialPeersRange = net::kMaxPeerIndex + 1;
-    rtps::Locator_t any;
-    any.kind = LOCATOR_KIND_UDPv4;
-    eprosima::fastrtps::rtps::IPLocator::setIPv4(any, 0, 0, 0, 0);
-    any.port = 0;
-    pq.wire_protocol().builtin.metatrafficUnicastLocatorList.push_back(any);
-    pq.wire_protocol().default_unicast_locator_list.push_back(any);
-    for (const std::string& peer : config_.peers) {
-      auto address = resolve_ipv4(peer);
-      if (!address)
-        return fail(Errc::Config, config_.peers_origin + ": peer '" + peer + "' " + address.error().message());
-      rtps::Locator_t locator;
-      locator.kind = LOCATOR_KIND_UDPv4;
-      eprosima::fastrtps::rtps::IPLocator::setIPv4(locator, (*address)[0], (*address)[1], (*address)[2], (*address)[3]);
-      locator.port = 0;  // 0: the well-known ports of the domain and participant index
-      pq.wire_protocol().builtin.initialPeersList.push_back(locator);
-    }
-  }
+  if (auto ok = set_unicast_discovery(pq, *udp, config_); !ok) return ok;
   pq.transport().user_transports.push_back(udp);
   // Announce every second instead of Fast DDS's 3 s: a participant that starts while the others
   // run learns of them only from these periodic announcements (they do not answer its own), so
@@ -196,20 +222,7 @@ Result<void> FastddsTransport::start() {
   // that paces their fragments at it (kLinkPeriodMs slices), higher priority first, so that a
   // pose goes between two fragments of a camera frame and a large frame does not overflow a
   // short link queue. Fast DDS cuts fragments to fit one slice.
-  if (config_.link_bandwidth > 0) {
-    // A constrained link (Wi-Fi): datagrams that fit one Ethernet frame, so that a lost packet
-    // loses one RTPS fragment, not a whole IP-fragmented datagram, and lost IP fragments never
-    // fill the receiving kernel's reassembly memory (seen: 4 MiB of incomplete datagrams after
-    // a congested run made every fragmented datagram fail for 30 s).
-    udp->maxMessageSize = kLinkDatagramBytes;
-    auto fc = std::make_shared<eprosima::fastdds::rtps::FlowControllerDescriptor>();
-    fc->name = kLinkFlowController;
-    fc->scheduler = eprosima::fastdds::rtps::FlowControllerSchedulerPolicy::HIGH_PRIORITY;
-    fc->max_bytes_per_period = static_cast<std::int32_t>(
-        std::clamp<std::uint64_t>(config_.link_bandwidth * kLinkPeriodMs / 1000, 1500, INT32_MAX));
-    fc->period_ms = kLinkPeriodMs;
-    pq.flow_controllers().push_back(fc);
-  }
+  if (config_.link_bandwidth > 0) set_link_budget(pq, *udp, config_.link_bandwidth);
 
   // DDS-Security: Fast DDS's built-in plug-ins (PKI-DH, Access-Permissions, AES-GCM-GMAC) with
   // the identity's checked files.
