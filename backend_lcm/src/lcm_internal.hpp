@@ -130,6 +130,12 @@ class UdpmReceiver {
     bool any_counted = false;
   };
   static constexpr std::size_t kMaxSenders = 4096;
+  // take()'s parts (lcm_udpm_rx.cpp).
+  Sequence& track_sequence(std::uint64_t sender, std::uint32_t seqno, bool kernel_dropped, std::uint64_t& gap);
+  std::uint64_t take_fragment(std::span<const std::byte> datagram, std::uint64_t sender, std::uint32_t seqno,
+                              Sequence& seq, std::uint64_t gap, std::int64_t recv_us,
+                              const std::function<void(const UdpmMessage&)>& deliver);
+  std::uint64_t make_room(std::uint32_t size);
 
   const int fd_;        // the socket
   const int epoll_fd_;  // holds fd_ (see fd())

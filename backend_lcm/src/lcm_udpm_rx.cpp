@@ -152,16 +152,10 @@ UdpmReceiver::Lost UdpmReceiver::drain(const std::function<void(const UdpmMessag
   return lost;
 }
 
-std::uint64_t UdpmReceiver::take(std::span<const std::byte> d, std::uint64_t sender, std::int64_t recv_us,
-                                 bool kernel_dropped, const std::function<void(const UdpmMessage&)>& deliver) {
-  if (d.size() < kShortHeader) return 0;  // not LCM: ignored, as liblcm does
-  const std::uint32_t magic = be32(d.data());
-  if (magic != kMagicShort && magic != kMagicLong) return 0;
-  const std::uint32_t seqno = be32(d.data() + 4);
-  // A gap in the sender's sequence numbers (one per message, whatever its channel): messages
-  // the network lost whole. Not when the kernel dropped datagrams just now (counted as such),
-  // nor for a jump that is no gap (a sender that restarted on the same port, reordering).
-  std::uint64_t gap = 0;
+// The sender's sequence (a new one for a sender not seen yet) and, in `gap`, the messages lost
+// whole before `seqno`.
+UdpmReceiver::Sequence& UdpmReceiver::track_sequence(std::uint64_t sender, std::uint32_t seqno, bool kernel_dropped,
+                                                     std::uint64_t& gap) {
   auto seq = sequences_.find(sender);
   if (seq == sequences_.end()) {
     if (sequences_.size() >= kMaxSenders) sequences_.clear();
@@ -175,6 +169,34 @@ std::uint64_t UdpmReceiver::take(std::span<const std::byte> d, std::uint64_t sen
       seq->second = Sequence{seqno, 0, false};  // far behind: the sender started again
     }
   }
+  return seq->second;
+}
+
+// Room for a new message of `size` bytes: abandons the oldest messages in reassembly beyond the
+// limits. Returns how many.
+std::uint64_t UdpmReceiver::make_room(std::uint32_t size) {
+  std::uint64_t lost = 0;
+  while (!partials_.empty() && (partials_.size() >= kMaxPartials || partial_bytes_ + size > kMaxPartialBytes)) {
+    auto oldest = std::min_element(partials_.begin(), partials_.end(),
+                                   [](const auto& a, const auto& b) { return a.second.last_us < b.second.last_us; });
+    partial_bytes_ -= oldest->second.data.size();
+    partials_.erase(oldest);
+    ++lost;
+  }
+  return lost;
+}
+
+std::uint64_t UdpmReceiver::take(std::span<const std::byte> d, std::uint64_t sender, std::int64_t recv_us,
+                                 bool kernel_dropped, const std::function<void(const UdpmMessage&)>& deliver) {
+  if (d.size() < kShortHeader) return 0;  // not LCM: ignored, as liblcm does
+  const std::uint32_t magic = be32(d.data());
+  if (magic != kMagicShort && magic != kMagicLong) return 0;
+  const std::uint32_t seqno = be32(d.data() + 4);
+  // A gap in the sender's sequence numbers (one per message, whatever its channel): messages
+  // the network lost whole. Not when the kernel dropped datagrams just now (counted as such),
+  // nor for a jump that is no gap (a sender that restarted on the same port, reordering).
+  std::uint64_t gap = 0;
+  Sequence& seq = track_sequence(sender, seqno, kernel_dropped, gap);
   // A datagram of LCM's that contradicts itself is a message lost too (liblcm drops it silently).
   if (magic == kMagicShort) {
     const auto channel = read_channel(d.subspan(kShortHeader));
@@ -182,6 +204,14 @@ std::uint64_t UdpmReceiver::take(std::span<const std::byte> d, std::uint64_t sen
     deliver(UdpmMessage{*channel, d.subspan(kShortHeader + channel->size() + 1), recv_us});
     return gap;
   }
+  return take_fragment(d, sender, seqno, seq, gap, recv_us, deliver);
+}
+
+// A datagram of a long message (fragments): reassembled per sender; delivered when whole.
+// Returns the messages lost, `gap` included.
+std::uint64_t UdpmReceiver::take_fragment(std::span<const std::byte> d, std::uint64_t sender, std::uint32_t seqno,
+                                          Sequence& seq, std::uint64_t gap, std::int64_t recv_us,
+                                          const std::function<void(const UdpmMessage&)>& deliver) {
   if (d.size() < kLongHeader) return gap + 1;
   const std::uint32_t size = be32(d.data() + 8);
   const std::uint32_t offset = be32(d.data() + 12);
@@ -199,24 +229,16 @@ std::uint64_t UdpmReceiver::take(std::span<const std::byte> d, std::uint64_t sen
   }
   if (it == partials_.end()) {
     if (number != 0) {  // a message whose first fragment we missed: liblcm drops it too (counted once)
-      Sequence& s = seq->second;
-      if (!s.any_counted || s.counted != seqno) {
-        s.any_counted = true;
-        s.counted = seqno;
+      if (!seq.any_counted || seq.counted != seqno) {
+        seq.any_counted = true;
+        seq.counted = seqno;
         ++lost;
       }
       return lost;
     }
     const auto channel = read_channel(data);
     if (!channel) return lost + 1;
-    // Room: abandon the oldest messages in reassembly beyond the limits.
-    while (!partials_.empty() && (partials_.size() >= kMaxPartials || partial_bytes_ + size > kMaxPartialBytes)) {
-      auto oldest = std::min_element(partials_.begin(), partials_.end(),
-                                     [](const auto& a, const auto& b) { return a.second.last_us < b.second.last_us; });
-      partial_bytes_ -= oldest->second.data.size();
-      partials_.erase(oldest);
-      ++lost;
-    }
+    lost += make_room(size);
     Partial p;
     p.seqno = seqno;
     p.channel = std::string(*channel);
