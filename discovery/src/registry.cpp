@@ -29,62 +29,32 @@ class Liveness {
   std::map<std::pair<pid_t, std::uint64_t>, bool> known_;
 };
 
-// Fills what one look at a segment can tell (everything but the rate).
-std::optional<TopicEntry> read_entry(const std::string& file, const std::string& topic,
-                                     const shm::SegmentView* view, Liveness& live) {
-  TopicEntry e;
-  e.topic = topic;
-  e.segment = file;
-  if (view == nullptr) return std::nullopt;
-  e.segment_bytes = view->size();
-  const auto& h = view->header();
-  if (h.magic != shm::kSegmentMagic || h.layout_version != shm::kSegmentVersion ||
-      h.ready.load(std::memory_order_acquire) != 1)
-    return std::nullopt;
-  e.type_name = std::string(h.type_name, strnlen(h.type_name, shm::kMaxTypeName));
-  e.type_hash = h.type_hash;
-  e.serialized = h.serialized != 0;
-  e.message_size = e.serialized ? shm::max_serialized_size(h.payload_size) : h.payload_size;
-  e.capacity = h.capacity;
-  e.created_unix_ns = h.created_unix_ns;
-  e.signature = std::string(view->signature());
-  if (const shm::Pool pool = view->pool()) {
-    e.pooled = true;
-    e.pool_slot_bytes = pool.slot_bytes();
-    e.pool_slots_per_publisher = pool.slots_per_lane();
-    e.pool_pinned = pool.pinned_slots();
-    e.pool_reused = pool.header().reused.load(std::memory_order_relaxed);
-    e.pool_exhausted = pool.header().exhausted.load(std::memory_order_relaxed);
-    e.dropped += e.pool_reused;
-  }
-  const shm::Ring ring = view->ring();
-  e.messages_sent = ring.total_sent();
-  e.dropped = ring.header().dropped_total.load(std::memory_order_relaxed) + ring.undetected_losses();
-  e.publishers = ring.publisher_count();
-  e.subscribers = ring.subscriber_count();
+// A fleet topic's bridge: its counts and the process that holds it (when it lives).
+void read_bridge(const shm::SegmentHeader& h, Liveness& live, TopicEntry& e) {
   const auto& b = h.bridge;
-  const std::uint64_t import_token = b.import_token.load(std::memory_order_acquire);
-  const std::uint64_t export_token = b.export_token.load(std::memory_order_acquire);
-  if (h.scope == static_cast<std::uint32_t>(shm::SegmentScope::Fleet)) {
-    e.scope = "fleet";
-    e.transport = std::string(h.transport, strnlen(h.transport, shm::kMaxTransportName));
-    e.bridge_claims = b.claims.load(std::memory_order_relaxed);
-    e.exported = b.exported.load(std::memory_order_relaxed);
-    e.imported = b.imported.load(std::memory_order_relaxed);
-    e.bridge_dropped = b.dropped.load(std::memory_order_relaxed);
-    e.budget_dropped = b.budget_dropped.load(std::memory_order_relaxed);
-    e.malformed = b.malformed.load(std::memory_order_relaxed);
-    e.remote_publishers = b.matched_publishers.load(std::memory_order_relaxed);
-    e.remote_subscribers = b.matched_subscribers.load(std::memory_order_relaxed);
-    const std::uint64_t owner = b.owner.load(std::memory_order_acquire);
-    const auto holder = static_cast<pid_t>(owner >> 32);
-    const auto slot = static_cast<std::uint32_t>(owner & 0xffff'ffffu) - 1u;
-    if (owner != 0 && slot < shm::kMaxParticipants &&
-        static_cast<pid_t>(h.participants[slot].pid.load(std::memory_order_acquire)) == holder &&
-        live.alive(holder, h.participants[slot].start_time.load(std::memory_order_relaxed)))
-      e.bridge_pid = holder;
-  }
+  e.scope = "fleet";
+  e.transport = std::string(h.transport, strnlen(h.transport, shm::kMaxTransportName));
+  e.bridge_claims = b.claims.load(std::memory_order_relaxed);
+  e.exported = b.exported.load(std::memory_order_relaxed);
+  e.imported = b.imported.load(std::memory_order_relaxed);
+  e.bridge_dropped = b.dropped.load(std::memory_order_relaxed);
+  e.budget_dropped = b.budget_dropped.load(std::memory_order_relaxed);
+  e.malformed = b.malformed.load(std::memory_order_relaxed);
+  e.remote_publishers = b.matched_publishers.load(std::memory_order_relaxed);
+  e.remote_subscribers = b.matched_subscribers.load(std::memory_order_relaxed);
+  const std::uint64_t owner = b.owner.load(std::memory_order_acquire);
+  const auto holder = static_cast<pid_t>(owner >> 32);
+  const auto slot = static_cast<std::uint32_t>(owner & 0xffff'ffffu) - 1u;
+  if (owner != 0 && slot < shm::kMaxParticipants &&
+      static_cast<pid_t>(h.participants[slot].pid.load(std::memory_order_acquire)) == holder &&
+      live.alive(holder, h.participants[slot].start_time.load(std::memory_order_relaxed)))
+    e.bridge_pid = holder;
+}
 
+// The processes of a segment, with their publishers and subscribers (the bridge's import lane
+// and export entry, `import_token` and `export_token`, not counted as users' handles).
+std::map<pid_t, Process> read_processes(const shm::SegmentHeader& h, const shm::Ring& ring, std::uint64_t import_token,
+                                        std::uint64_t export_token, Liveness& live, TopicEntry& e) {
   // Only the entries that may be in use (high-water marks): a scan of a thousand segments
   // touches a few cache lines of each, not every entry of every table.
   std::map<pid_t, Process> procs;
@@ -121,6 +91,46 @@ std::optional<TopicEntry> read_entry(const std::string& file, const std::string&
     auto it = procs.find(shm::token_pid(owner));
     if (it != procs.end()) ++it->second.subscribers;
   }
+  return procs;
+}
+
+// Fills what one look at a segment can tell (everything but the rate).
+std::optional<TopicEntry> read_entry(const std::string& file, const std::string& topic,
+                                     const shm::SegmentView* view, Liveness& live) {
+  TopicEntry e;
+  e.topic = topic;
+  e.segment = file;
+  if (view == nullptr) return std::nullopt;
+  e.segment_bytes = view->size();
+  const auto& h = view->header();
+  if (h.magic != shm::kSegmentMagic || h.layout_version != shm::kSegmentVersion ||
+      h.ready.load(std::memory_order_acquire) != 1)
+    return std::nullopt;
+  e.type_name = std::string(h.type_name, strnlen(h.type_name, shm::kMaxTypeName));
+  e.type_hash = h.type_hash;
+  e.serialized = h.serialized != 0;
+  e.message_size = e.serialized ? shm::max_serialized_size(h.payload_size) : h.payload_size;
+  e.capacity = h.capacity;
+  e.created_unix_ns = h.created_unix_ns;
+  e.signature = std::string(view->signature());
+  if (const shm::Pool pool = view->pool()) {
+    e.pooled = true;
+    e.pool_slot_bytes = pool.slot_bytes();
+    e.pool_slots_per_publisher = pool.slots_per_lane();
+    e.pool_pinned = pool.pinned_slots();
+    e.pool_reused = pool.header().reused.load(std::memory_order_relaxed);
+    e.pool_exhausted = pool.header().exhausted.load(std::memory_order_relaxed);
+    e.dropped += e.pool_reused;
+  }
+  const shm::Ring ring = view->ring();
+  e.messages_sent = ring.total_sent();
+  e.dropped = ring.header().dropped_total.load(std::memory_order_relaxed) + ring.undetected_losses();
+  e.publishers = ring.publisher_count();
+  e.subscribers = ring.subscriber_count();
+  const std::uint64_t import_token = h.bridge.import_token.load(std::memory_order_acquire);
+  const std::uint64_t export_token = h.bridge.export_token.load(std::memory_order_acquire);
+  if (h.scope == static_cast<std::uint32_t>(shm::SegmentScope::Fleet)) read_bridge(h, live, e);
+  const std::map<pid_t, Process> procs = read_processes(h, ring, import_token, export_token, live, e);
   e.stale = true;
   for (auto& [pid, proc] : procs) {
     if (proc.alive) e.stale = false;
