@@ -136,8 +136,8 @@ struct Reader::Impl {
     return {};
   }
 
-  Result<void> open() {
-    if (auto ok = open_file(); !ok) return ok;
+  // The magic and the Header record (`data_start` follows it).
+  Result<void> read_header() {
     if (std::memcmp(base, detail::kMagic, 8) != 0)
       return std::unexpected(corrupt("offset 0: not an MCAP file (expected the magic 89 4D 43 41 50 30 0D 0A)"));
     Record r;
@@ -151,6 +151,60 @@ struct Reader::Impl {
     library = h.str("library");
     if (!h.ok()) return std::unexpected(corrupt(h.error()->message()));
     data_start = r.content + r.length;
+    return {};
+  }
+
+  // The summary's Statistics record.
+  Result<Statistics> parse_statistics(std::span<const std::byte> content, std::uint64_t at) {
+    In in(content, at, "Statistics");
+    Statistics s;
+    s.message_count = in.u64("message_count");
+    s.schema_count = in.u16("schema_count");
+    s.channel_count = in.u32("channel_count");
+    (void)in.u32("attachment_count");
+    (void)in.u32("metadata_count");
+    s.chunk_count = in.u32("chunk_count");
+    s.message_start_time = in.u64("message_start_time");
+    s.message_end_time = in.u64("message_end_time");
+    const std::uint32_t n = in.u32("channel_message_counts length");
+    In m(in.bytes(n, "channel_message_counts"), at, "Statistics channel_message_counts");
+    while (in.ok() && m.ok() && m.left() > 0) {
+      const std::uint16_t id = m.u16("channel id");
+      s.channel_message_counts[id] = m.u64("count");
+    }
+    if (!in.ok()) return std::unexpected(corrupt(in.error()->message()));
+    if (!m.ok()) return std::unexpected(corrupt(m.error()->message()));
+    return s;
+  }
+
+  // The summary section up to `summary_end`: its Schema, Channel and Statistics records.
+  Result<void> read_summary(std::uint64_t summary_end) {
+    Record r;
+    std::string why;
+    for (std::uint64_t at = summary_start; at < summary_end;) {
+      if (next_record(at, summary_end, r, why) != Next::Ok) return std::unexpected(corrupt("in the summary: " + why));
+      const auto content = bytes(r.content, r.length);
+      if (r.op == detail::kSchema) {
+        auto s = parse_schema(content, r.content, "summary ");
+        if (!s) return std::unexpected(s.error());
+        if (auto ok = keep_schema(std::move(*s), r.at); !ok) return ok;
+      } else if (r.op == detail::kChannel) {
+        auto c = parse_channel(content, r.content, "summary ");
+        if (!c) return std::unexpected(c.error());
+        if (auto ok = keep_channel(std::move(*c), r.at); !ok) return ok;
+      } else if (r.op == detail::kStatistics) {
+        auto s = parse_statistics(content, r.content);
+        if (!s) return std::unexpected(s.error());
+        stats = std::move(*s);
+      }
+      at = r.content + r.length;
+    }
+    return {};
+  }
+
+  Result<void> open() {
+    if (auto ok = open_file(); !ok) return ok;
+    if (auto ok = read_header(); !ok) return ok;
 
     // The end: Footer and magic.
     const bool magic_at_end = size >= 8 + 9 + kFooterRecord + 8 && std::memcmp(base + size - 8, detail::kMagic, 8) == 0;
@@ -191,42 +245,7 @@ struct Reader::Impl {
         return std::unexpected(corrupt(fmt::format("offset {}: the summary's CRC is {:08x}, the Footer says {:08x}",
                                                    summary_start, crc, summary_crc)));
     }
-    const std::uint64_t summary_end = summary_offset_start != 0 ? summary_offset_start : footer;
-    for (std::uint64_t at = summary_start; at < summary_end;) {
-      if (next_record(at, summary_end, r, why) != Next::Ok) return std::unexpected(corrupt("in the summary: " + why));
-      const auto content = bytes(r.content, r.length);
-      if (r.op == detail::kSchema) {
-        auto s = parse_schema(content, r.content, "summary ");
-        if (!s) return std::unexpected(s.error());
-        if (auto ok = keep_schema(std::move(*s), r.at); !ok) return ok;
-      } else if (r.op == detail::kChannel) {
-        auto c = parse_channel(content, r.content, "summary ");
-        if (!c) return std::unexpected(c.error());
-        if (auto ok = keep_channel(std::move(*c), r.at); !ok) return ok;
-      } else if (r.op == detail::kStatistics) {
-        In in(content, r.content, "Statistics");
-        Statistics s;
-        s.message_count = in.u64("message_count");
-        s.schema_count = in.u16("schema_count");
-        s.channel_count = in.u32("channel_count");
-        (void)in.u32("attachment_count");
-        (void)in.u32("metadata_count");
-        s.chunk_count = in.u32("chunk_count");
-        s.message_start_time = in.u64("message_start_time");
-        s.message_end_time = in.u64("message_end_time");
-        const std::uint32_t n = in.u32("channel_message_counts length");
-        In m(in.bytes(n, "channel_message_counts"), r.content, "Statistics channel_message_counts");
-        while (in.ok() && m.ok() && m.left() > 0) {
-          const std::uint16_t id = m.u16("channel id");
-          s.channel_message_counts[id] = m.u64("count");
-        }
-        if (!in.ok()) return std::unexpected(corrupt(in.error()->message()));
-        if (!m.ok()) return std::unexpected(corrupt(m.error()->message()));
-        stats = std::move(s);
-      }
-      at = r.content + r.length;
-    }
-    return {};
+    return read_summary(summary_offset_start != 0 ? summary_offset_start : footer);
   }
 
   // One record of the data section (or of a chunk: `in_chunk`), handed to the caller's f.

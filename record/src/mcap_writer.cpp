@@ -114,6 +114,44 @@ struct Writer::Impl {
     return {};
   }
 
+  // The summary's Statistics record.
+  void statistics_record(Out& o) const {
+    const auto at = o.begin_record(detail::kStatistics);
+    o.u64(stats.message_count);
+    o.u16(stats.schema_count);
+    o.u32(stats.channel_count);
+    o.u32(0);  // attachments
+    o.u32(0);  // metadata
+    o.u32(stats.chunk_count);
+    o.u64(stats.message_start_time);
+    o.u64(stats.message_end_time);
+    o.u32(static_cast<std::uint32_t>(stats.channel_message_counts.size() * 10));
+    for (const auto& [id, n] : stats.channel_message_counts) {
+      o.u16(id);
+      o.u64(n);
+    }
+    o.end_record(at);
+  }
+
+  // The summary's Chunk Index record of one chunk.
+  void chunk_index_record(Out& o, const ChunkIndex& ci) const {
+    const auto at = o.begin_record(detail::kChunkIndex);
+    o.u64(ci.start_time);
+    o.u64(ci.end_time);
+    o.u64(ci.offset);
+    o.u64(ci.length);
+    o.u32(static_cast<std::uint32_t>(ci.message_index_offsets.size() * 10));
+    for (const auto& [id, off] : ci.message_index_offsets) {
+      o.u16(id);
+      o.u64(off);
+    }
+    o.u64(ci.message_index_length);
+    o.str(to_string(options.compression));
+    o.u64(ci.compressed_size);
+    o.u64(ci.uncompressed_size);
+    o.end_record(at);
+  }
+
   Result<void> finish() {
     if (auto ok = write_chunk(); !ok) return ok;
     scratch.clear();
@@ -142,41 +180,9 @@ struct Writer::Impl {
     group(detail::kChannel, [&] {
       for (const auto& c : channels) channel_record(o, c);
     });
-    group(detail::kStatistics, [&] {
-      at = o.begin_record(detail::kStatistics);
-      o.u64(stats.message_count);
-      o.u16(stats.schema_count);
-      o.u32(stats.channel_count);
-      o.u32(0);  // attachments
-      o.u32(0);  // metadata
-      o.u32(stats.chunk_count);
-      o.u64(stats.message_start_time);
-      o.u64(stats.message_end_time);
-      o.u32(static_cast<std::uint32_t>(stats.channel_message_counts.size() * 10));
-      for (const auto& [id, n] : stats.channel_message_counts) {
-        o.u16(id);
-        o.u64(n);
-      }
-      o.end_record(at);
-    });
+    group(detail::kStatistics, [&] { statistics_record(o); });
     group(detail::kChunkIndex, [&] {
-      for (const auto& ci : chunk_indexes) {
-        at = o.begin_record(detail::kChunkIndex);
-        o.u64(ci.start_time);
-        o.u64(ci.end_time);
-        o.u64(ci.offset);
-        o.u64(ci.length);
-        o.u32(static_cast<std::uint32_t>(ci.message_index_offsets.size() * 10));
-        for (const auto& [id, off] : ci.message_index_offsets) {
-          o.u16(id);
-          o.u64(off);
-        }
-        o.u64(ci.message_index_length);
-        o.str(to_string(options.compression));
-        o.u64(ci.compressed_size);
-        o.u64(ci.uncompressed_size);
-        o.end_record(at);
-      }
+      for (const auto& ci : chunk_indexes) chunk_index_record(o, ci);
     });
     const std::uint64_t summary_offset_start = summary_start + o.size();
     for (const auto& g : groups) {
