@@ -70,28 +70,76 @@ nlohmann::json value_to_json(const V& v) {
 }
 
 template <class V>
+void value_from_json(const nlohmann::json& j, V& v, const std::string& path);
+
+// An integer, checked against V's range.
+template <class V>
+void integer_from_json(const nlohmann::json& j, V& v, const std::string& path) {
+  if (!j.is_number_integer()) json_fail(path, "expected an integer, found " + j.dump());
+  if constexpr (std::is_signed_v<V>) {
+    if (j.is_number_unsigned() && j.get<std::uint64_t>() > static_cast<std::uint64_t>(std::numeric_limits<V>::max()))
+      json_fail(path, "value " + j.dump() + " is out of range");
+    const auto x = j.get<std::int64_t>();
+    if (x < std::numeric_limits<V>::min() || x > std::numeric_limits<V>::max())
+      json_fail(path, "value " + j.dump() + " is out of range");
+    v = static_cast<V>(x);
+  } else {
+    // nlohmann stores a parsed non-negative number as unsigned, but a C++ int
+    // put into a json (j["id"] = 5) as signed: accept both when >= 0.
+    if (!j.is_number_unsigned() && j.get<std::int64_t>() < 0)
+      json_fail(path, "expected a non-negative integer, found " + j.dump());
+    const auto x = j.get<std::uint64_t>();
+    if (x > std::numeric_limits<V>::max()) json_fail(path, "value " + j.dump() + " is out of range");
+    v = static_cast<V>(x);
+  }
+}
+
+// A reflected enum: its name, or its underlying value.
+template <class V>
+void enum_from_json(const nlohmann::json& j, V& v, const std::string& path) {
+  if (j.is_string()) {
+    if (!enum_from_name(j.get_ref<const std::string&>(), v)) {
+      std::string valid;
+      for (const auto& e : enum_values<V>()) valid += (valid.empty() ? "" : ", ") + std::string(e.name);
+      json_fail(path, "unknown " + std::string(type_name<V>()) + " " + j.dump() + " (expected one of: " + valid + ")");
+    }
+  } else {
+    std::underlying_type_t<V> raw{};
+    value_from_json(j, raw, path);
+    v = static_cast<V>(raw);
+  }
+}
+
+// A reflected struct: each key sets the field of that name; a key that names none is an error.
+template <class V>
+void fields_from_json(const nlohmann::json& j, V& v, const std::string& path) {
+  if (!j.is_object()) json_fail(path.empty() ? std::string(type_name<V>()) : path, "expected an object, found " + j.dump());
+  for (const auto& item : j.items()) {
+    const std::string& key = item.key();
+    const nlohmann::json& val = item.value();
+    bool known = false;
+    for_each_field(v, [&](std::string_view name, auto& field) {
+      if (name == key) {
+        known = true;
+        value_from_json(val, field, path.empty() ? key : path + "." + key);
+      }
+    });
+    if (!known) {
+      std::string valid;
+      for_each_field_desc<V>([&](const auto& fd) { valid += (valid.empty() ? "" : ", ") + std::string(fd.name); });
+      json_fail(path.empty() ? key : path + "." + key,
+                "unknown field of " + std::string(type_name<V>()) + " (fields: " + valid + ")");
+    }
+  }
+}
+
+template <class V>
 void value_from_json(const nlohmann::json& j, V& v, const std::string& path) {
   if constexpr (std::is_same_v<V, bool>) {
     if (!j.is_boolean()) json_fail(path, "expected true or false, found " + j.dump());
     v = j.get<bool>();
   } else if constexpr (std::is_integral_v<V>) {
-    if (!j.is_number_integer()) json_fail(path, "expected an integer, found " + j.dump());
-    if constexpr (std::is_signed_v<V>) {
-      if (j.is_number_unsigned() && j.get<std::uint64_t>() > static_cast<std::uint64_t>(std::numeric_limits<V>::max()))
-        json_fail(path, "value " + j.dump() + " is out of range");
-      const auto x = j.get<std::int64_t>();
-      if (x < std::numeric_limits<V>::min() || x > std::numeric_limits<V>::max())
-        json_fail(path, "value " + j.dump() + " is out of range");
-      v = static_cast<V>(x);
-    } else {
-      // nlohmann stores a parsed non-negative number as unsigned, but a C++ int
-      // put into a json (j["id"] = 5) as signed: accept both when >= 0.
-      if (!j.is_number_unsigned() && j.get<std::int64_t>() < 0)
-        json_fail(path, "expected a non-negative integer, found " + j.dump());
-      const auto x = j.get<std::uint64_t>();
-      if (x > std::numeric_limits<V>::max()) json_fail(path, "value " + j.dump() + " is out of range");
-      v = static_cast<V>(x);
-    }
+    integer_from_json(j, v, path);
   } else if constexpr (std::is_floating_point_v<V>) {
     if (j.is_null()) {
       v = std::numeric_limits<V>::quiet_NaN();
@@ -100,17 +148,7 @@ void value_from_json(const nlohmann::json& j, V& v, const std::string& path) {
       v = static_cast<V>(j.get<double>());
     }
   } else if constexpr (ReflectedEnum<V>) {
-    if (j.is_string()) {
-      if (!enum_from_name(j.get_ref<const std::string&>(), v)) {
-        std::string valid;
-        for (const auto& e : enum_values<V>()) valid += (valid.empty() ? "" : ", ") + std::string(e.name);
-        json_fail(path, "unknown " + std::string(type_name<V>()) + " " + j.dump() + " (expected one of: " + valid + ")");
-      }
-    } else {
-      std::underlying_type_t<V> raw{};
-      value_from_json(j, raw, path);
-      v = static_cast<V>(raw);
-    }
+    enum_from_json(j, v, path);
   } else if constexpr (std::is_enum_v<V>) {
     std::underlying_type_t<V> raw{};
     value_from_json(j, raw, path);
@@ -135,24 +173,7 @@ void value_from_json(const nlohmann::json& j, V& v, const std::string& path) {
     for (std::size_t i = 0; i < j.size(); ++i) value_from_json(j[i], v[i], path + "[" + std::to_string(i) + "]");
   } else {
     static_assert(Reflected<V>, "from_json: not a reflected type");
-    if (!j.is_object()) json_fail(path.empty() ? std::string(type_name<V>()) : path, "expected an object, found " + j.dump());
-    for (const auto& item : j.items()) {
-      const std::string& key = item.key();
-      const nlohmann::json& val = item.value();
-      bool known = false;
-      for_each_field(v, [&](std::string_view name, auto& field) {
-        if (name == key) {
-          known = true;
-          value_from_json(val, field, path.empty() ? key : path + "." + key);
-        }
-      });
-      if (!known) {
-        std::string valid;
-        for_each_field_desc<V>([&](const auto& fd) { valid += (valid.empty() ? "" : ", ") + std::string(fd.name); });
-        json_fail(path.empty() ? key : path + "." + key,
-                  "unknown field of " + std::string(type_name<V>()) + " (fields: " + valid + ")");
-      }
-    }
+    fields_from_json(j, v, path);
   }
 }
 
