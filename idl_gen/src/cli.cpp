@@ -145,6 +145,89 @@ int write_files(const std::string& dir, const std::vector<OutputFile>& files) {
   return 0;
 }
 
+// --lcm-out DIR: the LCM types, with a warning for each type left out (the DDS interfaces still
+// have them).
+int write_lcm(const Model& model, const std::string& dir, const IdlOptions& options) {
+  const auto files = emit_lcm(model, options);
+  for (const auto& f : files) {  // types left out: warn (the DDS interfaces still have them)
+    std::size_t pos = 0;
+    while ((pos = f.text.find("\n// no LCM type: ", pos)) != std::string::npos) {
+      const auto end = f.text.find('\n', pos + 1);
+      std::fprintf(stderr, "horus-idlgen: warning: %s: %s\n", f.name.c_str(),
+                   f.text.substr(pos + 4, end - pos - 4).c_str());
+      pos = end;
+    }
+  }
+  return write_files(dir, files);
+}
+
+// --print FILE.
+int print_file(const Model& model, const std::string& arg, const IdlOptions& options) {
+  for (const auto& f : all_files(model, options))
+    if (f.name == arg || f.name == arg + ".idl") {
+      std::fputs(f.text.c_str(), stdout);
+      return 0;
+    }
+  std::fprintf(stderr, "horus-idlgen: no file '%s'; --list shows them\n", arg.c_str());
+  return 1;
+}
+
+// --check-lock FILE: 0 when the emitted interfaces are the lock file's.
+int check_lock(const Lock& lock, const std::vector<Definition>& defs, const std::string& arg) {
+  bool changed = false;
+  const auto diffs = compare(lock, defs, changed);
+  if (lock.version != kInterfaceVersion)
+    std::fprintf(stderr, "horus-idlgen: %s is for interface version %d, the generator is version %d\n",
+                 arg.c_str(), lock.version, kInterfaceVersion);
+  for (const auto& d : diffs) std::fprintf(stderr, "horus-idlgen: %s\n", d.c_str());
+  if (diffs.empty() && lock.version == kInterfaceVersion) return 0;
+  std::fprintf(stderr, "horus-idlgen: the emitted interfaces differ from %s.%s Run: horus-idlgen --update-lock %s\n",
+               arg.c_str(),
+               changed && lock.version == kInterfaceVersion
+                   ? " A type changed: bump kInterfaceVersion (idl_gen/include/horus/idlgen/emit.hpp) first."
+                   : "",
+               arg.c_str());
+  return 1;
+}
+
+// --update-lock FILE: refused when existing types changed within one interface version.
+int update_lock(const Lock& lock, bool exists, const std::vector<Definition>& defs, const std::string& arg) {
+  if (exists) {
+    bool changed = false;
+    const auto diffs = compare(lock, defs, changed);
+    if (changed && lock.version == kInterfaceVersion) {
+      for (const auto& d : diffs) std::fprintf(stderr, "horus-idlgen: %s\n", d.c_str());
+      std::fprintf(stderr,
+                   "horus-idlgen: refusing to update %s: existing types changed but kInterfaceVersion is still %d; "
+                   "bump it (idl_gen/include/horus/idlgen/emit.hpp) so peers can tell the versions apart\n",
+                   arg.c_str(), kInterfaceVersion);
+      return 1;
+    }
+  }
+  if (!write_text(arg, lock_text(defs))) {
+    std::fprintf(stderr, "horus-idlgen: cannot write %s\n", arg.c_str());
+    return 1;
+  }
+  return 0;
+}
+
+// --check-lock FILE or --update-lock FILE (`cmd`).
+int lock_command(const Model& model, const std::string& cmd, const std::string& arg, const IdlOptions& options) {
+  const auto defs = all_definitions(model, options);
+  std::string text;
+  Lock lock;
+  const bool exists = read_text(arg, text);
+  if (exists && !parse_lock(text, arg, lock)) return 1;
+  if (cmd == "--check-lock") {
+    if (!exists) {
+      std::fprintf(stderr, "horus-idlgen: cannot read lock file %s\n", arg.c_str());
+      return 1;
+    }
+    return check_lock(lock, defs, arg);
+  }
+  return update_lock(lock, exists, defs, arg);
+}
+
 }  // namespace
 
 int run_cli(const Model& model, int argc, char** argv, const IdlOptions& options) {
@@ -158,72 +241,9 @@ int run_cli(const Model& model, int argc, char** argv, const IdlOptions& options
     }
     if (argc != 3) return usage();
     if (cmd == "--out") return write_files(arg, emit_idl(model, options));
-    if (cmd == "--lcm-out") {
-      const auto files = emit_lcm(model, options);
-      for (const auto& f : files) {  // types left out: warn (the DDS interfaces still have them)
-        std::size_t pos = 0;
-        while ((pos = f.text.find("\n// no LCM type: ", pos)) != std::string::npos) {
-          const auto end = f.text.find('\n', pos + 1);
-          std::fprintf(stderr, "horus-idlgen: warning: %s: %s\n", f.name.c_str(),
-                       f.text.substr(pos + 4, end - pos - 4).c_str());
-          pos = end;
-        }
-      }
-      return write_files(arg, files);
-    }
-    if (cmd == "--print") {
-      for (const auto& f : all_files(model, options))
-        if (f.name == arg || f.name == arg + ".idl") {
-          std::fputs(f.text.c_str(), stdout);
-          return 0;
-        }
-      std::fprintf(stderr, "horus-idlgen: no file '%s'; --list shows them\n", arg.c_str());
-      return 1;
-    }
-    if (cmd == "--check-lock" || cmd == "--update-lock") {
-      const auto defs = all_definitions(model, options);
-      std::string text;
-      Lock lock;
-      const bool exists = read_text(arg, text);
-      if (exists && !parse_lock(text, arg, lock)) return 1;
-      if (cmd == "--check-lock") {
-        if (!exists) {
-          std::fprintf(stderr, "horus-idlgen: cannot read lock file %s\n", arg.c_str());
-          return 1;
-        }
-        bool changed = false;
-        const auto diffs = compare(lock, defs, changed);
-        if (lock.version != kInterfaceVersion)
-          std::fprintf(stderr, "horus-idlgen: %s is for interface version %d, the generator is version %d\n",
-                       arg.c_str(), lock.version, kInterfaceVersion);
-        for (const auto& d : diffs) std::fprintf(stderr, "horus-idlgen: %s\n", d.c_str());
-        if (diffs.empty() && lock.version == kInterfaceVersion) return 0;
-        std::fprintf(stderr, "horus-idlgen: the emitted interfaces differ from %s.%s Run: horus-idlgen --update-lock %s\n",
-                     arg.c_str(),
-                     changed && lock.version == kInterfaceVersion
-                         ? " A type changed: bump kInterfaceVersion (idl_gen/include/horus/idlgen/emit.hpp) first."
-                         : "",
-                     arg.c_str());
-        return 1;
-      }
-      if (exists) {
-        bool changed = false;
-        const auto diffs = compare(lock, defs, changed);
-        if (changed && lock.version == kInterfaceVersion) {
-          for (const auto& d : diffs) std::fprintf(stderr, "horus-idlgen: %s\n", d.c_str());
-          std::fprintf(stderr,
-                       "horus-idlgen: refusing to update %s: existing types changed but kInterfaceVersion is still %d; "
-                       "bump it (idl_gen/include/horus/idlgen/emit.hpp) so peers can tell the versions apart\n",
-                       arg.c_str(), kInterfaceVersion);
-          return 1;
-        }
-      }
-      if (!write_text(arg, lock_text(defs))) {
-        std::fprintf(stderr, "horus-idlgen: cannot write %s\n", arg.c_str());
-        return 1;
-      }
-      return 0;
-    }
+    if (cmd == "--lcm-out") return write_lcm(model, arg, options);
+    if (cmd == "--print") return print_file(model, arg, options);
+    if (cmd == "--check-lock" || cmd == "--update-lock") return lock_command(model, cmd, arg, options);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "%s\n", e.what());
     return 1;
