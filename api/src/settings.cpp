@@ -19,11 +19,17 @@ namespace {
 // The file HORUS_CONFIG names, read once per value of the variable (a program sets it before its
 // first topic; a test may change it). Configurations stay alive: choices made earlier keep
 // pointing at theirs.
+struct ConfigFiles {
+  static constexpr horus::detail::PartSpec kPart{"configuration files", horus::detail::PartLifetime::UntilExit,
+                                                 "a topic's choice points at its file while the topic is open"};
+  std::mutex mutex;
+  std::optional<std::string> cached_path;
+  std::optional<Result<const Config*>> cached;
+  std::list<Config> loaded;
+};
+
 Result<const Config*> file_from(const Environment& env) {
-  static std::mutex mutex;
-  static std::optional<std::string> cached_path;
-  static std::optional<Result<const Config*>> cached;
-  static std::list<Config> loaded;
+  auto& [mutex, cached_path, cached, loaded] = horus::detail::Process::part<ConfigFiles>();
   const std::string& path = env.config;
   std::lock_guard lock(mutex);
   if (cached_path == path && cached) return *cached;

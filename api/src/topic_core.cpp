@@ -43,21 +43,21 @@ Errc segment_errc(shm::SegmentError::Kind k) {
 }
 
 struct OpenTopics {  // the topics open in this process, by name and namespace
+  static constexpr PartSpec kPart{"open topics", PartLifetime::UntilExit,
+                                  "weak pointers: a topic that closes later does not look itself up"};
   std::mutex mutex;
   std::map<std::string, std::weak_ptr<TopicCore>, std::less<>> topics;
+
+  OpenTopics() {
+    // A thread opening a topic while another forks would leave the mutex locked in the child
+    // (which could then open no topic): fork waits for the open instead.
+    Process::get().at_fork({[] { Process::part<OpenTopics>().mutex.lock(); },
+                            [] { Process::part<OpenTopics>().mutex.unlock(); },
+                            [] { Process::part<OpenTopics>().mutex.unlock(); }});
+  }
 };
 
-OpenTopics& open_topics() {
-  static OpenTopics r;
-  // A thread opening a topic while another forks would leave the mutex locked in the child
-  // (which could then open no topic): fork waits for the open instead.
-  static const bool fork_safe = [] {
-    horus::detail::Process::get().at_fork({[] { r.mutex.lock(); }, [] { r.mutex.unlock(); }, [] { r.mutex.unlock(); }});
-    return true;
-  }();
-  (void)fork_safe;
-  return r;
-}
+OpenTopics& open_topics() { return Process::part<OpenTopics>(); }
 
 std::string describe(std::string_view type_name, std::uint64_t hash, std::uint32_t size) {
   return fmt::format("{} (layout hash {:016x}, {} bytes)", type_name, hash, size);

@@ -78,6 +78,7 @@ class CycloneTransport final : public net::Transport, public std::enable_shared_
   struct Private {};
 
  public:
+  static constexpr std::string_view kCacheName = "Cyclone DDS participants";  // its net::SharedCache
   CycloneTransport(Private, net::CacheTicket ticket, const net::Config& config)
       : ticket_(std::move(ticket)), config_(config) {}
   CycloneTransport(const CycloneTransport&) = delete;

@@ -227,6 +227,7 @@ class ParticipantListener final : public fd::DomainParticipantListener {
 
 class FastddsTransport final : public net::Transport, public std::enable_shared_from_this<FastddsTransport> {
  public:
+  static constexpr std::string_view kCacheName = "Fast DDS participants";  // its net::SharedCache
   FastddsTransport(net::CacheTicket ticket, net::Config config, bool control = false)
       : ticket_(std::move(ticket)), config_(config), control_(control), listener_(*this) {}
   FastddsTransport(const FastddsTransport&) = delete;

@@ -15,6 +15,7 @@
 #include <fastdds/dds/topic/IContentFilterFactory.hpp>
 
 #include "fastdds_internal.hpp"
+#include "horus/detail/process.hpp"
 
 namespace horus::dds::fastdds_detail {
 namespace {
@@ -28,14 +29,13 @@ Prefix to_prefix(const rtps::GuidPrefix_t& p) {
 }
 
 struct LocalPrefixes {
+  static constexpr horus::detail::PartSpec kPart{"Fast DDS local prefixes", horus::detail::PartLifetime::Process,
+                                                 "read by participants' destructors, which may run late"};
   std::mutex mu;
   std::vector<Prefix> prefixes;  // a handful: one per live participant of this process
 };
 
-LocalPrefixes& local_prefixes() {
-  static auto* instance = new LocalPrefixes();  // never destroyed: used by late destructors
-  return *instance;
-}
+LocalPrefixes& local_prefixes() { return horus::detail::Process::part<LocalPrefixes>(); }
 
 /// Rejects, for a reader of this process, samples written by this process. Evaluated by this
 /// process only: its class name is unique to the process, so no remote writer applies it.
@@ -51,6 +51,8 @@ class NotLocalFilter final : public fd::IContentFilter {
 
 class NotLocalFilterFactory final : public fd::IContentFilterFactory {
  public:
+  static constexpr horus::detail::PartSpec kPart{"Fast DDS content filter", horus::detail::PartLifetime::Process,
+                                                 "participants may outlive the statics"};
   ReturnCode_t create_content_filter(const char*, const char*, const fd::TopicDataType*, const char*,
                                      const ParameterSeq&, fd::IContentFilter*& filter_instance) override {
     filter_instance = &filter_;
@@ -85,10 +87,7 @@ bool is_local(const rtps::GuidPrefix_t& p) {
   return std::find(reg.prefixes.begin(), reg.prefixes.end(), key) != reg.prefixes.end();
 }
 
-fd::IContentFilterFactory& not_local_factory() {
-  static auto* instance = new NotLocalFilterFactory();  // never destroyed: participants may outlive statics
-  return *instance;
-}
+fd::IContentFilterFactory& not_local_factory() { return horus::detail::Process::part<NotLocalFilterFactory>(); }
 
 const std::string& not_local_class() {
   static const std::string name = [] {

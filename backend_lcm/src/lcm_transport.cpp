@@ -95,6 +95,7 @@ class LcmTransport final : public net::Transport, public std::enable_shared_from
   struct Private {};
 
  public:
+  static constexpr std::string_view kCacheName = "LCM instances";  // its net::SharedCache
   LcmTransport(Private, net::CacheTicket ticket, std::shared_ptr<Engine> engine)
       : ticket_(std::move(ticket)), engine_(std::move(engine)) {}
   LcmTransport(const LcmTransport&) = delete;

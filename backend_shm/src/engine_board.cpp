@@ -1,6 +1,8 @@
 // The host's engine board (the protocol is described in engine_board.hpp).
 #include "horus/shm/engine_board.hpp"
 
+#include "horus/detail/process.hpp"
+
 #include <fcntl.h>
 #include <linux/futex.h>
 #include <signal.h>
@@ -59,15 +61,14 @@ bool owner_alive(std::uint64_t owner) noexcept {
 
 // A publisher's mapping of the current board (never unmapped: other threads may hold it).
 struct ProcessBoard {
+  static constexpr horus::detail::PartSpec kPart{"engine board", horus::detail::PartLifetime::Process,
+                                                 "a ring may ring during static destruction"};
   std::mutex mutex;
   std::atomic<EngineSlot*> slots{nullptr};
   ino_t ino = 0;  // the file `slots` maps
   std::string name;
 };
-ProcessBoard& process_board() {
-  static auto* b = new ProcessBoard;  // leaked: rings may happen during static destruction
-  return *b;
-}
+ProcessBoard& process_board() { return horus::detail::Process::part<ProcessBoard>(); }
 
 // Maps the board that exists now (a new one if the name was unlinked and created anew since).
 EngineSlot* remap_board(EngineSlot* stale) noexcept {

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdlib>
 
 extern char** environ;
 
@@ -61,6 +62,44 @@ std::shared_ptr<const Environment> Process::environment() {
 std::uint64_t Process::environment_reads() const {
   std::lock_guard lock(settings_mutex_);
   return environment_reads_;
+}
+
+void* Process::find_or_make(const PartSpec& spec, void* (*make)(), void (*end)(void*) noexcept) {
+  std::lock_guard lock(parts_mutex_);
+  for (const Part& p : parts_)
+    if (p.record.spec.name == spec.name) return p.object;
+  void* object = make();
+  parts_.push_back({{spec, false}, object, end});
+  // atexit runs its functions in the reverse order of their registration, between the
+  // destructors of the statics made before and after: the part ends where a function-local
+  // static made at this moment would.
+  if (spec.lifetime == PartLifetime::UntilExit) std::atexit(&Process::end_last_part);
+  return object;
+}
+
+void Process::end_last_part() noexcept {
+  Process& p = get();
+  void* object = nullptr;
+  void (*end)(void*) noexcept = nullptr;
+  {
+    std::lock_guard lock(p.parts_mutex_);
+    for (auto it = p.parts_.rbegin(); it != p.parts_.rend(); ++it) {
+      if (it->record.spec.lifetime != PartLifetime::UntilExit || it->record.ended) continue;
+      it->record.ended = true;
+      object = it->object;
+      end = it->end;
+      break;
+    }
+  }
+  if (end != nullptr) end(object);  // outside the lock: a part's destructor may use other parts
+}
+
+std::vector<PartRecord> Process::parts() const {
+  std::lock_guard lock(parts_mutex_);
+  std::vector<PartRecord> out;
+  out.reserve(parts_.size());
+  for (const Part& p : parts_) out.push_back(p.record);
+  return out;
 }
 
 void Process::at_fork(ForkHandlers handlers) {

@@ -10,6 +10,8 @@
 #include <mutex>
 #include <utility>
 
+#include "horus/detail/process.hpp"
+
 namespace horus::net {
 
 std::string_view to_string(WireFormat f) noexcept {
@@ -22,14 +24,13 @@ std::string_view to_string(WireFormat f) noexcept {
 
 namespace {
 struct Transports {
+  static constexpr horus::detail::PartSpec kPart{"transports", horus::detail::PartLifetime::UntilExit,
+                                                 "filled before main; a topic keeps a pointer to its entry"};
   std::mutex mutex;
   std::deque<std::pair<std::string, TransportInfo>> entries;  // a deque: found pointers stay valid
 };
 
-Transports& transports() {
-  static Transports t;
-  return t;
-}
+Transports& transports() { return horus::detail::Process::part<Transports>(); }
 
 // The plug-ins: a few slots, each with its own pair of open functions (function pointers carry no
 // state: slot I's are plugin_open<I>). What the plug-in registers as it loads goes into its slot.
@@ -43,13 +44,12 @@ struct Plugin {
 };
 constexpr std::size_t kPluginSlots = 8;
 struct Plugins {
+  static constexpr horus::detail::PartSpec kPart{"transport plug-ins", horus::detail::PartLifetime::UntilExit,
+                                                 "filled before main; a loaded plug-in stays loaded"};
   std::mutex mutex;  // loading; never held while a plug-in's function runs
   std::array<Plugin, kPluginSlots> slots;
 };
-Plugins& plugins() {
-  static Plugins p;
-  return p;
-}
+Plugins& plugins() { return horus::detail::Process::part<Plugins>(); }
 
 // Without the mutex: names are written only by register_transport_plugin, before main() (the
 // composition root), and this runs inside a plug-in's load, which holds the mutex.

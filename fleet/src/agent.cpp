@@ -207,9 +207,15 @@ bool Agent::open_topics() {
 namespace {
 
 // One agent per transport while something holds it.
+struct Agents {
+  static constexpr horus::detail::PartSpec kPart{"fleet agents", horus::detail::PartLifetime::UntilExit,
+                                                 "weak pointers: an agent ends with the last presence"};
+  std::mutex mutex;
+  std::map<std::string, std::weak_ptr<detail::Agent>, std::less<>> agents;
+};
+
 std::shared_ptr<void> presence(std::string_view transport, const Settings& settings) {
-  static std::mutex mutex;
-  static std::map<std::string, std::weak_ptr<detail::Agent>, std::less<>> agents;
+  auto& [mutex, agents] = horus::detail::Process::part<Agents>();
   std::lock_guard lock(mutex);
   auto& slot = agents[std::string(transport)];
   if (auto a = slot.lock()) return a;

@@ -1,6 +1,8 @@
 // The network engine of a process and transport (engine.hpp): its two threads and its tables.
 #include "engine.hpp"
 
+#include "horus/detail/process.hpp"
+
 #include <pthread.h>
 #include <sys/epoll.h>
 #include <sys/eventfd.h>
@@ -44,13 +46,12 @@ void name_thread(std::thread& t, const char* role, std::string_view transport) {
 }
 
 struct Registry {
+  static constexpr horus::detail::PartSpec kPart{"network engines", horus::detail::PartLifetime::Process,
+                                                 "a bridge may close during static destruction"};
   std::mutex mutex;
   std::map<std::string, std::weak_ptr<Engine>, std::less<>> engines;
 };
-Registry& registry() {
-  static auto* r = new Registry;  // leaked: bridges may close during static destruction
-  return *r;
-}
+Registry& registry() { return horus::detail::Process::part<Registry>(); }
 }  // namespace
 
 Result<std::shared_ptr<Engine>> Engine::of(const net::TransportInfo& info, const Settings& settings) {

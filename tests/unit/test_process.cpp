@@ -1,6 +1,8 @@
 // The process context (core/include/horus/detail/process.hpp): the settings snapshot is read once
 // and again only when the environment changed; the fork rules run the layers' handlers in
-// pthread_atfork's order, and a forked child knows its own pid and fork generation.
+// pthread_atfork's order, and a forked child knows its own pid and fork generation; the parts are
+// one per name, end at exit in the reverse order of their making (or never), and are the ones
+// docs/ARCHITECTURE.md lists.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -9,6 +11,9 @@
 #include <array>
 #include <atomic>
 #include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <optional>
 #include <string>
 
 #include "horus/config.hpp"
@@ -94,6 +99,87 @@ TEST(Process, ForkHandlersRunInPthreadAtforkOrderAndAChildKnowsItsPidAndGenerati
   EXPECT_EQ(std::string(g_trace.data()), "BAab") << "prepare in reverse order, then the parent's in order";
   EXPECT_EQ(horus::detail::current_pid(), parent);
   EXPECT_EQ(horus::detail::fork_generation(), generation);
+}
+
+// Parts a test makes: each writes its letter into the pipe when it ends.
+int g_part_pipe = -1;
+template <char Letter, horus::detail::PartLifetime Lifetime>
+struct TestPart {
+  static constexpr char kName[] = {'t', 'e', 's', 't', ' ', Letter, '\0'};
+  static constexpr horus::detail::PartSpec kPart{kName, Lifetime, "a test's"};
+  int value = 0;
+  ~TestPart() {
+    const char letter = Letter;
+    if (g_part_pipe >= 0) (void)!::write(g_part_pipe, &letter, 1);
+  }
+};
+using PartA = TestPart<'A', horus::detail::PartLifetime::UntilExit>;
+using PartB = TestPart<'B', horus::detail::PartLifetime::UntilExit>;
+using PartC = TestPart<'C', horus::detail::PartLifetime::Process>;
+
+TEST(Process, APartIsOnePerNameMadeOnFirstUseAndEndsAtExitInTheReverseOrderOfItsMaking) {
+  int fds[2];
+  ASSERT_EQ(::pipe(fds), 0);
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    ::close(fds[0]);
+    g_part_pipe = fds[1];
+    const std::size_t before = Process::get().parts().size();
+    Process::part<PartA>().value = 1;
+    Process::part<PartC>().value = 3;
+    Process::part<PartB>().value = 2;
+    const auto parts = Process::get().parts();
+    const bool one = Process::part<PartA>().value == 1 && &Process::part<PartA>() == &Process::part<PartA>();
+    const bool listed = parts.size() == before + 3 && parts[before].spec.name == "test A" &&
+                        parts[before + 1].spec.name == "test C" && parts[before + 2].spec.name == "test B" &&
+                        parts[before + 1].spec.lifetime == horus::detail::PartLifetime::Process;
+    std::exit((one ? 0 : 1) | (listed ? 0 : 2));  // ends B, then A; never C
+  }
+  ::close(fds[1]);
+  std::string ended;
+  char c = 0;
+  while (::read(fds[0], &c, 1) == 1) ended += c;
+  ::close(fds[0]);
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status) & 1, 0) << "part<T>() did not return the one object of its name";
+  EXPECT_EQ(WEXITSTATUS(status) & 2, 0) << "parts() did not list the parts in the order of their making";
+  EXPECT_EQ(ended, "BA") << "the parts that end at exit end in the reverse order of their making; the others never";
+}
+
+// Every part the library makes is in docs/ARCHITECTURE.md's table of parts, with its lifetime.
+TEST(Process, EveryPartTheLibraryMakesIsListedInArchitectureMdWithItsLifetime) {
+  ::setenv("HORUS_NAMESPACE", ("pp" + std::to_string(::getpid())).c_str(), 1);
+  auto host = horus::Topic<horus::msg::Point3>::open("process.parts.host");
+  ASSERT_TRUE(host) << host.error().message();
+  std::optional<horus::Topic<horus::msg::Point3>> fleet;
+  if (horus::backend_available(horus::Backend::Lcm)) {
+    const int port = 20000 + static_cast<int>((::getpid() * 13 + 5) % 40000);
+    ::setenv("HORUS_LCM_URL", ("udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0").c_str(), 1);
+    horus::TopicOptions o;
+    o.backend = horus::Backend::Lcm;
+    if (auto f = horus::Topic<horus::msg::Point3>::open("process.parts.fleet", o)) fleet.emplace(std::move(*f));
+  }
+  std::ifstream in(HORUS_ARCHITECTURE_MD);
+  ASSERT_TRUE(in) << HORUS_ARCHITECTURE_MD;
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string doc = text.str();
+  const auto parts = Process::get().parts();
+  EXPECT_GE(parts.size(), 3u);
+  for (const auto& p : parts) {
+    if (p.spec.name.starts_with("test ")) continue;
+    const std::string lifetime = p.spec.lifetime == horus::detail::PartLifetime::UntilExit ? "at exit" : "never";
+    const std::string row = "| " + std::string(p.spec.name) + " | ";
+    const auto at = doc.find(row);
+    ASSERT_NE(at, std::string::npos) << "docs/ARCHITECTURE.md has no row \"" << row << "...\" for the part '"
+                                     << p.spec.name << "'";
+    const std::string line = doc.substr(at, doc.find('\n', at) - at);
+    EXPECT_NE(line.find("| " + lifetime), std::string::npos)
+        << "docs/ARCHITECTURE.md's row of '" << p.spec.name << "' does not say it ends " << lifetime << ": " << line;
+  }
 }
 
 }  // namespace

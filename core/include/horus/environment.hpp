@@ -1,9 +1,10 @@
 // The environment variables horus reads, read in one place.
 //
 // Only core/src/environment.cpp calls getenv, and only the process context
-// (horus/detail/process.hpp) calls read(): the layers take its snapshot. The configuration
-// (api/src/config.cpp) combines the snapshot with the configuration file and passes the result
-// down as parameters: a transport opens with a net::Config, the fleet layer with FleetSettings.
+// (horus/detail/process.hpp) calls read(). An operation takes the snapshot with the
+// configuration file once (horus::Settings, api/include/horus/settings.hpp) and passes it, or
+// values from it, down as parameters: a transport opens with a net::Config, the fleet agent with
+// FleetSettings.
 // An empty string means unset (horus treats `VAR=` as unset everywhere).
 #pragma once
 

@@ -33,6 +33,7 @@
 #include <string>
 #include <string_view>
 
+#include "horus/detail/process.hpp"
 #include "horus/error.hpp"
 
 #include "horus/export.hpp"
@@ -104,13 +105,14 @@ class SharedCache final : public SharedCacheBase {
     return std::static_pointer_cast<T>(std::move(*got));
   }
 
-  /// The process's cache of T (never destroyed).
-  static SharedCache& instance() {
-    static SharedCache* const cache = new SharedCache();
-    return *cache;
-  }
+  /// The process's cache of T (a part of the process context, never ended: an endpoint that
+  /// closes during static destruction still finds its transport). T::kCacheName names it.
+  static constexpr horus::detail::PartSpec kPart{T::kCacheName, horus::detail::PartLifetime::Process,
+                                                 "an endpoint closing during static destruction finds its transport"};
+  static SharedCache& instance() { return horus::detail::Process::part<SharedCache>(); }
 
  private:
+  friend class horus::detail::Process;
   SharedCache() = default;
 };
 
