@@ -126,28 +126,48 @@ T sample() {
   return m;
 }
 
-void codecs() {
-  for (std::uint8_t sel = 0; sel < 10; ++sel) {
-    fuzz::with_type(sel, [&]<class T>() {
-      const T m = sample<T>();
-      const std::string name(type_name<T>().substr(type_name<T>().rfind(':') + 1));
-      put("local", name, prefixed({sel}, codec::encode(m)));
-      const auto body = cdr::encode(m);
-      put("xcdr1", name, prefixed({sel}, encapsulated(body)));
-      put("dynamic", name, [&] {
-        auto sig = text(reflect::type_signature<T>());
-        sig.push_back(std::byte{0});
-        sig.insert(sig.end(), body.begin(), body.end());
-        return sig;
-      }());
-      if constexpr (lcm::expressible<T>) put("lcm", name, prefixed({0, sel}, lcm::encode(m)));
-      if constexpr (std::is_same_v<T, fleet::Announcement>) put("announcement", "announcement", encapsulated(body));
-    });
-  }
-  for (const char* url : {"udpm://239.255.76.67:7667?ttl=1", "udpm://239.255.76.68:20000?ttl=0&recv_buf_size=2097152",
-                          "memq://", "file:///tmp/x.log?mode=w", "tcpq://localhost:7700", "udpm://239.255.76.67:7667?transmit_only=true"})
+// The dynamic target's seed: the type's signature, a NUL, then its XCDR1 body (no header).
+template <class T>
+std::vector<std::byte> signed_body(const std::vector<std::byte>& body) {
+  auto out = text(reflect::type_signature<T>());
+  out.push_back(std::byte{0});
+  out.insert(out.end(), body.begin(), body.end());
+  return out;
+}
+
+// The seeds of message type T (selector `sel`), one file named after the type in each codec's
+// target: local, xcdr1 (encapsulated), dynamic, lcm when T has an LCM form; the Announcement is
+// also the announcement target's one seed.
+template <class T>
+void type_seeds(std::uint8_t sel) {
+  const T m = sample<T>();
+  const std::string name(type_name<T>().substr(type_name<T>().rfind(':') + 1));
+  put("local", name, prefixed({sel}, codec::encode(m)));
+  const auto body = cdr::encode(m);
+  put("xcdr1", name, prefixed({sel}, encapsulated(body)));
+  put("dynamic", name, signed_body<T>(body));
+  if constexpr (lcm::expressible<T>) put("lcm", name, prefixed({0, sel}, lcm::encode(m)));
+  if constexpr (std::is_same_v<T, fleet::Announcement>) put("announcement", "announcement", encapsulated(body));
+}
+
+// The lcm target's provider URLs (mode byte 1), each named after a hash of its text.
+void lcm_url_seeds() {
+  static constexpr const char* kUrls[] = {
+      "udpm://239.255.76.67:7667?ttl=1",
+      "udpm://239.255.76.68:20000?ttl=0&recv_buf_size=2097152",
+      "memq://",
+      "file:///tmp/x.log?mode=w",
+      "tcpq://localhost:7700",
+      "udpm://239.255.76.67:7667?transmit_only=true",
+  };
+  for (const char* url : kUrls)
     put("lcm", std::string("url_") + std::to_string(std::hash<std::string>{}(url) % 100000),
         prefixed({1}, text(url)));
+}
+
+void codecs() {
+  for (std::uint8_t sel = 0; sel < 10; ++sel) fuzz::with_type(sel, [&]<class T>() { type_seeds<T>(sel); });
+  lcm_url_seeds();
 }
 
 void recordings() {
