@@ -125,6 +125,63 @@ int pong(const std::string& type, double seconds) {
   return 0;
 }
 
+// Waits (30 s at most) until the pong is matched both ways: its reader and writer, or with LCM
+// (no discovery) until it answers a probe. False, said on stderr, when it is not.
+template <class T>
+bool await_pong(horus::Topic<T>& out, horus::Topic<T>& in) {
+  const auto match_deadline = Clock::now() + std::chrono::seconds(30);
+  if (no_discovery()) {
+    constexpr std::uint64_t kProbe = std::uint64_t{1} << 62;
+    T probe = make_sample<T>();
+    for (std::uint64_t k = 1;; ++k) {
+      if (Clock::now() > match_deadline) {
+        std::fprintf(stderr, "horus-dds-pingpong: no pong answered in 30 s\n");
+        return false;
+      }
+      set_seq(probe, kProbe + k);
+      out.send(probe);
+      bool answered = false;
+      const auto until = Clock::now() + std::chrono::milliseconds(200);
+      while (!answered) {
+        auto m = receive(in, until - Clock::now());
+        if (!m) break;
+        answered = seq_of(*m) == kProbe + k;
+      }
+      if (answered) break;
+    }
+  }
+  while (!no_discovery() && (out.sub_count() < 2 || in.pub_count() < 1)) {  // our own reader counts in sub_count
+    if (Clock::now() > match_deadline) {
+      std::fprintf(stderr, "horus-dds-pingpong: no pong matched in 30 s\n");
+      return false;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return true;
+}
+
+// Prints ping's RESULT line from the one-way latencies (sorted here); 1 when none came back.
+int print_result(const std::string& type, const std::string& impl, std::vector<std::int64_t>& one_way, long lost) {
+  if (one_way.empty()) {
+    std::printf("RESULT impl=%s type=%s n=0 lost=%ld\n", impl.c_str(), type.c_str(), lost);
+    return 1;
+  }
+  std::sort(one_way.begin(), one_way.end());
+  auto rank = [&](double q) {
+    auto k = static_cast<std::size_t>(q * static_cast<double>(one_way.size()));
+    return one_way[std::min(k, one_way.size() - 1)];
+  };
+  double mean = 0;
+  for (auto v : one_way) mean += static_cast<double>(v);
+  mean /= static_cast<double>(one_way.size());
+  std::printf("RESULT impl=%s type=%s n=%zu p50_ns=%lld p99_ns=%lld p999_ns=%lld mean_ns=%.0f", impl.c_str(), type.c_str(),
+              one_way.size(), static_cast<long long>(rank(0.5)), static_cast<long long>(rank(0.99)),
+              static_cast<long long>(rank(0.999)), mean);
+  if (lost != 0) std::printf(" lost=%ld", lost);
+  std::printf("\n");
+  return 0;
+}
+
 template <class T>
 int ping(const std::string& type, const std::string& impl, long n, long warmup) {
   auto out = open<T>("bench." + type + ".ping");
@@ -133,35 +190,7 @@ int ping(const std::string& type, const std::string& impl, long n, long warmup) 
     std::fprintf(stderr, "horus-dds-pingpong: %s\n", (!out ? out.error() : in.error()).message().c_str());
     return 3;
   }
-  // Matched both ways: the pong's reader and writer (LCM: the pong answered a probe).
-  const auto match_deadline = Clock::now() + std::chrono::seconds(30);
-  if (no_discovery()) {
-    constexpr std::uint64_t kProbe = std::uint64_t{1} << 62;
-    T probe = make_sample<T>();
-    for (std::uint64_t k = 1;; ++k) {
-      if (Clock::now() > match_deadline) {
-        std::fprintf(stderr, "horus-dds-pingpong: no pong answered in 30 s\n");
-        return 3;
-      }
-      set_seq(probe, kProbe + k);
-      out->send(probe);
-      bool answered = false;
-      const auto until = Clock::now() + std::chrono::milliseconds(200);
-      while (!answered) {
-        auto m = receive(*in, until - Clock::now());
-        if (!m) break;
-        answered = seq_of(*m) == kProbe + k;
-      }
-      if (answered) break;
-    }
-  }
-  while (!no_discovery() && (out->sub_count() < 2 || in->pub_count() < 1)) {  // our own reader counts in sub_count
-    if (Clock::now() > match_deadline) {
-      std::fprintf(stderr, "horus-dds-pingpong: no pong matched in 30 s\n");
-      return 3;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  }
+  if (!await_pong(*out, *in)) return 3;
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
   T msg = make_sample<T>();
   std::vector<std::int64_t> one_way;
@@ -190,24 +219,7 @@ int ping(const std::string& type, const std::string& impl, long n, long warmup) 
   set_seq(msg, kStop);
   out->send(msg);
   std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  if (one_way.empty()) {
-    std::printf("RESULT impl=%s type=%s n=0 lost=%ld\n", impl.c_str(), type.c_str(), lost);
-    return 1;
-  }
-  std::sort(one_way.begin(), one_way.end());
-  auto rank = [&](double q) {
-    auto k = static_cast<std::size_t>(q * static_cast<double>(one_way.size()));
-    return one_way[std::min(k, one_way.size() - 1)];
-  };
-  double mean = 0;
-  for (auto v : one_way) mean += static_cast<double>(v);
-  mean /= static_cast<double>(one_way.size());
-  std::printf("RESULT impl=%s type=%s n=%zu p50_ns=%lld p99_ns=%lld p999_ns=%lld mean_ns=%.0f", impl.c_str(), type.c_str(),
-              one_way.size(), static_cast<long long>(rank(0.5)), static_cast<long long>(rank(0.99)),
-              static_cast<long long>(rank(0.999)), mean);
-  if (lost != 0) std::printf(" lost=%ld", lost);
-  std::printf("\n");
-  return 0;
+  return print_result(type, impl, one_way, lost);
 }
 
 template <class T>
