@@ -199,21 +199,17 @@ struct Endpoints {
   }
 };
 
-// ping: writer on .../ping, reader on .../pong; pong the reverse; sink: a reader on .../tput;
-// source: a writer on .../tput. The ReadCondition and WaitSet only when waiting on them.
-bool setup(Endpoints& ep, std::uint32_t domain, fd::TypeSupport type, const std::string& type_name, Role role) {
-  const bool is_ping = role == Role::kPing;
-  const bool tput = role == Role::kSink || role == Role::kSource;
+// The participant of `role` on `domain`, in ep.participant; false (said on stderr) if refused.
+// The default participant profile of FASTRTPS_DEFAULT_PROFILES_FILE, when set, under this
+// program's own settings: how a Fast DDS user adds DDS-Security (run_dds_bench.sh --secure
+// gives the profile `horus security dds-config --for fastdds` writes).
+bool create_participant(Endpoints& ep, std::uint32_t domain, Role role) {
   const char* env = std::getenv("BENCH_LOCALHOST");
   const bool localhost = env != nullptr && env[0] != '\0' && std::strcmp(env, "0") != 0;
-
-  // The default participant profile of FASTRTPS_DEFAULT_PROFILES_FILE, when set, under this
-  // program's own settings: how a Fast DDS user adds DDS-Security (run_dds_bench.sh --secure
-  // gives the profile `horus security dds-config --for fastdds` writes).
   auto* factory = fd::DomainParticipantFactory::get_instance();
   factory->load_profiles();
   fd::DomainParticipantQos pq = factory->get_default_participant_qos();
-  pq.name(is_ping                ? "raw-fastdds-ping"
+  pq.name(role == Role::kPing    ? "raw-fastdds-ping"
           : role == Role::kPong  ? "raw-fastdds-pong"
           : role == Role::kSink  ? "raw-fastdds-sink"
                                  : "raw-fastdds-source");
@@ -240,6 +236,86 @@ bool setup(Endpoints& ep, std::uint32_t domain, fd::TypeSupport type, const std:
     std::fprintf(stderr, "raw-fastdds: could not create a participant on domain %u\n", domain);
     return false;
   }
+  return true;
+}
+
+// BENCH_KEEP_ALL=1: the QoS of horus's reliable fleet topics (KEEP_ALL within 16 samples, a
+// 100 ms heartbeat): a writer whose history is full waits for acknowledgements.
+// BENCH_KEEP_ALL_DEPTH=N: that many samples instead of 16. 0: KEEP_LAST 16, the default.
+int keep_all_depth_from_env() {
+  const char* keep_all_env = std::getenv("BENCH_KEEP_ALL");
+  const char* depth_env = std::getenv("BENCH_KEEP_ALL_DEPTH");
+  const bool keep_all = keep_all_env != nullptr && std::string_view(keep_all_env) == "1";
+  if (!keep_all) return 0;
+  return depth_env != nullptr ? std::max(1, std::atoi(depth_env)) : 16;
+}
+
+// Reliable, volatile, KEEP_LAST 16 (or KEEP_ALL within `keep_all_depth` samples when not 0),
+// XCDR1, no data sharing, written synchronously.
+fd::DataWriterQos writer_qos(fd::Publisher* pub, int keep_all_depth) {
+  const Duration_t max_blocking(1, 0);
+  fd::DataWriterQos wq = pub->get_default_datawriter_qos();
+  wq.reliability().kind = fd::RELIABLE_RELIABILITY_QOS;
+  wq.reliability().max_blocking_time = max_blocking;
+  wq.durability().kind = fd::VOLATILE_DURABILITY_QOS;
+  wq.history().kind = fd::KEEP_LAST_HISTORY_QOS;
+  wq.history().depth = 16;
+  wq.data_sharing().off();
+  wq.representation().m_value = {fd::XCDR_DATA_REPRESENTATION};
+  wq.publish_mode().kind = fd::SYNCHRONOUS_PUBLISH_MODE;
+  if (keep_all_depth != 0) {
+    wq.history().kind = fd::KEEP_ALL_HISTORY_QOS;
+    wq.resource_limits().max_instances = 1;
+    wq.resource_limits().max_samples_per_instance = keep_all_depth;
+    wq.resource_limits().max_samples = keep_all_depth;
+    wq.reliable_writer_qos().times.heartbeatPeriod = Duration_t(0, 100000000u);
+  }
+  return wq;
+}
+
+// The writer's twin; with KEEP_ALL the reader holds as many samples as horus's reader buffer.
+fd::DataReaderQos reader_qos(fd::Subscriber* sub, int keep_all_depth) {
+  const Duration_t max_blocking(1, 0);
+  fd::DataReaderQos rq = sub->get_default_datareader_qos();
+  rq.reliability().kind = fd::RELIABLE_RELIABILITY_QOS;
+  rq.reliability().max_blocking_time = max_blocking;
+  rq.durability().kind = fd::VOLATILE_DURABILITY_QOS;
+  rq.history().kind = fd::KEEP_LAST_HISTORY_QOS;
+  rq.history().depth = 16;
+  if (keep_all_depth != 0) {
+    rq.history().kind = fd::KEEP_ALL_HISTORY_QOS;
+    rq.resource_limits().max_instances = 1;
+    rq.resource_limits().max_samples_per_instance = 4096;  // horus's reader buffer (kReaderSamples)
+    rq.resource_limits().max_samples = 4096;
+  }
+  rq.data_sharing().off();
+  rq.type_consistency().representation.m_value = {fd::XCDR_DATA_REPRESENTATION};
+  return rq;
+}
+
+// The WaitSet the reader is waited on with: a ReadCondition on any sample, as the Cyclone twin;
+// the data_available status if refused.
+bool attach_reader(Endpoints& ep) {
+  ep.read_cond = ep.reader->create_readcondition(fd::ANY_SAMPLE_STATE, fd::ANY_VIEW_STATE, fd::ANY_INSTANCE_STATE);
+  ep.data_cond = ep.read_cond;
+  if (ep.data_cond == nullptr) {
+    fd::StatusCondition& sc = ep.reader->get_statuscondition();
+    sc.set_enabled_statuses(fd::StatusMask::data_available());
+    ep.data_cond = &sc;
+  }
+  if (ep.waitset.attach_condition(*ep.data_cond) != ReturnCode_t::RETCODE_OK) {
+    std::fprintf(stderr, "raw-fastdds: could not attach the reader's condition to the WaitSet\n");
+    return false;
+  }
+  return true;
+}
+
+// ping: writer on .../ping, reader on .../pong; pong the reverse; sink: a reader on .../tput;
+// source: a writer on .../tput. The ReadCondition and WaitSet only when waiting on them.
+bool setup(Endpoints& ep, std::uint32_t domain, fd::TypeSupport type, const std::string& type_name, Role role) {
+  const bool is_ping = role == Role::kPing;
+  const bool tput = role == Role::kSink || role == Role::kSource;
+  if (!create_participant(ep, domain, role)) return false;
   if (type.register_type(ep.participant) != ReturnCode_t::RETCODE_OK) {
     std::fprintf(stderr, "raw-fastdds: could not register the type\n");
     return false;
@@ -256,47 +332,9 @@ bool setup(Endpoints& ep, std::uint32_t domain, fd::TypeSupport type, const std:
     std::fprintf(stderr, "raw-fastdds: could not create the topics, publisher or subscriber\n");
     return false;
   }
-
-  const Duration_t max_blocking(1, 0);
-  fd::DataWriterQos wq = pub->get_default_datawriter_qos();
-  wq.reliability().kind = fd::RELIABLE_RELIABILITY_QOS;
-  wq.reliability().max_blocking_time = max_blocking;
-  wq.durability().kind = fd::VOLATILE_DURABILITY_QOS;
-  wq.history().kind = fd::KEEP_LAST_HISTORY_QOS;
-  wq.history().depth = 16;
-  wq.data_sharing().off();
-  wq.representation().m_value = {fd::XCDR_DATA_REPRESENTATION};
-  wq.publish_mode().kind = fd::SYNCHRONOUS_PUBLISH_MODE;
-  // BENCH_KEEP_ALL=1: the QoS of horus's reliable fleet topics (KEEP_ALL within 16 samples, a
-  // 100 ms heartbeat): a writer whose history is full waits for acknowledgements.
-  // BENCH_KEEP_ALL_DEPTH=N: that many samples instead of 16.
-  const char* keep_all_env = std::getenv("BENCH_KEEP_ALL");
-  const char* depth_env = std::getenv("BENCH_KEEP_ALL_DEPTH");
-  const bool keep_all = keep_all_env != nullptr && std::string_view(keep_all_env) == "1";
-  const int keep_all_depth = depth_env != nullptr ? std::max(1, std::atoi(depth_env)) : 16;
-  if (keep_all) {
-    wq.history().kind = fd::KEEP_ALL_HISTORY_QOS;
-    wq.resource_limits().max_instances = 1;
-    wq.resource_limits().max_samples_per_instance = keep_all_depth;
-    wq.resource_limits().max_samples = keep_all_depth;
-    wq.reliable_writer_qos().times.heartbeatPeriod = Duration_t(0, 100000000u);
-  }
-
-  fd::DataReaderQos rq = sub->get_default_datareader_qos();
-  rq.reliability().kind = fd::RELIABLE_RELIABILITY_QOS;
-  rq.reliability().max_blocking_time = max_blocking;
-  rq.durability().kind = fd::VOLATILE_DURABILITY_QOS;
-  rq.history().kind = fd::KEEP_LAST_HISTORY_QOS;
-  rq.history().depth = 16;
-  if (keep_all) {
-    rq.history().kind = fd::KEEP_ALL_HISTORY_QOS;
-    rq.resource_limits().max_instances = 1;
-    rq.resource_limits().max_samples_per_instance = 4096;  // horus's reader buffer (kReaderSamples)
-    rq.resource_limits().max_samples = 4096;
-  }
-  rq.data_sharing().off();
-  rq.type_consistency().representation.m_value = {fd::XCDR_DATA_REPRESENTATION};
-
+  const int keep_all_depth = keep_all_depth_from_env();
+  const fd::DataWriterQos wq = writer_qos(pub, keep_all_depth);
+  const fd::DataReaderQos rq = reader_qos(sub, keep_all_depth);
   if (role != Role::kSource)
     ep.reader = sub->create_datareader(is_ping ? pong_topic : ping_topic, rq, nullptr, fd::StatusMask::none());
   if (role != Role::kSink)
@@ -306,20 +344,7 @@ bool setup(Endpoints& ep, std::uint32_t domain, fd::TypeSupport type, const std:
     return false;
   }
   if (role == Role::kSource || g_poll) return true;
-
-  // A ReadCondition on any sample, as the Cyclone twin; the data_available status if refused.
-  ep.read_cond = ep.reader->create_readcondition(fd::ANY_SAMPLE_STATE, fd::ANY_VIEW_STATE, fd::ANY_INSTANCE_STATE);
-  ep.data_cond = ep.read_cond;
-  if (ep.data_cond == nullptr) {
-    fd::StatusCondition& sc = ep.reader->get_statuscondition();
-    sc.set_enabled_statuses(fd::StatusMask::data_available());
-    ep.data_cond = &sc;
-  }
-  if (ep.waitset.attach_condition(*ep.data_cond) != ReturnCode_t::RETCODE_OK) {
-    std::fprintf(stderr, "raw-fastdds: could not attach the reader's condition to the WaitSet\n");
-    return false;
-  }
-  return true;
+  return attach_reader(ep);
 }
 
 // ---- pong -----------------------------------------------------------------------------------
