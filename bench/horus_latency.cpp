@@ -14,6 +14,7 @@
 
 #include <atomic>
 #include <fstream>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -295,35 +296,43 @@ void write_csv(const std::string& path, const std::vector<Row>& rows) {
                        r.value, r.unit, r.ratio, r.ratio_to);
 }
 
-}  // namespace
+// -- the run --------------------------------------------------------------------------------
 
-int main(int argc, char** argv) {
+struct Options {
   Config cfg;
   std::string json_path, csv_path;
   bool quick = false;
+};
+
+// Reads the command line into `o` (--quick shrinks the counts); the exit code when the program
+// stops there (--help, a bad option).
+std::optional<int> parse_options(Options& o, int argc, char** argv) {
+  Config& cfg = o.cfg;
   CLI::App app{"horus local-path latency: same-thread, cross-thread and throughput, with floor and baseline"};
   app.add_option("--cpus", cfg.cpu_a, "first CPU (the second is the next one)")->check(CLI::NonNegativeNumber);
   app.add_option("--rounds", cfg.rounds, "ping-pong round trips per measurement")->check(CLI::PositiveNumber);
   app.add_option("--repeats", cfg.repeats, "same-thread repetitions (best is kept)")->check(CLI::PositiveNumber);
   app.add_option("--blocks", cfg.blocks, "interleaved blocks of the ping-pong measurements")->check(CLI::PositiveNumber);
-  app.add_option("--json", json_path, "also write the rows as JSON to this file");
-  app.add_option("--csv", csv_path, "also write the rows as CSV to this file");
-  app.add_flag("--quick", quick, "a short run (smoke test): fewer operations, noisier figures");
+  app.add_option("--json", o.json_path, "also write the rows as JSON to this file");
+  app.add_option("--csv", o.csv_path, "also write the rows as CSV to this file");
+  app.add_flag("--quick", o.quick, "a short run (smoke test): fewer operations, noisier figures");
   CLI11_PARSE(app, argc, argv);
-  if (quick) {
+  if (o.quick) {
     cfg.same_thread_ops = 1'000'000;
     cfg.rounds = 20'000;
     cfg.throughput_msgs = 1'000'000;
     cfg.repeats = 2;
     cfg.blocks = 2;
   }
-  cfg.cpu_b = (cfg.cpu_a + 1) % hb::cpu_count();
-  if (hb::cpu_count() < 2) fmt::print("warning: one CPU only: cross-thread figures measure time slicing\n");
+  return std::nullopt;
+}
 
-  const hb::TscClock tsc;
-  std::vector<Row> rows;
+struct SameThread {
+  double horus_ns, ratio;  // the best horus time and the median per-repeat ratio to boost
+};
 
-  hb::pin_to_cpu(cfg.cpu_a);
+// The same-thread rows: horus, boost and a verbose topic, on the CPU the caller is pinned to.
+SameThread same_thread_rows(const Config& cfg, const hb::TscClock& tsc, std::vector<Row>& rows) {
   // Interleaved: each repeat times horus then boost; the figure is the best time of each and
   // the ratio the median of the per-repeat ratios.
   double st_horus = 1e9, st_boost = 1e9;
@@ -355,7 +364,11 @@ int main(int argc, char** argv) {
     rows.push_back({"same_thread", "verbose Topic send+recv (5 lines/s)", 0, 0, 0, st_verbose, "ns/op", st_verbose / st_boost,
                     "boost", {}});
   }
+  return {st_horus, st_ratio};
+}
 
+// The cross-thread one-way rows (floor, horus, boost); returns horus's p50 ratio to the floor.
+double cross_thread_rows(const Config& cfg, const hb::TscClock& tsc, std::vector<Row>& rows) {
   // The machine is shared and noisy: measure in interleaved blocks so that a noisy moment
   // hits the floor, horus and the baseline alike, then pool each one's samples.
   std::vector<double> floor1_samples, floor2_samples, horus_samples, boost_samples;
@@ -386,15 +399,27 @@ int main(int argc, char** argv) {
   rows.push_back(latency_row("floor: two lines 256 B apart", std::move(floor2_samples), p50(two_ratios)));
   rows.push_back(latency_row("horus Topic<CmdVel>", std::move(horus_samples), p50(horus_ratios)));
   rows.push_back(latency_row("boost spsc_queue<CmdVel>", std::move(boost_samples), p50(boost_ratios)));
-  const double horus_p50_ratio = p50(horus_ratios);
+  return p50(horus_ratios);
+}
 
+struct Throughputs {
+  double horus, boost;  // messages per second
+};
+
+Throughputs throughput_rows(const Config& cfg, std::vector<Row>& rows) {
   const double tp_horus = horus_throughput(cfg);
   const double tp_boost = boost_throughput(cfg);
   rows.push_back({"throughput", "horus Topic try_send/recv", 0, 0, 0, tp_horus, "msg/s", tp_horus / tp_boost, "boost", {}});
   rows.push_back({"throughput", "boost spsc_queue push/pop", 0, 0, 0, tp_boost, "msg/s", 1.0, "boost", {}});
+  return {tp_horus, tp_boost};
+}
 
+// The table, then the targets (st: same thread, horus_p50_ratio: cross thread, tp: throughput).
+void print_table(const Options& o, const std::vector<Row>& rows, SameThread st, double horus_p50_ratio,
+                 Throughputs tp) {
+  const Config& cfg = o.cfg;
   fmt::print("horus local path, CmdVel ({} B), CPUs {} and {}, {} round trips{}\n\n", sizeof(CmdVel), cfg.cpu_a,
-             cfg.cpu_b, cfg.rounds, quick ? " (quick run)" : "");
+             cfg.cpu_b, cfg.rounds, o.quick ? " (quick run)" : "");
   fmt::print("{:<34} {:>10} {:>10}\n", "same thread", "ns/op", "vs boost");
   for (const auto& r : rows)
     if (r.section == "same_thread") fmt::print("{:<34} {:>10.2f} {:>9.2f}x\n", r.name, r.value, r.ratio);
@@ -413,9 +438,29 @@ int main(int argc, char** argv) {
   auto verdict = [](bool ok) { return ok ? "met" : "MISSED"; };
   fmt::print("\ntargets: same-thread <= 5 ns: {:.2f} ns {} | <= 1.5x boost: {:.2f}x {} | cross-thread p50 <= 1.2x "
              "true floor: {:.2f}x {} | throughput >= 1x boost: {:.2f}x {}\n",
-             st_horus, verdict(st_horus <= 5.0), st_ratio, verdict(st_ratio <= 1.5),
-             horus_p50_ratio, verdict(horus_p50_ratio <= 1.2), tp_horus / tp_boost, verdict(tp_horus >= tp_boost));
-  if (!json_path.empty()) write_json(json_path, rows);
-  if (!csv_path.empty()) write_csv(csv_path, rows);
+             st.horus_ns, verdict(st.horus_ns <= 5.0), st.ratio, verdict(st.ratio <= 1.5),
+             horus_p50_ratio, verdict(horus_p50_ratio <= 1.2), tp.horus / tp.boost, verdict(tp.horus >= tp.boost));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  if (auto rc = parse_options(o, argc, argv)) return *rc;
+  Config& cfg = o.cfg;
+  cfg.cpu_b = (cfg.cpu_a + 1) % hb::cpu_count();
+  if (hb::cpu_count() < 2) fmt::print("warning: one CPU only: cross-thread figures measure time slicing\n");
+
+  const hb::TscClock tsc;
+  std::vector<Row> rows;
+
+  hb::pin_to_cpu(cfg.cpu_a);
+  const SameThread st = same_thread_rows(cfg, tsc, rows);
+  const double horus_p50_ratio = cross_thread_rows(cfg, tsc, rows);
+  const Throughputs tp = throughput_rows(cfg, rows);
+
+  print_table(o, rows, st, horus_p50_ratio, tp);
+  if (!o.json_path.empty()) write_json(o.json_path, rows);
+  if (!o.csv_path.empty()) write_csv(o.csv_path, rows);
   return 0;
 }
