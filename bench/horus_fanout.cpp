@@ -19,12 +19,9 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include <dirent.h>
 #include <linux/futex.h>
 #include <sys/syscall.h>
 #include <sys/mman.h>
-#include <sys/resource.h>
-#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -43,6 +40,7 @@
 #include <vector>
 
 #include "bench_common.hpp"
+#include "fanout_probes.hpp"
 #include "dds/bench_types.hpp"  // the 1 KiB message
 #include "horus/detail/cache_floor.hpp"
 #ifdef HORUS_BENCH_ICEORYX
@@ -68,6 +66,7 @@ HORUS_REFLECT(Block64k, seq, payload)
 namespace {
 
 namespace hb = horus::bench;
+namespace probe = horus::bench::fanout;
 using Clock = std::chrono::steady_clock;
 
 constexpr int kMaxSubs = 64;
@@ -384,34 +383,6 @@ std::vector<double> many_topics_latency(int topics, std::uint64_t rounds, const 
   return v;
 }
 
-long rss_kib() {
-  std::ifstream in("/proc/self/statm");
-  long size = 0, resident = 0;
-  in >> size >> resident;
-  return resident * (::sysconf(_SC_PAGESIZE) / 1024);
-}
-
-// The /dev/shm file of a topic: size (virtual) and allocated bytes.
-std::pair<std::uint64_t, std::uint64_t> segment_bytes(const std::string& topic) {
-  std::pair<std::uint64_t, std::uint64_t> r{0, 0};
-  DIR* d = ::opendir("/dev/shm");
-  if (d == nullptr) return r;
-  const std::string suffix = "." + topic;
-  while (dirent* e = ::readdir(d)) {
-    const std::string n = e->d_name;
-    if (n.rfind("horus.", 0) != 0 || n.size() < suffix.size() ||
-        n.compare(n.size() - suffix.size(), suffix.size(), suffix) != 0)
-      continue;
-    struct stat st {};
-    if (::stat(("/dev/shm/" + n).c_str(), &st) == 0) {
-      r.first += static_cast<std::uint64_t>(st.st_size);
-      r.second += static_cast<std::uint64_t>(st.st_blocks) * 512;
-    }
-  }
-  ::closedir(d);
-  return r;
-}
-
 struct MemoryRow {
   std::string type;
   std::size_t bytes;
@@ -429,14 +400,14 @@ MemoryRow memory_of(const char* type, int count) {
     std::vector<horus::Topic<T>> v;
     v.reserve(static_cast<std::size_t>(count));
     auto msg = std::make_unique<T>();
-    const long before = rss_kib();
+    const long before = probe::rss_kib();
     for (int i = 0; i < count; ++i) {
       v.emplace_back(fmt::format("{}.{}", base, i));
       v.back().send(*msg);
       (void)v.back().recv();
     }
-    const long after = rss_kib();
-    const auto seg = segment_bytes(base + ".0");
+    const long after = probe::rss_kib();
+    const auto seg = probe::segment_bytes(base + ".0");
     sh.c->last[0].v.store(seg.first, std::memory_order_relaxed);
     sh.c->last[1].v.store(seg.second, std::memory_order_relaxed);
     sh.c->last[2].v.store(static_cast<std::uint64_t>(std::max(0L, after - before)), std::memory_order_relaxed);
@@ -448,23 +419,6 @@ MemoryRow memory_of(const char* type, int count) {
   unmap(sh);
   if (!ok) throw std::runtime_error("the memory probe failed");
   return r;
-}
-
-bool tsc_is_invariant() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind("flags", 0) == 0)
-      return line.find(" constant_tsc") != std::string::npos && line.find(" nonstop_tsc") != std::string::npos;
-  return false;
-}
-
-void raise_fd_limit() {
-  rlimit r{};
-  if (::getrlimit(RLIMIT_NOFILE, &r) == 0 && r.rlim_cur < r.rlim_max) {
-    r.rlim_cur = r.rlim_max;
-    ::setrlimit(RLIMIT_NOFILE, &r);
-  }
 }
 
 double median(std::vector<double> v) {
@@ -480,12 +434,7 @@ std::string spread(const std::vector<double>& v, int digits = 0) {
   return fmt::format("{:.{}f} ({:.{}f}-{:.{}f})", median(v), digits, *lo, digits, *hi, digits);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-#ifdef HORUS_BENCH_ICEORYX
-  if (auto rc = hb::iox::child_main(argc, argv)) return *rc;  // the iceoryx fan-out helpers
-#endif
+struct Options {
   std::vector<int> subs{1, 2, 4, 8, 16};
   std::vector<int> topic_counts{1, 100, 1000};
   std::uint64_t messages = 2000, tput_messages = 200000, pingpong_rounds = 20000;
@@ -493,137 +442,158 @@ int main(int argc, char** argv) {
   std::vector<int> cpus{0, 1};
   bool quick = false, no_iceoryx = false;
   std::string json_path;
-  CLI::App app{"horus fan-out: one publisher to N subscriber processes, and many topics in one process"};
-  app.add_option("--subscribers", subs, "subscriber counts")->check(CLI::Range(1, kMaxSubs));
-  app.add_option("--topics", topic_counts, "topic counts for the many-topics ping-pong")->check(CLI::Range(1, 5000));
-  app.add_option("--messages", messages, "messages per fan-out latency measurement");
-  app.add_option("--throughput", tput_messages, "messages per fan-out throughput measurement");
-  app.add_option("--rounds", rounds, "repeats of every measurement (medians and spread)")->check(CLI::Range(1, 50));
-  app.add_option("--gap-us", gap_us, "pause between fan-out messages (subscribers fall asleep)");
-  app.add_option("--cpus", cpus, "the two CPUs of the ping-pong")->expected(2);
-  app.add_option("--json", json_path, "also write the figures as JSON");
-  app.add_flag("--quick", quick, "a short smoke run (without iceoryx)");
-  app.add_flag("--no-iceoryx", no_iceoryx, "leave out the iceoryx 2.0 fan-out");
-  CLI11_PARSE(app, argc, argv);
-  if (quick) {
-    subs = {1, 4};
-    topic_counts = {1, 100};
-    messages = 100;
-    tput_messages = 5000;
-    pingpong_rounds = 2000;
-    rounds = 1;
-  }
-  raise_fd_limit();
-  const hb::TscClock tsc;
-  // iceoryx 2.0 beside horus: a private RouDi for the run, helpers re-executed from this binary.
-  std::string iox_why = "not built (iceoryx_posh not found by CMake)";
-  bool iox = false;
-  std::string self_exe;
-#ifdef HORUS_BENCH_ICEORYX
-  if (quick || no_iceoryx) iox_why = quick ? "left out of --quick" : "skipped (--no-iceoryx)";
-  const std::optional<hb::iox::Roudi> roudi =
-      quick || no_iceoryx ? std::nullopt : hb::iox::Roudi::start(&iox_why);  // stopped when main returns
-  iox = roudi.has_value();
-  char self_buf[4096];
-  const ssize_t self_len = ::readlink("/proc/self/exe", self_buf, sizeof(self_buf) - 1);
-  self_exe = self_len > 0 ? std::string(self_buf, static_cast<std::size_t>(self_len)) : argv[0];
-#endif
-  nlohmann::json j;
-  fmt::print("horus fan-out and scale, shared memory ({} CPUs, {} round{} of each measurement)\n", hb::cpu_count(),
-             rounds, rounds == 1 ? "" : "s");
-  if (!tsc_is_invariant())
-    fmt::print("warning: /proc/cpuinfo lacks constant_tsc/nonstop_tsc: cross-process TSC stamps may not compare\n");
+};
 
+// Reads the command line into `o` (--quick shrinks the run); the exit code when the program
+// stops there (--help, a bad option).
+std::optional<int> parse_options(Options& o, int argc, char** argv) {
+  CLI::App app{"horus fan-out: one publisher to N subscriber processes, and many topics in one process"};
+  app.add_option("--subscribers", o.subs, "subscriber counts")->check(CLI::Range(1, kMaxSubs));
+  app.add_option("--topics", o.topic_counts, "topic counts for the many-topics ping-pong")->check(CLI::Range(1, 5000));
+  app.add_option("--messages", o.messages, "messages per fan-out latency measurement");
+  app.add_option("--throughput", o.tput_messages, "messages per fan-out throughput measurement");
+  app.add_option("--rounds", o.rounds, "repeats of every measurement (medians and spread)")->check(CLI::Range(1, 50));
+  app.add_option("--gap-us", o.gap_us, "pause between fan-out messages (subscribers fall asleep)");
+  app.add_option("--cpus", o.cpus, "the two CPUs of the ping-pong")->expected(2);
+  app.add_option("--json", o.json_path, "also write the figures as JSON");
+  app.add_flag("--quick", o.quick, "a short smoke run (without iceoryx)");
+  app.add_flag("--no-iceoryx", o.no_iceoryx, "leave out the iceoryx 2.0 fan-out");
+  CLI11_PARSE(app, argc, argv);
+  if (o.quick) {
+    o.subs = {1, 4};
+    o.topic_counts = {1, 100};
+    o.messages = 100;
+    o.tput_messages = 5000;
+    o.pingpong_rounds = 2000;
+    o.rounds = 1;
+  }
+  return std::nullopt;
+}
+
+// The iceoryx 2.0 fan-out beside horus: on while it works, else why not (said under the table).
+struct IoxRun {
+  bool on = false;
+  std::string why = "not built (iceoryx_posh not found by CMake)";
+  std::string self_exe;  // its helpers are re-executed from this binary
+};
+
+// One implementation's fan-out latency to one N: a figure per round.
+struct Rows {
+  std::vector<double> p50, p99, p999, a50, a99;
+  std::uint64_t missing = 0;
+  void add(const FanoutResult& res) {
+    p50.push_back(res.each.p50);
+    p99.push_back(res.each.p99);
+    p999.push_back(res.each.p999);
+    a50.push_back(res.all.p50);
+    a99.push_back(res.all.p99);
+    missing += res.missing;
+  }
+};
+struct FanoutRounds {
+  Rows horus, futex, iox;
+  std::vector<double> ratio, iox_ratio;  // all delivered p50: horus / raw futex, iceoryx / horus
+};
+
+// --rounds fan-outs to n subscribers of horus, the raw futex floor and iceoryx, alternating.
+FanoutRounds fanout_rounds(const Options& o, int n, const hb::TscClock& tsc, [[maybe_unused]] IoxRun& iox) {
+  FanoutRounds f;
+  for (int r = 0; r < o.rounds; ++r) {  // alternating: all see the same machine
+    f.horus.add(fanout_latency(n, o.messages, std::chrono::microseconds(o.gap_us), tsc));
+    f.futex.add(fanout_latency_futex(n, o.messages, std::chrono::microseconds(o.gap_us), tsc));
+    f.ratio.push_back(f.horus.a50.back() / f.futex.a50.back());
+#ifdef HORUS_BENCH_ICEORYX
+    if (iox.on) {
+      const auto ticks = hb::iox::fanout(n, o.messages, static_cast<std::uint64_t>(o.gap_us), iox.self_exe, &iox.why);
+      if (ticks.empty()) {
+        iox.on = false;  // said once below, with the reason
+      } else {
+        f.iox.add(summarize(n, o.messages, [&](int i, std::uint64_t k) { return ticks[static_cast<std::size_t>(i)][k]; },
+                            true, tsc));
+        f.iox_ratio.push_back(f.iox.a50.back() / f.horus.a50.back());
+      }
+    }
+#endif
+  }
+  return f;
+}
+
+void print_fanout_rows(int n, const FanoutRounds& f) {
+  for (const auto* rows : {&f.horus, &f.futex, &f.iox}) {
+    if (rows->p50.empty()) continue;
+    fmt::print("{:>4} {:<10} {:>22} {:>22} {:>22} {:>22} {:>22}{}\n", n,
+               rows == &f.horus ? "horus" : rows == &f.futex ? "raw futex" : "iceoryx",
+               spread(rows->p50), spread(rows->p99), spread(rows->p999), spread(rows->a50), spread(rows->a99),
+               rows->missing != 0 ? fmt::format("  ({} not received)", rows->missing) : "");
+  }
+  fmt::print("{:>4} {:<10} all delivered p50 horus / raw futex: {}{}\n", n, "", spread(f.ratio, 2),
+             f.iox_ratio.empty() ? "" : ", iceoryx / horus: " + spread(f.iox_ratio, 2));
+}
+
+void add_fanout_json(nlohmann::json& j, int n, const FanoutRounds& f) {
+  j["fanout_latency"].push_back({{"subscribers", n},
+                                 {"p50_ns", f.horus.p50},
+                                 {"p99_ns", f.horus.p99},
+                                 {"p999_ns", f.horus.p999},
+                                 {"all_p50_ns", f.horus.a50},
+                                 {"all_p99_ns", f.horus.a99},
+                                 {"missing", f.horus.missing},
+                                 {"futex_p50_ns", f.futex.p50},
+                                 {"futex_p99_ns", f.futex.p99},
+                                 {"futex_all_p50_ns", f.futex.a50},
+                                 {"futex_all_p99_ns", f.futex.a99},
+                                 {"futex_missing", f.futex.missing},
+                                 {"all_p50_over_futex", f.ratio}});
+  if (!f.iox.p50.empty()) {
+    auto& row = j["fanout_latency"].back();
+    row["iox_p50_ns"] = f.iox.p50;
+    row["iox_p99_ns"] = f.iox.p99;
+    row["iox_all_p50_ns"] = f.iox.a50;
+    row["iox_all_p99_ns"] = f.iox.a99;
+    row["iox_missing"] = f.iox.missing;
+    row["iox_all_p50_over_horus"] = f.iox_ratio;
+  }
+}
+
+// The fan-out latency table; by N, horus's median p50 and all-delivered ratio to the raw futex.
+void fanout_latency_table(const Options& o, const hb::TscClock& tsc, IoxRun& iox, nlohmann::json& j,
+                          std::vector<double>& p50_by_n, std::vector<double>& ratio_by_n) {
   fmt::print("\n1 publisher -> N subscriber processes blocked in recv_for, a 16 B message every {} us;\n"
              "beside it the machine's floor: N processes asleep in FUTEX_WAIT on one word, one FUTEX_WAKE for all\n",
-             gap_us);
+             o.gap_us);
   fmt::print("{:>4} {:<10} {:>22} {:>22} {:>22} {:>22} {:>22}\n", "N", "", "p50 ns", "p99 ns", "p99.9 ns",
              "all delivered p50", "all delivered p99");
-  std::vector<double> p50_by_n, ratio_by_n;
-  for (int n : subs) {
-    struct Rows {
-      std::vector<double> p50, p99, p999, a50, a99;
-      std::uint64_t missing = 0;
-      void add(const FanoutResult& res) {
-        p50.push_back(res.each.p50);
-        p99.push_back(res.each.p99);
-        p999.push_back(res.each.p999);
-        a50.push_back(res.all.p50);
-        a99.push_back(res.all.p99);
-        missing += res.missing;
-      }
-    } horus_rows, futex_rows, iox_rows;
-    std::vector<double> ratio, iox_ratio;
-    for (int r = 0; r < rounds; ++r) {  // alternating: all see the same machine
-      horus_rows.add(fanout_latency(n, messages, std::chrono::microseconds(gap_us), tsc));
-      futex_rows.add(fanout_latency_futex(n, messages, std::chrono::microseconds(gap_us), tsc));
-      ratio.push_back(horus_rows.a50.back() / futex_rows.a50.back());
-#ifdef HORUS_BENCH_ICEORYX
-      if (iox) {
-        const auto ticks = hb::iox::fanout(n, messages, static_cast<std::uint64_t>(gap_us), self_exe, &iox_why);
-        if (ticks.empty()) {
-          iox = false;  // said once below, with the reason
-        } else {
-          iox_rows.add(summarize(n, messages, [&](int i, std::uint64_t k) { return ticks[static_cast<std::size_t>(i)][k]; },
-                                 true, tsc));
-          iox_ratio.push_back(iox_rows.a50.back() / horus_rows.a50.back());
-        }
-      }
-#endif
-    }
-    p50_by_n.push_back(median(horus_rows.p50));
-    ratio_by_n.push_back(median(ratio));
-    for (const auto* rows : {&horus_rows, &futex_rows, &iox_rows}) {
-      if (rows->p50.empty()) continue;
-      fmt::print("{:>4} {:<10} {:>22} {:>22} {:>22} {:>22} {:>22}{}\n", n,
-                 rows == &horus_rows ? "horus" : rows == &futex_rows ? "raw futex" : "iceoryx",
-                 spread(rows->p50), spread(rows->p99), spread(rows->p999), spread(rows->a50), spread(rows->a99),
-                 rows->missing != 0 ? fmt::format("  ({} not received)", rows->missing) : "");
-    }
-    fmt::print("{:>4} {:<10} all delivered p50 horus / raw futex: {}{}\n", n, "", spread(ratio, 2),
-               iox_ratio.empty() ? "" : ", iceoryx / horus: " + spread(iox_ratio, 2));
-    j["fanout_latency"].push_back({{"subscribers", n},
-                                   {"p50_ns", horus_rows.p50},
-                                   {"p99_ns", horus_rows.p99},
-                                   {"p999_ns", horus_rows.p999},
-                                   {"all_p50_ns", horus_rows.a50},
-                                   {"all_p99_ns", horus_rows.a99},
-                                   {"missing", horus_rows.missing},
-                                   {"futex_p50_ns", futex_rows.p50},
-                                   {"futex_p99_ns", futex_rows.p99},
-                                   {"futex_all_p50_ns", futex_rows.a50},
-                                   {"futex_all_p99_ns", futex_rows.a99},
-                                   {"futex_missing", futex_rows.missing},
-                                   {"all_p50_over_futex", ratio}});
-    if (!iox_rows.p50.empty()) {
-      auto& row = j["fanout_latency"].back();
-      row["iox_p50_ns"] = iox_rows.p50;
-      row["iox_p99_ns"] = iox_rows.p99;
-      row["iox_all_p50_ns"] = iox_rows.a50;
-      row["iox_all_p99_ns"] = iox_rows.a99;
-      row["iox_missing"] = iox_rows.missing;
-      row["iox_all_p50_over_horus"] = iox_ratio;
-    }
+  for (int n : o.subs) {
+    const FanoutRounds f = fanout_rounds(o, n, tsc, iox);
+    p50_by_n.push_back(median(f.horus.p50));
+    ratio_by_n.push_back(median(f.ratio));
+    print_fanout_rows(n, f);
+    add_fanout_json(j, n, f);
   }
-  if (!iox) fmt::print("iceoryx 2.0: {}\n", iox_why);
+  if (!iox.on) fmt::print("iceoryx 2.0: {}\n", iox.why);
   else fmt::print("iceoryx 2.0: subscribers blocked in a WaitSet (HAS_DATA), 16-byte loaned samples, a private RouDi\n");
+}
 
+void fanout_throughput_table(const Options& o, nlohmann::json& j) {
   fmt::print("\nlossless fan-out throughput (send_blocking; subscribers in recv_for), 16 B messages\n");
   fmt::print("{:>4} {:>30}\n", "N", "M msg/s to every subscriber");
-  for (int n : subs) {
+  for (int n : o.subs) {
     std::vector<double> t;
-    for (int r = 0; r < rounds; ++r) t.push_back(fanout_throughput(n, tput_messages) / 1e6);
+    for (int r = 0; r < o.rounds; ++r) t.push_back(fanout_throughput(n, o.tput_messages) / 1e6);
     fmt::print("{:>4} {:>30}\n", n, spread(t, 2));
     j["fanout_throughput"].push_back({{"subscribers", n}, {"msgs_per_s_millions", t}});
   }
+}
 
+// The many-topics table; returns the median p50 by topic count.
+std::vector<double> many_topics_table(const Options& o, const hb::TscClock& tsc, nlohmann::json& j) {
   fmt::print("\nmany topics open in both processes, CmdVel-sized ping-pong on one (RTT/2, spins with pause)\n");
   fmt::print("{:>7} {:>22} {:>22}\n", "topics", "p50 ns", "p99 ns");
   std::vector<double> many_p50;
-  for (int t : topic_counts) {
+  for (int t : o.topic_counts) {
     std::vector<double> p50, p99;
-    for (int r = 0; r < rounds; ++r) {
-      auto v = many_topics_latency(t, pingpong_rounds, cpus, tsc);
+    for (int r = 0; r < o.rounds; ++r) {
+      auto v = many_topics_latency(t, o.pingpong_rounds, o.cpus, tsc);
       const auto p = hb::percentiles(v);
       p50.push_back(p.p50);
       p99.push_back(p.p99);
@@ -632,11 +602,14 @@ int main(int argc, char** argv) {
     fmt::print("{:>7} {:>22} {:>22}\n", t, spread(p50, 1), spread(p99, 1));
     j["many_topics"].push_back({{"topics", t}, {"p50_ns", p50}, {"p99_ns", p99}});
   }
+  return many_p50;
+}
 
+void memory_table(const Options& o, nlohmann::json& j) {
   fmt::print("\nmemory of a topic (default capacity), by message size\n");
   fmt::print("{:<10} {:>8} {:>16} {:>16} {:>22}\n", "message", "bytes", "segment (size)", "allocated",
              "RSS per topic (KiB)");
-  const int mem_topics = quick ? 10 : 100;
+  const int mem_topics = o.quick ? 10 : 100;
   for (const auto& row : {memory_of<bench_msg::Stamp>("16 B", mem_topics),
                           memory_of<horus_bench::Kilobyte>("1 KiB", mem_topics),
                           memory_of<bench_msg::Block64k>("64 KiB", std::max(2, mem_topics / 10))}) {
@@ -645,20 +618,58 @@ int main(int argc, char** argv) {
     j["memory"].push_back({{"message", row.type}, {"bytes", row.bytes}, {"segment_bytes", row.segment},
                            {"allocated_bytes", row.allocated}, {"rss_per_topic_kib", row.rss_per_topic_kib}});
   }
+}
 
+void print_targets(const Options& o, const std::vector<double>& p50_by_n, const std::vector<double>& ratio_by_n,
+                   const std::vector<double>& many_p50) {
   fmt::print("\nreference: HORUS (Rust) publishes 198 / 236 / 276 ns for 2 / 4 / 8 subscribers on an i7-10750H\n");
   if (p50_by_n.size() >= 2) {
     const double ratio = p50_by_n.back() / p50_by_n.front();
     fmt::print("targets: p50 with {} subscribers <= 2x one subscriber: {:.2f}x {} (all delivered: {:.2f}x the raw "
                "futex floor of {} sleeping processes)",
-               subs.back(), ratio, ratio <= 2.0 ? "met" : "MISSED", ratio_by_n.back(), subs.back());
+               o.subs.back(), ratio, ratio <= 2.0 ? "met" : "MISSED", ratio_by_n.back(), o.subs.back());
   }
   if (many_p50.size() >= 2) {
     const double ratio = many_p50.back() / many_p50.front();
-    fmt::print(" | {} topics open do not slow one (p50 <= 1.1x of 1 topic): {:.2f}x {}", topic_counts.back(), ratio,
+    fmt::print(" | {} topics open do not slow one (p50 <= 1.1x of 1 topic): {:.2f}x {}", o.topic_counts.back(), ratio,
                ratio <= 1.1 ? "met" : "MISSED");
   }
   fmt::print("\n");
-  if (!json_path.empty()) std::ofstream(json_path) << j.dump(2) << "\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+#ifdef HORUS_BENCH_ICEORYX
+  if (auto rc = hb::iox::child_main(argc, argv)) return *rc;  // the iceoryx fan-out helpers
+#endif
+  Options o;
+  if (auto rc = parse_options(o, argc, argv)) return *rc;
+  probe::raise_fd_limit();
+  const hb::TscClock tsc;
+  // iceoryx 2.0 beside horus: a private RouDi for the run, helpers re-executed from this binary.
+  IoxRun iox;
+#ifdef HORUS_BENCH_ICEORYX
+  if (o.quick || o.no_iceoryx) iox.why = o.quick ? "left out of --quick" : "skipped (--no-iceoryx)";
+  const std::optional<hb::iox::Roudi> roudi =
+      o.quick || o.no_iceoryx ? std::nullopt : hb::iox::Roudi::start(&iox.why);  // stopped when main returns
+  iox.on = roudi.has_value();
+  char self_buf[4096];
+  const ssize_t self_len = ::readlink("/proc/self/exe", self_buf, sizeof(self_buf) - 1);
+  iox.self_exe = self_len > 0 ? std::string(self_buf, static_cast<std::size_t>(self_len)) : argv[0];
+#endif
+  nlohmann::json j;
+  fmt::print("horus fan-out and scale, shared memory ({} CPUs, {} round{} of each measurement)\n", hb::cpu_count(),
+             o.rounds, o.rounds == 1 ? "" : "s");
+  if (!probe::tsc_is_invariant())
+    fmt::print("warning: /proc/cpuinfo lacks constant_tsc/nonstop_tsc: cross-process TSC stamps may not compare\n");
+
+  std::vector<double> p50_by_n, ratio_by_n;
+  fanout_latency_table(o, tsc, iox, j, p50_by_n, ratio_by_n);
+  fanout_throughput_table(o, j);
+  const std::vector<double> many_p50 = many_topics_table(o, tsc, j);
+  memory_table(o, j);
+  print_targets(o, p50_by_n, ratio_by_n, many_p50);
+  if (!o.json_path.empty()) std::ofstream(o.json_path) << j.dump(2) << "\n";
   return 0;
 }
