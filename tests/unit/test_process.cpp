@@ -51,8 +51,8 @@ TEST(Process, TheSettingsSnapshotIsReadOnceAndAgainOnlyWhenTheEnvironmentChanged
 }
 
 TEST(Process, OpeningATopicReadsTheEnvironmentOnceForEveryLayer) {
-  // The choice of scope and backend, the configuration file, the shared-memory namespace and
-  // mode: each layer asks for the snapshot, and the first asks reads it.
+  // The open takes the settings once (horus::Settings::current()) and passes them to the choice
+  // of scope and backend, the placement (namespace, mode) and the fleet layer: one read.
   ::setenv("HORUS_SHM_MODE", "0600", 1);
   const std::uint64_t before = Process::get().environment_reads();
   auto topic = horus::Topic<horus::msg::Pose2D>::open("process.read_once." + std::to_string(::getpid()));
