@@ -83,7 +83,8 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 46> kCommonI
      "float32 field_of_view\n"
      "float32 min_range\n"
      "float32 max_range\n"
-     "float32 range\n"},
+     "float32 range\n"
+     "float32 variance\n"},
     {"sensor_msgs/msg/BatteryState",
      "uint8 POWER_SUPPLY_STATUS_UNKNOWN = 0\n"
      "uint8 POWER_SUPPLY_STATUS_CHARGING = 1\n"
