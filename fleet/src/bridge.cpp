@@ -376,7 +376,8 @@ Clock::time_point Bridge::control(Clock::time_point now, bool gone) noexcept {
       if (matched < gate_readers_ && now < gate_until_) return now + std::chrono::milliseconds(1);
       if (matched >= gate_readers_) {
         if (gate_matched_ == Clock::time_point{}) gate_matched_ = now;
-        const auto open_at = gate_matched_ + discovery_settle(gate_matched_ - gate_opened_);
+        const auto open_at =
+            gate_matched_ + std::max<Clock::duration>(discovery_settle(gate_matched_ - gate_opened_), kTakeoverSettle);
         if (now < open_at) return open_at;
       }
       gated_.store(false, std::memory_order_release);

@@ -89,6 +89,13 @@ inline constexpr auto kDiscoverySettleMax = std::chrono::seconds(3);
 inline Clock::duration discovery_settle(Clock::duration our_match) noexcept {
   return std::clamp<Clock::duration>(3 * our_match, kDiscoverySettle, kDiscoverySettleMax);
 }
+/// A successor after a takeover waits at least this long instead: its participant knew the remote
+/// readers already, so its own match takes no time and says nothing of theirs. On a loaded machine
+/// (CI: two cores, four multi-host tests and two sanitizer builds at once) a remote Fast DDS reader
+/// once matched the successor's writer more than 300 ms after ours matched it, and missed the first
+/// message of the backlog, which nobody could count. The backlog waits in the ring (a loss there,
+/// if the ring fills, is counted).
+inline constexpr auto kTakeoverSettle = std::chrono::seconds(1);
 /// A 64-bit hash of a sample's bytes (the echo ledger; bridge.cpp).
 std::uint64_t body_hash(std::span<const std::byte> b) noexcept;
 /// The steady clock in ns (the bridge's timestamps).

@@ -108,10 +108,11 @@ std::vector<std::string> compare(const Lock& lock, const std::vector<Definition>
 
 int usage() {
   std::fprintf(stderr,
-               "usage: horus-idlgen --out DIR | --lcm-out DIR | --print FILE | --list | --check-lock LOCK | "
-               "--update-lock LOCK\n"
-               "  --out DIR      write the .idl files (DDS)\n"
-               "  --lcm-out DIR  write the .lcm files (LCM)\n"
+               "usage: horus-idlgen --out DIR | --lcm-out DIR | --ros2-out DIR | --print FILE | --list | "
+               "--check-lock LOCK | --update-lock LOCK\n"
+               "  --out DIR       write the .idl files (DDS)\n"
+               "  --lcm-out DIR   write the .lcm files (LCM)\n"
+               "  --ros2-out DIR  write the ROS 2 interface package horus_msgs (package.xml, CMakeLists.txt, msg/)\n"
                "  --print FILE   print one file (geometry.idl, geometry.lcm)\n");
   return 2;
 }
@@ -137,11 +138,14 @@ int write_files(const std::string& dir, const std::vector<OutputFile>& files) {
     std::fprintf(stderr, "horus-idlgen: cannot create %s: %s\n", dir.c_str(), ec.message().c_str());
     return 1;
   }
-  for (const auto& f : files)
-    if (!write_text(std::filesystem::path(dir) / f.name, f.text)) {
+  for (const auto& f : files) {
+    const auto path = std::filesystem::path(dir) / f.name;
+    std::filesystem::create_directories(path.parent_path(), ec);
+    if (!write_text(path, f.text)) {
       std::fprintf(stderr, "horus-idlgen: cannot write %s/%s\n", dir.c_str(), f.name.c_str());
       return 1;
     }
+  }
   return 0;
 }
 
@@ -242,6 +246,7 @@ int run_cli(const Model& model, int argc, char** argv, const IdlOptions& options
     if (argc != 3) return usage();
     if (cmd == "--out") return write_files(arg, emit_idl(model, options));
     if (cmd == "--lcm-out") return write_lcm(model, arg, options);
+    if (cmd == "--ros2-out") return write_files(arg, emit_ros2(model));
     if (cmd == "--print") return print_file(model, arg, options);
     if (cmd == "--check-lock" || cmd == "--update-lock") return lock_command(model, cmd, arg, options);
   } catch (const std::exception& e) {

@@ -75,6 +75,25 @@ std::uint64_t lcm_fingerprint(const Model& model, std::string_view type);
 std::string lcm_package(std::string_view qualified);
 std::string lcm_type_name(std::string_view qualified);
 
+/// What a ROS 2 interface package is called and says of itself (package.xml).
+struct Ros2Options {
+  std::string package = "horus_msgs";
+  std::string version = "0.1.0";
+  std::string maintainer = "horus";
+  std::string maintainer_email = "horus@localhost";
+  std::string license = "TODO";  // horus's license is not chosen yet (packaging/copyright)
+};
+/// A ROS 2 interface package of the model's structs, for colcon: package.xml, CMakeLists.txt and
+/// msg/<Name>.msg per struct (the package's type <package>/msg/<Name>). Each field is the .msg
+/// type whose CDR bytes are its XCDR1 bytes (char as char, an enum as uint32 with one constant per
+/// enumerator), so the DDS type <package>::msg::dds_::<Name>_ reads what horus writes. A struct a
+/// .msg cannot express (a collection of collections), or that uses one, is left out and named in
+/// CMakeLists.txt's comments. Throws std::invalid_argument when a name cannot be a ROS 2 name
+/// (it names the type and field) or two structs share a name.
+std::vector<OutputFile> emit_ros2(const Model& model, const Ros2Options& options = {});
+/// "horus::msg::Pose2D" -> "horus_msgs/msg/Pose2D".
+std::string ros2_type_name(std::string_view qualified, const Ros2Options& options = {});
+
 /// IDL spelling of a name that collides with an IDL keyword (case-insensitively): "_name"
 /// (an escaped identifier; generated code still calls it `name`). Others are unchanged.
 std::string idl_identifier(std::string_view name);
