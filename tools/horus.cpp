@@ -28,6 +28,7 @@
 //   horus config explain NAME [--file F]  which rule, scope, backend and QoS a topic gets, and
 //                                         from where (code is not known here: environment,
 //                                         file, default); the file is F or HORUS_CONFIG's
+//   horus idl --ros2 DIR [--package P]    the standard messages as a ROS 2 interface package
 //
 // list/info/clean read the segments without joining them; echo, hz and bw subscribe like any
 // other process (they count as a subscriber while they run); the fleet commands join the fleet
@@ -51,6 +52,7 @@
 #include "bench_cmd.hpp"
 #include "config_cmd.hpp"
 #include "fleet_cmd.hpp"
+#include "idl_cmd.hpp"
 #include "foxglove/command.hpp"
 #include "record_cmd.hpp"
 #include "security_cmd.hpp"
@@ -70,6 +72,7 @@ struct Cli {
   long count = 0;
   int fleet_wait_ms = 1000;
   std::string name, type, message, config_file, record_file, recover_out;
+  std::string idl_ros2_dir, idl_package = "horus_msgs";
   horus::tools::RecordArgs rec;
   horus::tools::FoxgloveArgs fox;
   horus::tools::PlayArgs play_args;
@@ -77,8 +80,17 @@ struct Cli {
   CLI::App *list = nullptr, *info = nullptr, *echo = nullptr, *hz = nullptr, *bw = nullptr, *pub = nullptr;
   CLI::App *fleet = nullptr, *clean = nullptr, *check = nullptr, *explain = nullptr, *settings = nullptr;
   CLI::App *record = nullptr, *record_info = nullptr, *recover = nullptr, *foxglove = nullptr, *play = nullptr;
-  CLI::App *bench_pong = nullptr, *bench_ping = nullptr, *bench_local = nullptr;
+  CLI::App *bench_pong = nullptr, *bench_ping = nullptr, *bench_local = nullptr, *idl = nullptr;
 };
+
+// horus idl --ros2 DIR.
+void add_idl_command(CLI::App& app, Cli& c) {
+  c.idl = app.add_subcommand("idl", "write interface files of the standard messages");
+  c.idl->add_option("--ros2", c.idl_ros2_dir, "write the ROS 2 interface package (package.xml, CMakeLists.txt, msg/) "
+                                              "into DIR")
+      ->required();
+  c.idl->add_option("--package", c.idl_package, "the ROS 2 package's name (default horus_msgs)");
+}
 
 // horus topic list | info | echo | hz | bw | pub.
 void add_topic_commands(CLI::App& app, Cli& c) {
@@ -270,6 +282,7 @@ std::optional<int> run_offline_command(Cli& c) {
   if (*c.record_info) return horus::tools::cmd_record_info(c.record_file, c.json);
   if (*c.recover) return horus::tools::cmd_record_recover(c.record_file, c.recover_out);
   if (*c.check) return horus::tools::cmd_config_check(c.config_file);
+  if (*c.idl) return horus::tools::cmd_idl_ros2(c.idl_ros2_dir, c.idl_package);
   if (*c.explain) return horus::tools::cmd_config_explain(c.name, c.config_file);
   if (*c.settings) {
     fmt::print("{}", horus::settings_table());
@@ -360,6 +373,7 @@ int main(int argc, char** argv) {
   add_foxglove_command(app, cli);
   add_play_command(app, cli);
   add_bench_commands(app, cli);
+  add_idl_command(app, cli);
   const auto security = horus::tools::add_security_commands(app);
   CLI11_PARSE(app, argc, argv);
   if (const int rc = horus::tools::run_security(*security); rc >= 0) return rc;

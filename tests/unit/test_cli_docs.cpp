@@ -2,6 +2,8 @@
 // row of that command names each of its options.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cctype>
 #include <fstream>
@@ -11,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "horus/ros2/interface.hpp"
 #include "process_support.hpp"
 
 namespace {
@@ -20,7 +23,7 @@ const std::vector<std::string> kCommands = {
     "topic list", "topic info",  "topic echo",     "topic hz", "topic bw",   "topic pub",   "fleet",
     "record",     "record info", "record recover", "play",     "bench pong", "bench ping", "bench local",
     "clean",      "config check", "config explain", "security keystore init", "security host create",
-    "security permissions", "security governance", "security check", "security dds-config"};
+    "security permissions", "security governance", "security check", "security dds-config", "idl"};
 
 // The options of one command's --help: "-n,--count INT  ..." gives "-n" and "--count".
 std::vector<std::vector<std::string>> options_of(const std::string& help) {
@@ -96,6 +99,28 @@ TEST(CliDocs, ToolsReadmeNamesEveryOptionEachCommandsHelpShows) {
   }
   EXPECT_GT(parsed, 60u) << "the options of --help were not parsed";  // 70 today
   EXPECT_TRUE(missing.empty()) << "tools/README.md does not name these options that --help shows:" << missing;
+}
+
+// horus idl --ros2 DIR writes the package and prints each type's hash, the one its .msg gives.
+TEST(CliIdl, WritesTheRos2PackageAndPrintsEachTypesHash) {
+  const std::string dir = "/tmp/horus_test_idl_" + std::to_string(::getpid());
+  std::string out;
+  ASSERT_EQ(horus_test::run_command(std::string(HORUS_CLI) + " idl --ros2 " + dir, out), 0) << out;
+  std::ifstream msg(dir + "/msg/Pose2D.msg");
+  ASSERT_TRUE(msg) << "no msg/Pose2D.msg in " << dir << ":\n" << out;
+  std::stringstream text;
+  text << msg.rdbuf();
+  horus::ros2::Interfaces one;
+  ASSERT_TRUE(one.add("horus_msgs/msg/Pose2D", text.str()));
+  const std::string hash = one.type_hash("horus_msgs/msg/Pose2D").value();
+  EXPECT_NE(out.find("horus_msgs/msg/Pose2D " + hash + "\n"), std::string::npos) << out;
+  EXPECT_TRUE(std::ifstream(dir + "/package.xml").good());
+  EXPECT_TRUE(std::ifstream(dir + "/CMakeLists.txt").good());
+  EXPECT_EQ(horus_test::run_command(std::string(HORUS_CLI) + " idl --ros2 " + dir + " --package Not-A-Package", out), 1)
+      << out;
+  EXPECT_NE(out.find("'Not-A-Package' is not a ROS 2 package name"), std::string::npos) << out;
+  std::string ignored;
+  (void)horus_test::run_command("rm -rf " + dir, ignored);
 }
 
 }  // namespace
