@@ -233,12 +233,12 @@ Result<Message> parse_msg(std::string_view type_name, std::string_view text) {
     if (code.empty()) continue;
     if (auto ok = parse_line(line, name->package, m, {m.type_name, line_no}); !ok) return std::unexpected(ok.error());
   }
-  // rosidl gives a message without fields one placeholder field.
+  // rosidl gives a message without fields the one uint8 field an IDL struct needs.
   if (m.fields.empty()) {
-    Field placeholder;
-    placeholder.name = "structure_needs_at_least_one_member";
-    placeholder.type.base = Base::Uint8;
-    m.fields.push_back(std::move(placeholder));
+    Field only;
+    only.name = "structure_needs_at_least_one_member";
+    only.type.base = Base::Uint8;
+    m.fields.push_back(std::move(only));
   }
   return m;
 }

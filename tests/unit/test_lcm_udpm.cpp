@@ -114,7 +114,7 @@ TEST(LcmUdpm, AnEndpointThatOnlyPublishesHasNoReceiveSocket) {
   auto e = std::move(*opened);
   for (int i = 0; i < 20; ++i) ASSERT_TRUE(send(*e, bytes_of("mine")));
   EXPECT_EQ(udp_sockets_on(port), 0) << "a publish-only LCM instance opened a socket on the multicast port";
-  std::this_thread::sleep_for(100ms);
+  EXPECT_FALSE(l.wait_for_count(1, 100ms)) << "a publish-only endpoint received its own samples";
   EXPECT_EQ(l.count(), 0u);
 
   e->set_receiving(true);  // starts the receive side (the self test runs now)
@@ -131,7 +131,7 @@ TEST(LcmUdpm, AnEndpointThatOnlyPublishesHasNoReceiveSocket) {
   EXPECT_EQ(udp_sockets_on(port), 0) << "the receive socket stayed after the last endpoint stopped receiving";
   const std::size_t before = l.count();
   for (int i = 0; i < 20; ++i) ASSERT_TRUE(send(*e, bytes_of("paused")));
-  std::this_thread::sleep_for(200ms);
+  EXPECT_FALSE(l.wait_for_count(before + 1, 200ms)) << "samples were delivered to an endpoint that stopped receiving";
   EXPECT_EQ(l.count(), before) << "samples were delivered to an endpoint that stopped receiving";
 
   e->set_receiving(true);  // and comes back

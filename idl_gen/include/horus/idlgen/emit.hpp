@@ -81,7 +81,8 @@ struct Ros2Options {
   std::string version = "0.1.0";
   std::string maintainer = "horus";
   std::string maintainer_email = "horus@localhost";
-  std::string license = "TODO";  // horus's license is not chosen yet (packaging/copyright)
+  // package.xml's <license>: horus's own is not chosen yet (packaging/copyright says so).
+  std::string license = "Not chosen yet (horus packaging/copyright)";
 };
 /// A ROS 2 interface package of the model's structs, for colcon: package.xml, CMakeLists.txt and
 /// msg/<Name>.msg per struct (the package's type <package>/msg/<Name>). Each field is the .msg
