@@ -14,6 +14,8 @@
 #include <utility>
 
 #include "horus/config.hpp"
+#include "horus/ros2/interface.hpp"
+#include "horus/ros2/names.hpp"
 #include "horus/horus.hpp"
 #include "horus/log.hpp"
 #include "horus/transport_registry.hpp"
@@ -102,6 +104,24 @@ void print_setting(std::string_view key, K of, const std::optional<typename K::t
   fmt::print("  {:<11} {:<16} {}\n", key, value, from);
 }
 
+// A topic mapped onto ROS 2: its ROS 2 name, DDS topic, type and type hash (the message type's
+// preferred ROS 2 type when the mapping names none: explain does not know the message type).
+void print_ros2(const std::string& topic, const horus::Ros2Mapping& m) {
+  const std::string name = m.name.empty() ? horus::ros2::topic_name_of(topic) : m.name;
+  fmt::print("  ROS 2 name  {}{}\n", name, m.name.empty() ? " (from the topic's name)" : "");
+  fmt::print("  wire name   {} (DDS topic)\n", horus::ros2::dds_topic(name));
+  if (m.type.empty()) {
+    fmt::print("  ROS 2 type  the message type's own (docs/ROS2.md: its preferred ROS 2 type, else horus_msgs/msg/<Name>)\n");
+    return;
+  }
+  const auto dds = horus::ros2::parse_type_name(m.type);
+  fmt::print("  ROS 2 type  {} (DDS type {})\n", m.type, dds ? dds->dds() : "?");
+  if (auto hash = horus::ros2::Interfaces::standard().type_hash(m.type))
+    fmt::print("  type hash   {} (USER_DATA typehash=...;)\n", *hash);
+  else
+    fmt::print("  type hash   that of {} in its package (`horus idl --ros2` prints it)\n", m.type);
+}
+
 // The settings of the table (horus/topic_options.hpp), in its order. The scope and backend
 // come first (above); a topic whose traffic is not logged shows no level or rate unless set.
 void print_settings(const horus::TopicChoice& c) {
@@ -157,7 +177,8 @@ int cmd_config_explain(const std::string& topic, const std::string& file) {
   fmt::print("  scope       {:<16} {}\n", horus::to_string(c.backend.scope()), from_where(c.backend_from, c));
   if (horus::is_network(c.backend)) {
     fmt::print("  backend     {:<16} {}\n", c.backend.transport(), from_where(c.backend_from, c));
-    if (auto wire = horus::wire_name(c.backend, topic)) fmt::print("  wire name   {}\n", *wire);
+    if (c.ros2 && c.ros2->enabled) print_ros2(topic, *c.ros2);
+    else if (auto wire = horus::wire_name(c.backend, topic)) fmt::print("  wire name   {}\n", *wire);
     if (const int rc = print_security(topic, c.backend, config); rc != 0) return rc;
   }
   print_settings(c);

@@ -114,7 +114,18 @@ class Parser {
     const auto v = n[std::string(key)];
     if (!v) return {};
     const std::string path = where + "." + std::string(key);
-    auto s = scalar(v, path, setting::expected(of, doc));
+    Result<std::string> s;
+    if constexpr (std::is_same_v<K, setting::Ros2>) {
+      if (v.IsMap()) {  // `ros2: {name: ..., type: ...}`: parsed as the text of its flow form
+        YAML::Emitter flow;
+        flow << YAML::Flow << v;
+        s = std::string(flow.c_str());
+      } else {
+        s = scalar(v, path, setting::expected(of, doc));
+      }
+    } else {
+      s = scalar(v, path, setting::expected(of, doc));
+    }
     if (!s) return std::unexpected(s.error());
     auto value = setting::parse(of, *s, doc);
     if (const auto* why = std::get_if<std::string>(&value)) return bad(v, path, *why);
@@ -323,6 +334,18 @@ class Parser {
         return bad(v, where + ".protection",
                    fmt::format("protection applies to fleet topics (DDS-Security); this rule's scope is {}", to_string(*r.scope)));
     }
+    if (r.ros2 && r.ros2->enabled) {
+      const auto v = n["ros2"];
+      if (r.scope && *r.scope != Scope::Fleet)
+        return bad(v, where + ".ros2",
+                   fmt::format("a ROS 2 mapping puts the topic on the network (a fleet topic on cyclonedds or "
+                               "fastdds); this rule's scope is {}",
+                               to_string(*r.scope)));
+      if (const std::string b = r.backend ? *r.backend : net_section.backend.value_or(""); b == "lcm")
+        return bad(v, where + ".ros2",
+                   "ROS 2 nodes speak DDS: a ROS 2 mapping needs backend cyclonedds or fastdds, and this rule's "
+                   "backend is lcm");
+    }
     if ((r.max_rate_hz || r.max_bandwidth || r.priority) && r.scope && *r.scope != Scope::Fleet)
       return bad(n, where, fmt::format("max_rate_hz, max_bandwidth and priority are budgets of the network (fleet topics); "
                                        "this rule's scope is {}",
@@ -396,6 +419,41 @@ const TopicRule* Config::match(std::string_view topic) const noexcept {
   return nullptr;
 }
 
+namespace {
+
+// A ROS 2 mapping makes the topic a fleet topic on DDS: without a scope chosen, on the file's
+// network.backend when it is a DDS one, else on Cyclone DDS (else Fast DDS); a scope of process
+// or host chosen, or LCM, is an error naming where it came from.
+Result<void> ros2_backend(std::string_view topic, TopicChoice& c) {
+  if (!c.ros2 || !c.ros2->enabled) return {};
+  const auto mapped_by = [&] { return c.ros2_from == Source::Code ? std::string("code (TopicOptions::ros2)") : std::string("the file's ros2"); };
+  if (!is_network(c.backend)) {
+    if (c.backend_from != Source::Default)
+      return fail(Errc::Config, fmt::format("topic '{}': {} maps it onto ROS 2, a fleet topic on cyclonedds or fastdds, "
+                                            "but its scope is {} ({}); drop one of the two",
+                                            topic, mapped_by(), to_string(c.backend.scope()), to_string(c.backend_from)));
+    std::string name;
+    if (c.config != nullptr && c.config->network().backend && *c.config->network().backend != "lcm")
+      name = *c.config->network().backend;
+    for (const char* dds : {"cyclonedds", "fastdds"})
+      if (name.empty() && net::find_transport(dds) != nullptr) name = dds;
+    const auto* t = name.empty() ? nullptr : net::find_transport(name);
+    if (t == nullptr)
+      return fail(Errc::Config, fmt::format("topic '{}': {} maps it onto ROS 2, and this program has no DDS backend "
+                                            "(cyclonedds or fastdds)",
+                                            topic, mapped_by()));
+    c.backend = Backend::network(t->name);
+    c.backend_from = c.ros2_from;
+  }
+  if (c.backend.transport() == "lcm")
+    return fail(Errc::Config, fmt::format("topic '{}': {} maps it onto ROS 2, and ROS 2 nodes speak DDS; its backend is "
+                                          "lcm ({}): use cyclonedds or fastdds for it",
+                                          topic, mapped_by(), to_string(c.backend_from)));
+  return {};
+}
+
+}  // namespace
+
 Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code, const Settings& settings) {
   const Config* config = settings.file;
   const Environment& env = settings.env();
@@ -462,6 +520,7 @@ Result<TopicChoice> choose(std::string_view topic, const TopicOptions& code, con
     c.verbose = *rule.log;
     c.verbose_from = Source::File;
   }
+  if (auto ok = ros2_backend(topic, c); !ok) return std::unexpected(ok.error());
   return c;
 }
 

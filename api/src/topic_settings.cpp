@@ -8,7 +8,11 @@
 #include <string>
 #include <vector>
 
+#include <yaml-cpp/yaml.h>
+
 #include "horus/config.hpp"
+#include "horus/ros2/interface.hpp"
+#include "horus/ros2/names.hpp"
 #include "horus/shm/ring_layout.hpp"
 
 namespace horus {
@@ -147,6 +151,79 @@ std::variant<std::chrono::nanoseconds, std::string> parse(Duration, std::string_
 std::string expected(Duration, std::string_view) { return "a duration such as \"100ms\""; }
 std::string format(Duration, const std::chrono::nanoseconds& v) {
   return fmt::format("{} ms", static_cast<double>(v.count()) / 1e6);
+}
+
+namespace {
+
+constexpr std::string_view kRos2Expected =
+    "true, false or a map of name (a ROS 2 topic name), type (pkg/msg/Name), frame_id, child_frame_id and qos "
+    "(default or sensor_data)";
+constexpr Names<Ros2Mapping::Qos, 3> kRos2Qos{"ROS 2 QoS profile",
+                                              {{{Ros2Mapping::Qos::Default, "default"},
+                                                {Ros2Mapping::Qos::SensorData, "sensor_data"},
+                                                {Ros2Mapping::Qos::Topic, "topic"}}}};
+
+// One key of a `ros2:` map into m; an error text, or empty.
+std::string ros2_key(Ros2Mapping& m, const std::string& key, const std::string& value) {
+  if (key == "name") {
+    auto n = ros2::topic_name(value);
+    if (!n) return n.error().message();
+    m.name = *n;
+  } else if (key == "type") {
+    auto t = ros2::parse_type_name(value);
+    if (!t) return t.error().message();
+    m.type = t->full();
+  } else if (key == "frame_id" || key == "child_frame_id") {
+    if (value.size() > 255 || value.find('\0') != std::string::npos)
+      return fmt::format("{} '{}' is not a frame id; expected at most 255 characters", key, value.substr(0, 40));
+    (key == "frame_id" ? m.frame_id : m.child_frame_id) = value;
+  } else if (key == "qos") {
+    auto q = kRos2Qos.parse(value);
+    if (const auto* why = std::get_if<std::string>(&q)) return *why;
+    m.qos = std::get<0>(q);
+  } else {
+    return fmt::format("unknown key '{}' in ros2; expected name, type, frame_id, child_frame_id or qos", key);
+  }
+  return {};
+}
+
+}  // namespace
+
+std::variant<Ros2Mapping, std::string> parse(Ros2, std::string_view text, std::string_view) {
+  Ros2Mapping m;
+  YAML::Node node;
+  try {
+    node = YAML::Load(std::string(text));
+  } catch (const YAML::Exception& e) {
+    return fmt::format("'{}' is not {} ({})", text, kRos2Expected, e.msg);
+  }
+  if (node.IsScalar()) {
+    auto b = kBoolean.parse(node.Scalar());
+    if (std::holds_alternative<std::string>(b)) return fmt::format("'{}' is not {}", text, kRos2Expected);
+    m.enabled = std::get<bool>(b);
+    return m;
+  }
+  if (!node.IsMap()) return fmt::format("'{}' is not {}", text, kRos2Expected);
+  for (const auto& kv : node) {
+    if (!kv.first.IsScalar() || !kv.second.IsScalar())
+      return fmt::format("'{}' is not {}: each key and value is a plain word", text, kRos2Expected);
+    if (std::string why = ros2_key(m, kv.first.Scalar(), kv.second.Scalar()); !why.empty()) return why;
+  }
+  return m;
+}
+std::string expected(Ros2, std::string_view) { return std::string(kRos2Expected); }
+std::string format(Ros2, const Ros2Mapping& m) {
+  if (!m.enabled) return "false";
+  std::string out;
+  auto add = [&](std::string_view key, std::string_view value) {
+    if (!value.empty()) out += fmt::format("{}{}: {}", out.empty() ? "" : ", ", key, value);
+  };
+  add("name", m.name);
+  add("type", m.type);
+  add("frame_id", m.frame_id);
+  add("child_frame_id", m.child_frame_id);
+  if (m.qos != Ros2Mapping::Qos::Topic) add("qos", kRos2Qos.format(m.qos));
+  return out.empty() ? "true" : "{" + out + "}";
 }
 
 }  // namespace setting

@@ -230,6 +230,8 @@ Result<void> CycloneEndpoint::create() {
   QosPtr qos(dds_create_qos());
   if (!qos) return fail(Errc::Io, core_->label() + ": out of memory");
   set_endpoint_qos(qos.get(), spec.qos);
+  // A topic mapped onto ROS 2: "typehash=RIHS01_...;" on both, as rmw does.
+  if (!spec.user_data.empty()) dds_qset_userdata(qos.get(), spec.user_data.data(), spec.user_data.size());
 
   ListenerPtr writer_listener(dds_create_listener(core_.get()));
   ListenerPtr reader_listener(dds_create_listener(core_.get()));

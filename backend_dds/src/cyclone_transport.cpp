@@ -160,6 +160,18 @@ void CycloneTransport::on_subscription(dds_entity_t reader, void* arg) {
   static_cast<CycloneTransport*>(arg)->take_builtin(reader, false);
 }
 
+namespace {
+// An endpoint's USER_DATA as text (ROS 2's "typehash=...;"), or empty.
+std::string user_data_of(const dds_qos_t* qos) {
+  void* data = nullptr;
+  std::size_t size = 0;
+  if (qos == nullptr || !dds_qget_userdata(qos, &data, &size) || data == nullptr) return {};
+  std::string out(static_cast<const char*>(data), size);
+  dds_free(data);
+  return out;
+}
+}  // namespace
+
 // Drains a DCPSPublication / DCPSSubscription reader into the remote-type watcher, which reports,
 // once each, the endpoints of other participants whose type differs from one of ours.
 void CycloneTransport::take_builtin(dds_entity_t reader, bool publisher) noexcept {
@@ -167,7 +179,7 @@ void CycloneTransport::take_builtin(dds_entity_t reader, bool publisher) noexcep
     struct Event {
       net::RemoteTypes::Id id;
       bool alive;
-      std::string topic, type;
+      std::string topic, type, user_data;
     };
     std::vector<Event> events;
     for (;;) {
@@ -179,13 +191,14 @@ void CycloneTransport::take_builtin(dds_entity_t reader, bool publisher) noexcep
         for (dds_return_t i = 0; i < n; i++) {
           const auto id = remote_id(info[i].instance_handle);
           if (info[i].instance_state != DDS_IST_ALIVE) {
-            events.push_back(Event{id, false, {}, {}});
+            events.push_back(Event{id, false, {}, {}, {}});
             continue;
           }
           if (!info[i].valid_data) continue;
           const auto* ep = static_cast<const dds_builtintopic_endpoint_t*>(samples[i]);
           if (std::memcmp(&ep->participant_key, &guid_, sizeof guid_) == 0) continue;  // ours
-          events.push_back(Event{id, true, ep->topic_name ? ep->topic_name : "", ep->type_name ? ep->type_name : ""});
+          events.push_back(Event{id, true, ep->topic_name ? ep->topic_name : "", ep->type_name ? ep->type_name : "",
+                                 user_data_of(ep->qos)});
         }
       } catch (...) {
         dds_return_loan(reader, samples, n);
@@ -196,7 +209,7 @@ void CycloneTransport::take_builtin(dds_entity_t reader, bool publisher) noexcep
     }
     for (const Event& e : events) {
       if (e.alive)
-        remote_types_.remote_seen(e.id, e.topic, e.type, publisher);
+        remote_types_.remote_seen(e.id, e.topic, e.type, publisher, e.user_data);
       else
         remote_types_.remote_gone(e.id);
     }
@@ -222,7 +235,12 @@ Result<std::shared_ptr<CycloneTransport>> CycloneTransport::create(net::CacheTic
                                                 "with other settings; horus needs to create it with its own");
     return fail(Errc::Io, where + ": cannot start the domain: " + dds_error(rc));
   }
-  t->participant_ = dds_create_participant(config.domain_id, nullptr, nullptr);
+  // USER_DATA "enclave=/;" as every ROS 2 participant has (rmw_dds_common): ROS 2's graph
+  // tools take horus's participant for one of theirs, in the root security enclave.
+  QosPtr participant_qos(dds_create_qos());
+  if (!participant_qos) return fail(Errc::Io, where + ": out of memory");
+  dds_qset_userdata(participant_qos.get(), kParticipantUserData.data(), kParticipantUserData.size());
+  t->participant_ = dds_create_participant(config.domain_id, participant_qos.get(), nullptr);
   if (t->participant_ < 0) {
     const dds_return_t rc = t->participant_;
     t->participant_ = 0;
@@ -272,7 +290,8 @@ Result<std::unique_ptr<net::Endpoint>> CycloneTransport::open(const net::Endpoin
   if (auto created = endpoint->create(); !created) return std::unexpected(std::move(created.error()));
   // Watched for remote endpoints of another type; the ones already known are reported now.
   std::string other = remote_types_.add_local(core.get(), spec.wire_topic, spec.type_name, core->label(),
-                                              [core](const std::string& message) { core->report(message); });
+                                              [core](const std::string& message) { core->report(message); },
+                                              spec.user_data);
   if (!other.empty()) return conflict(other);  // lost a race
   endpoint->mark_registered();
   return std::unique_ptr<net::Endpoint>(std::move(endpoint));

@@ -264,6 +264,8 @@ fd::DataWriterQos writer_qos(const net::EndpointSpec& spec, bool paced) {
   wq.resource_limits().allocated_samples = std::min(depth, 16);
   wq.data_sharing().off();
   wq.representation().m_value = {fd::XCDR_DATA_REPRESENTATION};
+  // A topic mapped onto ROS 2: "typehash=RIHS01_...;" on the writer and the reader, as rmw does.
+  if (!spec.user_data.empty()) wq.user_data().setValue(std::vector<rtps::octet>(spec.user_data.begin(), spec.user_data.end()));
   wq.publish_mode().kind = fd::SYNCHRONOUS_PUBLISH_MODE;
   wq.endpoint().history_memory_policy = rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
   wq.reliable_writer_qos().times.heartbeatPeriod =
@@ -310,6 +312,7 @@ fd::DataReaderQos reader_qos(const net::Qos& q, const fd::DataWriterQos& wq) {
   rq.data_sharing().off();
   rq.type_consistency().representation.m_value = {fd::XCDR_DATA_REPRESENTATION};
   rq.endpoint().history_memory_policy = rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
+  rq.user_data() = wq.user_data();
   return rq;
 }
 

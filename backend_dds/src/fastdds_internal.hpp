@@ -257,7 +257,7 @@ class FastddsTransport final : public net::Transport, public std::enable_shared_
 
   // For the participant listener.
   void on_remote_endpoint(const rtps::GUID_t& guid, const std::string& topic, const std::string& type, bool writer,
-                          bool removed);
+                          bool removed, const std::string& user_data);
   void on_remote_participant_gone(const rtps::GuidPrefix_t& prefix);
 
  private:

@@ -184,16 +184,26 @@ void ParticipantListener::on_participant_discovery(fd::DomainParticipant*, rtps:
     transport_.on_remote_participant_gone(info.info.m_guid.guidPrefix);
 }
 
+namespace {
+// An endpoint's USER_DATA as text (ROS 2's "typehash=...;").
+std::string user_data_text(const fd::UserDataQosPolicy& p) {
+  const auto& v = p.data_vec();
+  return std::string(reinterpret_cast<const char*>(v.data()), v.size());
+}
+}  // namespace
+
 void ParticipantListener::on_publisher_discovery(fd::DomainParticipant*, rtps::WriterDiscoveryInfo&& info) {
   transport_.on_remote_endpoint(info.info.guid(), info.info.topicName().to_string(),
                                 info.info.typeName().to_string(), true,
-                                info.status == rtps::WriterDiscoveryInfo::REMOVED_WRITER);
+                                info.status == rtps::WriterDiscoveryInfo::REMOVED_WRITER,
+                                user_data_text(info.info.m_qos.m_userData));
 }
 
 void ParticipantListener::on_subscriber_discovery(fd::DomainParticipant*, rtps::ReaderDiscoveryInfo&& info) {
   transport_.on_remote_endpoint(info.info.guid(), info.info.topicName().to_string(),
                                 info.info.typeName().to_string(), false,
-                                info.status == rtps::ReaderDiscoveryInfo::REMOVED_READER);
+                                info.status == rtps::ReaderDiscoveryInfo::REMOVED_READER,
+                                user_data_text(info.info.m_qos.m_userData));
 }
 
 // ---- the transport ----------------------------------------------------------------------------
@@ -235,6 +245,8 @@ Result<void> FastddsTransport::start() {
     for (auto& [name, value] : security::dds_security_properties(f)) props.emplace_back(name, value);
     secure_ = true;
   }
+  // USER_DATA "enclave=/;" as every ROS 2 participant has (horus/dds/transports.hpp).
+  pq.user_data().setValue(std::vector<rtps::octet>(kParticipantUserData.begin(), kParticipantUserData.end()));
   participant_ = factory_->create_participant(static_cast<fd::DomainId_t>(config_.domain_id), pq, &listener_,
                                               fd::StatusMask::none());
   if (participant_ == nullptr && secure_)
@@ -344,12 +356,12 @@ void FastddsTransport::release_topic(const std::string& wire_topic) {
 void FastddsTransport::detach(const std::shared_ptr<Core>& core) { remote_types_.remove_local(core.get()); }
 
 void FastddsTransport::on_remote_endpoint(const rtps::GUID_t& guid, const std::string& topic, const std::string& type,
-                                          bool writer, bool removed) {
+                                          bool writer, bool removed, const std::string& user_data) {
   if (is_local(guid.guidPrefix)) return;
   if (removed)
     remote_types_.remote_gone(remote_id(guid));
   else
-    remote_types_.remote_seen(remote_id(guid), topic, type, writer);
+    remote_types_.remote_seen(remote_id(guid), topic, type, writer, user_data);
 }
 
 void FastddsTransport::on_remote_participant_gone(const rtps::GuidPrefix_t& prefix) {
@@ -383,7 +395,7 @@ Result<std::unique_ptr<net::Endpoint>> FastddsTransport::open(const net::Endpoin
   // (through the dispatcher: this is an application thread). acquire_topic already refused
   // another type of this process on the topic.
   (void)remote_types_.add_local(core.get(), spec.wire_topic, spec.type_name, core->topic_label(),
-                                [core](const std::string& message) { core->post_error(message); });
+                                [core](const std::string& message) { core->post_error(message); }, spec.user_data);
   return std::unique_ptr<net::Endpoint>(std::move(endpoint));
 }
 

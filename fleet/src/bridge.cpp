@@ -164,15 +164,24 @@ Result<std::unique_ptr<horus::detail::NetworkLink>> Bridge::open(horus::detail::
   auto may = may_bridge(settings.env().bridge);
   if (!may) return std::unexpected(std::move(may.error()));
   if (!*may) return std::unique_ptr<horus::detail::NetworkLink>(new PassiveLink(core, qos));  // HORUS_BRIDGE=0
-  auto wire = info->wire_name(core.name);
+  std::optional<Ros2Wire> ros2;
+  net::Qos wire_qos = qos;
+  if (options.ros2 && options.ros2->enabled) {  // on the ROS 2 graph: rt/<name>, its type, its QoS
+    auto w = resolve_ros2(core, *options.ros2, info->name);
+    if (!w) return std::unexpected(std::move(w.error()));
+    apply_ros2_qos(wire_qos, w->qos, options);
+    ros2 = std::move(*w);
+  }
+  auto wire = ros2 ? Result<std::string>(ros2->wire_topic()) : info->wire_name(core.name);
   if (!wire) return std::unexpected(std::move(wire.error()));
   auto engine = Engine::of(*info, settings);  // its network settings: HORUS_DOMAIN_ID, HORUS_LCM_URL, the file
   if (!engine) return std::unexpected(std::move(engine.error()));
   g_network_pid.store(horus::detail::current_pid());
   auto transport = (*engine)->transport_for(core.name);
   if (!transport) return std::unexpected(std::move(transport.error()));
-  std::unique_ptr<Bridge> b(new Bridge(core, ops, qos, std::move(*engine), std::move(*transport)));
+  std::unique_ptr<Bridge> b(new Bridge(core, ops, wire_qos, std::move(*engine), std::move(*transport)));
   b->wire_topic_ = std::move(*wire);
+  if (ros2) b->map_ros2(std::move(*ros2));
   b->set_budget(options, settings.file);
   const auto claim = b->segment().claim_bridge();
   if (claim == shm::ShmSegment::BridgeClaim::Claimed || claim == shm::ShmSegment::BridgeClaim::TookOver) {
@@ -309,8 +318,9 @@ Result<void> Bridge::open_endpoint(bool receive) {
   net::EndpointSpec spec;
   spec.topic = core_.name;
   spec.wire_topic = wire_topic_;
-  spec.type_name = core_.type_name;
+  spec.type_name = ros2_ ? ros2_->dds_type : core_.type_name;
   spec.type_hash = core_.type_hash;
+  if (ros2_) spec.user_data = ros2_->user_data();
   spec.qos = qos_;
   spec.max_message_bytes = core_.pool ? core_.pool.slot_bytes() : core_.ring.payload_size();
   receiving_.store(receive, std::memory_order_relaxed);
@@ -591,7 +601,7 @@ bool Bridge::send(const void* msg) {
     state().dropped.fetch_add(1, std::memory_order_relaxed);
     return true;
   }
-  auto n = ops_.encoded_size(format_, msg);
+  auto n = encoded_size(msg);
   if (!n) return report(n.error());
   if (budgeted()) [[unlikely]] {
     if (has_latest_) {  // a newer message: the one the budget held back is not sent
@@ -600,7 +610,7 @@ bool Bridge::send(const void* msg) {
     }
     if (!admit(now_ns(), *n)) {
       latest_.resize(*n);
-      ops_.encode(format_, msg, latest_);
+      encode(msg, latest_);
       has_latest_ = true;
       engine_->recheck(*this, false);
       return true;  // read on: a newer message replaces it
@@ -616,7 +626,7 @@ bool Bridge::send(const void* msg) {
                           std::chrono::duration_cast<Clock::duration>(kEchoTtl).count())};
   const net::BodyWriter writer{[](void* c, std::span<std::byte> body) {
                                  const auto& x = *static_cast<const Context*>(c);
-                                 x.self->ops_.encode(x.self->format_, x.msg, body);
+                                 x.self->encode(x.msg, body);
                                  if (x.echo) x.self->ledger_.add(body_hash(body));
                                },
                                &ctx};
@@ -631,7 +641,7 @@ bool Bridge::send(const void* msg) {
       !stop_.load(std::memory_order_relaxed)) {
     ++write_retries_;
     stash_.resize(*n);
-    ops_.encode(format_, msg, stash_);
+    encode(msg, stash_);
     backlog_.store(true, std::memory_order_release);
     engine_->recheck(*this, false);
     return false;  // stop after this message: it is in the stash

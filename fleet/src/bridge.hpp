@@ -53,6 +53,7 @@
 #include "horus/detail/network_link.hpp"
 #include "horus/detail/topic_core.hpp"
 #include "horus/settings.hpp"
+#include "ros2_wire.hpp"
 
 namespace horus::fleet::detail {
 
@@ -181,6 +182,11 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener, pu
   void release_export() noexcept;
   bool has_export_work() const noexcept;
   bool send(const void* msg);
+  // A topic mapped onto ROS 2 (ros2_wire.hpp): its bytes are the ROS 2 type's.
+  void map_ros2(Ros2Wire wire);
+  Result<std::size_t> encoded_size(const void* msg) const;
+  void encode(const void* msg, std::span<std::byte> body) const noexcept;
+  bool decode_ros2(const net::Sample& sample, void* out, const ByteSink* sink) const;
 
   horus::detail::TopicCore& core_;
   const horus::detail::WireOps& ops_;
@@ -190,6 +196,11 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener, pu
   const net::TransportInfo& info_;
   net::WireFormat format_;
   std::string wire_topic_;
+  std::optional<Ros2Wire> ros2_;  // mapped onto ROS 2 (TopicOptions::ros2)
+  ros2::Context ros2_context_;    // views of ros2_'s frame ids
+  horus::detail::ForeignDecoder foreign_{};
+  mutable std::atomic<std::uint64_t> ros2_refused_{0};          // samples the type could not hold
+  mutable std::atomic<std::int64_t> ros2_refused_logged_ns_{0};  // when that was last logged
   const int creator_pid_;
   std::unique_ptr<horus::detail::BridgePort> port_;  // the holder's lane and entry; outlives the endpoint
   std::unique_ptr<net::Endpoint> endpoint_;          // the holder's only; reset first: no callback after that

@@ -30,7 +30,8 @@ void Bridge::on_sample(const net::Sample& sample) {
     return;
   }
   if (loopback_ && ledger_.consume(body_hash(sample.body))) return;  // our own, back
-  if (!port_->deliver(format_, sample)) return;
+  if (!(ros2_ && ros2_->conversion != nullptr ? port_->deliver_foreign(foreign_, sample) : port_->deliver(format_, sample)))
+    return;
   last_import_ns_.store(now_ns(), std::memory_order_relaxed);
   state().imported.fetch_add(1, std::memory_order_relaxed);
   // The import wakes the host's handles, not the export (it skips these messages); once they
@@ -38,6 +39,48 @@ void Bridge::on_sample(const net::Sample& sample) {
   // ring behind (that would count as losses nobody had).
   // Through the doorbell's bridge class: one wake-up per time the engine armed it, not per sample.
   if (import_lag() > core_.ring.capacity() / 2) core_.ring.wake_waiters(shm::Doorbell::kArmedBridge);
+}
+
+// --- a topic mapped onto ROS 2 ---------------------------------------------------------------
+
+void Bridge::map_ros2(Ros2Wire wire) {
+  ros2_ = std::move(wire);
+  ros2_context_ = ros2_->context();
+  foreign_ = {this, [](const void* self, const net::Sample& sample, void* out, const ByteSink* sink) {
+                return static_cast<const Bridge*>(self)->decode_ros2(sample, out, sink);
+              }};
+}
+
+Result<std::size_t> Bridge::encoded_size(const void* msg) const {
+  if (ros2_ && ros2_->conversion != nullptr) return ros2_->conversion->encoded_size(msg, ros2_context_);
+  return ops_.encoded_size(format_, msg);
+}
+
+void Bridge::encode(const void* msg, std::span<std::byte> body) const noexcept {
+  if (ros2_ && ros2_->conversion != nullptr) return ros2_->conversion->encode(msg, ros2_context_, body);
+  ops_.encode(format_, msg, body);
+}
+
+// A ROS 2 sample into the topic's type. One the type cannot hold (more beams, a longer name) is
+// dropped and counted in the topic's dropped count, and said at most once a second; one that is
+// not the ROS 2 type is a decode failure (counted, logged).
+bool Bridge::decode_ros2(const net::Sample& sample, void* out, const ByteSink* sink) const {
+  auto ok = ros2_->conversion->decode(sample.body, sample.little_endian, out, sink);
+  if (ok) return true;
+  if (ok.error().malformed) {
+    horus::detail::report_network_decode_failure(core_, ok.error().what);
+    return false;
+  }
+  state().dropped.fetch_add(1, std::memory_order_relaxed);
+  const std::uint64_t n = ros2_refused_.fetch_add(1, std::memory_order_relaxed) + 1;
+  const std::int64_t now = now_ns();
+  std::int64_t last = ros2_refused_logged_ns_.load(std::memory_order_relaxed);
+  if (now - last >= std::chrono::duration_cast<Clock::duration>(std::chrono::seconds(1)).count() &&
+      ros2_refused_logged_ns_.compare_exchange_strong(last, now, std::memory_order_relaxed))
+    log().warn("topic '{}': a ROS 2 sample ({}) does not fit {} and was dropped: {} ({} so far, counted in "
+               "dropped_count())",
+               core_.name, ros2_->type, core_.type_name, ok.error().what, n);
+  return false;
 }
 
 std::uint64_t Bridge::import_lag() const noexcept {

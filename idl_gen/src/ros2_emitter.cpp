@@ -1,6 +1,8 @@
 // ROS 2 interface package emitter (see emit.hpp): package.xml, CMakeLists.txt and one .msg per
 // struct of the model, each field the .msg type whose CDR bytes are the field's XCDR1 bytes (so a
 // ROS 2 node built with the package reads what horus writes on the DDS wire).
+#include <fmt/format.h>
+
 #include <cctype>
 #include <map>
 #include <set>
@@ -222,6 +224,36 @@ std::vector<OutputFile> emit_ros2(const Model& model, const Ros2Options& options
 
 std::string ros2_type_name(std::string_view qualified, const Ros2Options& options) {
   return options.package + "/msg/" + std::string(short_name(qualified));
+}
+
+Result<Ros2Type> ros2_type_of(const wire::DynType& root, const Ros2Options& options) {
+  Ros2Type out;
+  out.name = ros2_type_name(root.name, options);
+  std::vector<OutputFile> files;
+  try {
+    Model model;
+    model.add(root, "types");
+    files = emit_ros2(model, options);
+  } catch (const std::exception& e) {
+    return fail(Errc::InvalidArgument, fmt::format("{} has no ROS 2 type: {}", root.name, e.what()));
+  }
+  std::string skipped;
+  for (const auto& f : files) {
+    if (f.name == "CMakeLists.txt") {
+      for (std::size_t at = f.text.find("# No .msg: "); at != std::string::npos; at = f.text.find("# No .msg: ", at + 1))
+        skipped += (skipped.empty() ? "" : "; ") + f.text.substr(at + 11, f.text.find('\n', at) - at - 11);
+    }
+    if (!f.name.starts_with("msg/")) continue;
+    if (auto ok = out.types.add(options.package + "/msg/" + f.name.substr(4, f.name.size() - 8), f.text); !ok)
+      return std::unexpected(ok.error());
+  }
+  if (out.types.find(out.name) == nullptr)
+    return fail(Errc::InvalidArgument, fmt::format("{} has no ROS 2 type in package {}: {}", root.name, options.package,
+                                                   skipped.empty() ? "the package left it out" : skipped));
+  auto hash = out.types.type_hash(out.name);
+  if (!hash) return std::unexpected(hash.error());
+  out.type_hash = *hash;
+  return out;
 }
 
 }  // namespace horus::idlgen

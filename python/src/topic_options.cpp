@@ -56,6 +56,26 @@ typename K::type value_from(K of, pybind11::handle v, const char* key) {
     return v.cast<bool>();
   } else if constexpr (std::is_arithmetic_v<T>) {
     return number_from<T>(v, key);
+  } else if constexpr (std::is_same_v<K, setting::Ros2>) {
+    // ros2=True, or a dict of str (name, type, frame_id, child_frame_id, qos), or the file's text.
+    std::string form;
+    if (pybind11::isinstance<pybind11::bool_>(v)) {
+      form = v.cast<bool>() ? "true" : "false";
+    } else if (pybind11::isinstance<pybind11::dict>(v)) {
+      for (const auto& item : v.cast<pybind11::dict>()) {
+        const pybind11::handle k = item.first, x = item.second;
+        if (!pybind11::isinstance<pybind11::str>(k) || !pybind11::isinstance<pybind11::str>(x))
+          type_error(key, "True, False or a dict of str (name, type, frame_id, child_frame_id, qos)", v);
+        form += (form.empty() ? "" : ", ") + pybind11::cast<std::string>(k) + ": \"" + pybind11::cast<std::string>(x) + "\"";
+      }
+      form = "{" + form + "}";
+    } else {
+      form = text(v, key, "True, False or a dict");
+    }
+    auto value = setting::parse(of, form);
+    if (const auto* why = std::get_if<std::string>(&value))
+      throw pybind11::value_error(fmt::format("{}: {}", key, *why));
+    return std::get<T>(value);
   } else {
     const std::string expected = setting::expected(of);
     const auto s = text(v, key, expected.c_str());

@@ -15,6 +15,10 @@
 //       opens <topic> as a reliable Pose2D, says "ready", waits for a 'g' on stdin, then sends
 //       <count> of them (x = sequence number) with send_blocking, as fast as the reliable
 //       path takes them, and prints "sent <n>" (how many send_blocking accepted)
+//   horus_dds_peer ros2-scan <dds-topic> <type hash> <seconds>
+//       a ROS 2 node's LaserScan writer (sensor_msgs::msg::dds_::LaserScan_, USER_DATA
+//       "typehash=<type hash>;"): every 20 ms a scan of 720 beams (more than horus's LaserScan
+//       holds), then one of 100 beams (stamp 1700000000 s + 5 ns, frame "laser")
 //   horus_dds_peer raw <dds-topic or lcm-channel> <dds-type> <seconds>
 //       a raw writer (the byte-level transport, no horus codec): every 20 ms, a malformed
 //       sample, then a valid Pose2D with x = 42 (tests that bad samples are counted and later
@@ -32,6 +36,8 @@
 #include <tuple>
 #include <vector>
 
+#include "horus/ros2/dynamic.hpp"
+#include "horus/ros2/interface.hpp"
 #include "horus/wire/xcdr1.hpp"
 #include "horus/dds/transports.hpp"
 #include "horus/transport_registry.hpp"
@@ -179,6 +185,50 @@ int raw_writer(const std::string& wire_topic, const std::string& type, Clock::ti
   return 0;
 }
 
+// A ROS 2 LaserScan of n beams, made by the dynamic codec from its .msg (not by horus's conversion).
+std::vector<std::byte> ros2_scan(std::size_t n) {
+  nlohmann::json j;
+  j["header"] = {{"stamp", {{"sec", 1700000000}, {"nanosec", 5}}}, {"frame_id", "laser"}};
+  j["angle_min"] = -1.0;
+  j["angle_increment"] = 0.01;
+  j["angle_max"] = -1.0 + 0.01 * static_cast<double>(n - 1);
+  j["range_min"] = 0.1;
+  j["range_max"] = 30.0;
+  j["ranges"] = std::vector<double>(n, 2.5);
+  return horus::ros2::encode_json(horus::ros2::Interfaces::standard(), "sensor_msgs/msg/LaserScan", j).value();
+}
+
+int ros2_scan_writer(const std::string& wire_topic, const std::string& type_hash, Clock::time_point deadline) {
+  const char* backend = std::getenv("HORUS_BACKEND");
+  auto config = horus::network_config_from_environment();
+  const horus::net::TransportInfo* info = backend != nullptr ? horus::net::find_transport(backend) : nullptr;
+  if (!config || info == nullptr) return 3;
+  auto t = info->open(*config);
+  if (!t) return 3;
+  NoListener listener;
+  horus::net::EndpointSpec spec{"ros2", wire_topic, "sensor_msgs::msg::dds_::LaserScan_", 0, {}};
+  spec.qos.reliability = horus::net::Reliability::Reliable;
+  spec.user_data = "typehash=" + type_hash + ";";
+  auto ep = (*t)->open(spec, listener);
+  if (!ep) {
+    std::fprintf(stderr, "horus_dds_peer: %s\n", ep.error().message().c_str());
+    return 3;
+  }
+  std::printf("ready\n");
+  std::fflush(stdout);
+  const auto too_long = ros2_scan(720), fits = ros2_scan(100);
+  auto fill = [](void* ctx, std::span<std::byte> body) {
+    const auto* v = static_cast<const std::vector<std::byte>*>(ctx);
+    std::memcpy(body.data(), v->data(), v->size());
+  };
+  while (Clock::now() < deadline && !parent_gone()) {
+    (void)(*ep)->write(too_long.size(), horus::net::BodyWriter{fill, const_cast<std::vector<std::byte>*>(&too_long)});
+    (void)(*ep)->write(fits.size(), horus::net::BodyWriter{fill, const_cast<std::vector<std::byte>*>(&fits)});
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -193,6 +243,7 @@ int main(int argc, char** argv) {
   if (mode == "expect-mismatch") return expect_mismatch(argv[2], deadline);
   if (mode == "burst" && argc == 5) return burst(argv[2], std::strtoull(argv[3], nullptr, 10), deadline);
   if (mode == "raw" && argc == 5) return raw_writer(argv[2], argv[3], deadline);
+  if (mode == "ros2-scan" && argc == 5) return ros2_scan_writer(argv[2], argv[3], deadline);
   std::fprintf(stderr, "horus_dds_peer: unknown mode '%s'\n", mode.c_str());
   return 2;
 }

@@ -7,12 +7,13 @@
 #         -DSRC_DIR=<tests/interop> -DWORK_DIR=<dir> -DCC=<c compiler> -DCXX=<c++ compiler>
 #         -P build_peers.cmake
 #
-# Writes <WORK_DIR>/cyclone_echo, <WORK_DIR>/fastdds_echo and <WORK_DIR>/lcm_echo; a peer whose
+# Writes <WORK_DIR>/cyclone_echo, <WORK_DIR>/fastdds_echo and <WORK_DIR>/lcm_echo (and the ROS 2
+# peers ros2_peer_cyclone and ros2_peer_fastdds, from ros2/ros2_types.idl); a peer whose
 # tools are missing is not built and <WORK_DIR>/<peer>.why says why (its tests then skip with
 # that reason).
 set(files geometry input navigation perception sensor vision)
 file(REMOVE_RECURSE ${WORK_DIR})
-file(MAKE_DIRECTORY ${WORK_DIR}/cyc ${WORK_DIR}/fd ${WORK_DIR}/lcm ${WORK_DIR}/obj)
+file(MAKE_DIRECTORY ${WORK_DIR}/cyc ${WORK_DIR}/fd ${WORK_DIR}/lcm ${WORK_DIR}/obj ${WORK_DIR}/cyc_ros2 ${WORK_DIR}/fd_ros2)
 set(idl_files "")
 foreach(f IN LISTS files)
   list(APPEND idl_files ${IDL_DIR}/${f}.idl)
@@ -84,6 +85,12 @@ else()
   compile("compiling cyclone_echo" ${CC} FLAGS -O1 -w -I ${WORK_DIR}/cyc SOURCES ${c_sources} OBJECTS_VAR objs)
   run("linking cyclone_echo" ${CC} -o ${WORK_DIR}/cyclone_echo ${objs} -lddsc)
   message("cyclone_echo built from idlc output")
+  # The ROS 2 peer: ROS 2's types, named as its rmw layers name them (ros2/ros2_types.idl).
+  run("idlc ros2_types.idl" ${IDLC} -o ${WORK_DIR}/cyc_ros2 ${SRC_DIR}/ros2/ros2_types.idl)
+  compile("compiling ros2_peer_cyclone" ${CC} FLAGS -O1 -w -I ${WORK_DIR}/cyc_ros2 -I ${SRC_DIR}/ros2
+          SOURCES ${SRC_DIR}/ros2/ros2_peer_cyclone.c ${WORK_DIR}/cyc_ros2/ros2_types.c OBJECTS_VAR objs)
+  run("linking ros2_peer_cyclone" ${CC} -o ${WORK_DIR}/ros2_peer_cyclone ${objs} -lddsc)
+  message("ros2_peer_cyclone built from idlc output")
 endif()
 
 # Fast DDS: fastddsgen -> C++ classes and PubSubTypes.
@@ -100,6 +107,12 @@ else()
   compile("compiling fastdds_echo" ${CXX} FLAGS -std=c++20 -O0 -w -I ${WORK_DIR}/fd SOURCES ${cxx_sources} OBJECTS_VAR objs)
   run("linking fastdds_echo" ${CXX} -o ${WORK_DIR}/fastdds_echo ${objs} -lfastrtps -lfastcdr -lpthread)
   message("fastdds_echo built from fastddsgen output")
+  run("fastddsgen ros2_types.idl" ${FASTDDSGEN} -replace -d ${WORK_DIR}/fd_ros2 ${SRC_DIR}/ros2/ros2_types.idl)
+  compile("compiling ros2_peer_fastdds" ${CXX} FLAGS -std=c++20 -O0 -w -I ${WORK_DIR}/fd_ros2 -I ${SRC_DIR}/ros2
+          SOURCES ${SRC_DIR}/ros2/ros2_peer_fastdds.cpp ${WORK_DIR}/fd_ros2/ros2_types.cxx
+                  ${WORK_DIR}/fd_ros2/ros2_typesPubSubTypes.cxx OBJECTS_VAR objs)
+  run("linking ros2_peer_fastdds" ${CXX} -o ${WORK_DIR}/ros2_peer_fastdds ${objs} -lfastrtps -lfastcdr -lpthread)
+  message("ros2_peer_fastdds built from fastddsgen output")
 endif()
 # LCM: lcm-gen -c -> <pkg>_<Type>.c / .h for every type of every .lcm file.
 find_program(LCM_GEN lcm-gen)

@@ -3,10 +3,13 @@
 // code), the .msg parser reads ROS 2's grammar and refuses what ROS 2 refuses, with the line.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "horus/ros2/convert.hpp"
 #include "horus/ros2/interface.hpp"
 #include "ros2_hash_vectors.hpp"
 
@@ -160,3 +163,23 @@ TEST(Ros2Interfaces, UserDataCarriesTheHashAsRos2WritesIt) {
 }
 
 }  // namespace
+
+// docs/ROS2.md's table of conversions is the library's: a row per conversion, with what each
+// direction cannot carry, and no row the library lacks.
+TEST(Ros2Docs, TheTableOfConversionsIsTheLibrarys) {
+  std::ifstream in(HORUS_ROS2_MD);
+  ASSERT_TRUE(in) << HORUS_ROS2_MD;
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string doc = ss.str();
+  const std::string begin = "<!-- the table of conversions (a test compares it with ros2::conversions()) -->\n";
+  const auto a = doc.find(begin);
+  const auto b = doc.find("<!-- end of the table -->");
+  ASSERT_NE(a, std::string::npos);
+  ASSERT_NE(b, std::string::npos);
+  std::string want = "| horus type | ROS 2 type | preferred | what does not cross |\n|---|---|---|---|\n";
+  for (const auto& c : horus::ros2::conversions())
+    want += "| `" + std::string(c.horus_type) + "` | `" + std::string(c.ros_type) + "` | " + (c.preferred ? "yes" : "") +
+            " | " + std::string(c.loses) + " |\n";
+  EXPECT_EQ(doc.substr(a + begin.size(), b - a - begin.size()), want);
+}

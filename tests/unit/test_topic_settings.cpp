@@ -149,3 +149,67 @@ TEST(TopicSettings, EveryPlainSettingGoesFromTheFileAndFromCodeWithItsSource) {
 #undef HORUS_CHECK_SETTING
   EXPECT_GE(checked, 9);
 }
+
+// The `ros2:` key (docs/ROS2.md): true, false or a map; each value checked as ROS 2 checks it.
+TEST(TopicSettings, Ros2IsTrueFalseOrAMapOfCheckedValues) {
+  using horus::Ros2Mapping;
+  auto parse = [](const std::string& text) { return horus::setting::parse(horus::setting::Ros2{}, text); };
+  auto value = [&](const std::string& text) { return std::get<Ros2Mapping>(parse(text)); };
+  auto error = [&](const std::string& text) {
+    auto v = parse(text);
+    return std::holds_alternative<std::string>(v) ? std::get<std::string>(v) : std::string("(no error)");
+  };
+  EXPECT_EQ(value("true"), Ros2Mapping{});
+  EXPECT_FALSE(value("false").enabled);
+  const auto m = value("{name: cmd_vel, type: geometry_msgs/Twist, frame_id: base_link, qos: sensor_data}");
+  EXPECT_EQ(m.name, "/cmd_vel");                  // made absolute
+  EXPECT_EQ(m.type, "geometry_msgs/msg/Twist");   // the short form made full
+  EXPECT_EQ(m.frame_id, "base_link");
+  EXPECT_EQ(m.qos, Ros2Mapping::Qos::SensorData);
+  EXPECT_EQ(horus::setting::format(horus::setting::Ros2{}, m),
+            "{name: /cmd_vel, type: geometry_msgs/msg/Twist, frame_id: base_link, qos: sensor_data}");
+  EXPECT_EQ(value(horus::setting::format(horus::setting::Ros2{}, m)), m);  // what explain prints parses back
+  EXPECT_NE(error("{name: /robot1/2d}").find("starts with a digit"), std::string::npos);
+  EXPECT_NE(error("{name: /a//b}").find("'//'"), std::string::npos);
+  EXPECT_NE(error("{name: /a__b}").find("repeated underscores"), std::string::npos);
+  EXPECT_NE(error("{name: /a-b}").find("'-'"), std::string::npos);
+  EXPECT_NE(error("{type: Geometry/Twist}").find("package 'Geometry'"), std::string::npos);
+  EXPECT_NE(error("{type: geometry_msgs/srv/Twist}").find("not a message type"), std::string::npos);
+  EXPECT_NE(error("{qos: fast}").find("unknown ROS 2 QoS profile 'fast'"), std::string::npos);
+  EXPECT_NE(error("{nmae: /x}").find("unknown key 'nmae' in ros2"), std::string::npos);
+  EXPECT_NE(error("maybe").find("true, false or a map"), std::string::npos);
+}
+
+// A ROS 2 mapping is a fleet topic on DDS: without a scope it gets one (Cyclone DDS unless the
+// file's network.backend is another DDS); a host scope or LCM is an error naming both.
+TEST(TopicSettings, Ros2MakesAFleetTopicOnDdsAndRefusesAnotherScopeOrLcm) {
+  if (horus::net::find_transport("cyclonedds") == nullptr) GTEST_SKIP() << "this build has no Cyclone DDS backend";
+  auto file = horus::Config::parse("topics:\n  - match: cmd_vel\n    ros2: {name: /cmd_vel}\n", "r.yaml");
+  ASSERT_TRUE(file) << file.error().message();
+  auto c = horus::choose("cmd_vel", {}, &*file);
+  ASSERT_TRUE(c) << c.error().message();
+  EXPECT_EQ(c->backend, horus::Backend::CycloneDds);
+  EXPECT_EQ(c->backend_from, horus::Source::File);
+  auto host = horus::Config::parse("topics:\n  - match: cmd_vel\n    scope: host\n    ros2: true\n", "r.yaml");
+  ASSERT_FALSE(host);
+  EXPECT_NE(host.error().message().find("r.yaml, line 4, key 'topics[0].ros2'"), std::string::npos) << host.error().message();
+  EXPECT_NE(host.error().message().find("scope is host"), std::string::npos) << host.error().message();
+  auto lcm = horus::Config::parse("topics:\n  - match: cmd_vel\n    backend: lcm\n    ros2: true\n", "r.yaml");
+  ASSERT_FALSE(lcm);
+  EXPECT_NE(lcm.error().message().find("backend is lcm"), std::string::npos) << lcm.error().message();
+  horus::TopicOptions code;
+  code.backend = horus::Backend::SharedMemory;
+  code.ros2 = horus::Ros2Mapping{};
+  auto both = horus::choose("cmd_vel", code, nullptr);
+  ASSERT_FALSE(both);
+  EXPECT_NE(both.error().message().find("maps it onto ROS 2"), std::string::npos) << both.error().message();
+  code.backend = horus::Backend::Lcm;
+  auto on_lcm = horus::choose("cmd_vel", code, nullptr);
+  ASSERT_FALSE(on_lcm);
+  EXPECT_NE(on_lcm.error().message().find("ROS 2 nodes speak DDS"), std::string::npos) << on_lcm.error().message();
+  code.backend.reset();
+  code.ros2->enabled = false;  // off: nothing changes
+  auto off = horus::choose("cmd_vel", code, nullptr);
+  ASSERT_TRUE(off);
+  EXPECT_FALSE(horus::is_network(off->backend));
+}

@@ -107,6 +107,7 @@ HORUS_SETTING_CODEC(PriorityName)
 HORUS_SETTING_CODEC(Duration)
 HORUS_SETTING_CODEC(Boolean)
 HORUS_SETTING_CODEC(LevelName)
+HORUS_SETTING_CODEC(Ros2)
 #undef HORUS_SETTING_CODEC
 /// Names as an error message lists what it expected: "a, b or c".
 std::string listed(std::span<const std::string_view> names);

@@ -48,6 +48,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <string>
 
 #include "horus/backend.hpp"
 #include "horus/network.hpp"
@@ -57,6 +58,24 @@
 HORUS_API_BEGIN
 
 namespace horus {
+
+/// A topic's mapping onto the ROS 2 graph (the `ros2:` key; docs/ROS2.md): on the network the
+/// topic is what a ROS 2 node publishes, `rt/<name>` of the ROS 2 type, while its subscribers on
+/// the host stay in shared memory. A fleet topic on Cyclone DDS or Fast DDS.
+struct Ros2Mapping {
+  /// The QoS a mapped topic gets: its own settings (reliability, durability, the type's
+  /// defaults), ROS 2's default profile (reliable, volatile, keep last 10) or its sensor data
+  /// profile (best effort, volatile, keep last 5). A reliability or durability set for the
+  /// topic wins over a profile.
+  enum class Qos : std::uint8_t { Topic, Default, SensorData };
+  bool enabled = true;         // `ros2: false` turns a mapping of a broader rule off
+  std::string name;            // "/cmd_vel"; empty: "/" + the horus name with '.' as '/'
+  std::string type;            // "geometry_msgs/msg/Twist"; empty: the message type's preferred one
+  std::string frame_id;        // header.frame_id for a message type without a frame id field
+  std::string child_frame_id;  // child_frame_id likewise (TransformStamped, Odometry)
+  Qos qos = Qos::Topic;
+  friend bool operator==(const Ros2Mapping&, const Ros2Mapping&) = default;
+};
 
 /// The kinds of value a per-topic setting has: the C++ type, and how the file, Python and
 /// `horus config explain` write it (horus/config.hpp: setting::parse, setting::format).
@@ -73,6 +92,7 @@ struct PriorityName { using type = Priority; };                 // low | normal 
 struct Duration { using type = std::chrono::nanoseconds; };     // above 0 ("100ms", "1.5 s")
 struct Boolean { using type = bool; };                          // true | false
 struct LevelName { using type = LogLevel; };                    // trace | debug | info | warn | error
+struct Ros2 { using type = Ros2Mapping; };                      // true | false | {name: ..., type: ...}
 }  // namespace setting
 
 // clang-format off
@@ -103,7 +123,10 @@ struct LevelName { using type = LogLevel; };                    // trace | debug
   X(log_level, LevelName, Plain, "log_level", "debug", LogLevel::Info, "",                                            \
     "the level of the topic's traffic lines: trace, debug, info, warn or error")                                     \
   X(log_rate_hz, RateOrZero, Plain, "log_rate_hz", "5", kDefaultLogRateHz, "",                                        \
-    "lines per second the topic logs at most, a number such as 5 or 0.5 (0: every message)")
+    "lines per second the topic logs at most, a number such as 5 or 0.5 (0: every message)")                         \
+  X(ros2, Ros2, Plain, "ros2", "{name: /cmd_vel, type: geometry_msgs/msg/Twist}", std::nullopt, "none",                \
+    "the topic on the ROS 2 graph (a fleet topic on DDS): true, or a map of name, type, frame_id, child_frame_id and "  \
+    "qos (default, sensor_data); docs/ROS2.md")
 // clang-format on
 
 // Helpers for code made from the table: HORUS_SETTING_IF_<Rule>(text) keeps `text` for one rule.

@@ -149,6 +149,10 @@ struct EndpointSpec {
   /// The largest message of the topic in bytes (its ring slot, or its pool slot for large
   /// data); 0 when unknown. A backend sizes its buffers of unacknowledged samples by it.
   std::uint64_t max_message_bytes = 0;
+  /// USER_DATA of the writer and the reader (DDS): ROS 2's "typehash=RIHS01_<sha256>;" on a
+  /// topic mapped onto ROS 2 (docs/ROS2.md); empty: none. A remote endpoint of the same type name
+  /// whose USER_DATA carries another type hash is reported (Listener::on_error).
+  std::string user_data = {};
   /// Whether the endpoint receives from the start; false: it only sends until
   /// set_receiving(true) (a host whose handles only publish). Like set_receiving, a hint:
   /// a backend that gains nothing by not receiving (DDS) ignores it.

@@ -12,11 +12,27 @@ std::string RemoteTypes::conflict_locked(std::string_view wire_topic, std::strin
   return {};
 }
 
+std::string type_hash_of(std::string_view user_data) {
+  constexpr std::string_view kKey = "typehash=";
+  const auto at = user_data.find(kKey);
+  if (at == std::string_view::npos || (at != 0 && user_data[at - 1] != ';')) return {};
+  const auto value = user_data.substr(at + kKey.size());
+  return std::string(value.substr(0, value.find(';')));
+}
+
 void RemoteTypes::report_locked(Local& local, const Id& id, const Remote& remote, Pending& out) {
-  if (remote.type_name == local.type_name || !local.reported.insert(id).second) return;
-  out.emplace_back(local.report, local.label + ": a remote " + (remote.publisher ? "publisher" : "subscriber") +
-                                     " carries type '" + remote.type_name + "', this process expects '" +
-                                     local.type_name + "'; they will not communicate");
+  const bool other_type = remote.type_name != local.type_name;
+  const bool other_hash = !other_type && !local.type_hash.empty() && !remote.type_hash.empty() &&
+                          remote.type_hash != local.type_hash;
+  if ((!other_type && !other_hash) || !local.reported.insert(id).second) return;
+  const std::string who = local.label + ": a remote " + (remote.publisher ? "publisher" : "subscriber");
+  if (other_type)
+    out.emplace_back(local.report, who + " carries type '" + remote.type_name + "', this process expects '" +
+                                       local.type_name + "'; they will not communicate");
+  else
+    out.emplace_back(local.report, who + " of type '" + remote.type_name + "' announces type hash " + remote.type_hash +
+                                       ", this process's is " + local.type_hash +
+                                       " (another version of the message); its samples may not decode");
 }
 
 void RemoteTypes::deliver(Pending& pending) noexcept {
@@ -29,7 +45,7 @@ void RemoteTypes::deliver(Pending& pending) noexcept {
 }
 
 std::string RemoteTypes::add_local(const void* key, std::string_view wire_topic, std::string_view type_name,
-                                   std::string label, Report report) {
+                                   std::string label, Report report, std::string_view user_data) {
   Pending pending;
   {
     std::lock_guard lock(mutex_);
@@ -37,7 +53,7 @@ std::string RemoteTypes::add_local(const void* key, std::string_view wire_topic,
     auto it = locals_.emplace(std::string(wire_topic),
                               std::pair<const void*, Local>(
                                   key, Local{std::string(wire_topic), std::string(type_name), std::move(label),
-                                             std::move(report), {}}));
+                                             std::move(report), {}, type_hash_of(user_data)}));
     for (const auto& [id, remote] : remotes_)
       if (remote.wire_topic == wire_topic) report_locked(it->second.second, id, remote, pending);
   }
@@ -62,12 +78,13 @@ std::string RemoteTypes::local_conflict(std::string_view wire_topic, std::string
   return conflict_locked(wire_topic, type_name);
 }
 
-void RemoteTypes::remote_seen(const Id& id, std::string_view wire_topic, std::string_view type_name, bool publisher) {
+void RemoteTypes::remote_seen(const Id& id, std::string_view wire_topic, std::string_view type_name, bool publisher,
+                              std::string_view user_data) {
   Pending pending;
   {
     std::lock_guard lock(mutex_);
     auto& remote = remotes_[id];
-    remote = Remote{std::string(wire_topic), std::string(type_name), publisher};
+    remote = Remote{std::string(wire_topic), std::string(type_name), publisher, type_hash_of(user_data)};
     auto [first, last] = locals_.equal_range(wire_topic);
     for (auto it = first; it != last; ++it) report_locked(it->second.second, id, remote, pending);
   }

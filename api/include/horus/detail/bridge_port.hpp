@@ -43,6 +43,15 @@ class TypedBridgePort final : public BridgePort {
     import_codec_.deliver(import_, format, sample);
     return import_.writer().sent() != before;
   }
+  bool deliver_foreign(const ForeignDecoder& decoder, const net::Sample& sample) override {
+    const std::uint64_t before = import_.writer().sent();
+    import_codec_.deliver_with(import_, [&](const ByteSink* sink) -> std::expected<T, std::string> {
+      T m{};
+      if (!decoder.decode(decoder.context, sample, &m, sink)) return std::unexpected(std::string());
+      return m;
+    });
+    return import_.writer().sent() != before;
+  }
   std::size_t import_room() override {
     return has_lane() ? static_cast<std::size_t>(import_.writer().room(export_.reader().token())) : SIZE_MAX;
   }

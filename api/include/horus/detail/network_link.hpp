@@ -17,6 +17,7 @@
 #include <string>
 
 #include "horus/backend.hpp"
+#include "horus/byte_buffer.hpp"
 #include "horus/topic_options.hpp"
 #include "horus/error.hpp"
 #include "horus/network.hpp"
@@ -40,6 +41,14 @@ struct ExportSink {
   bool (*send)(void* ctx, const void* msg);  // msg: a T
 };
 
+/// Decodes a sample of another wire type than the topic's own (a ROS 2 message, ros2/) into a T.
+struct ForeignDecoder {
+  const void* context;
+  /// Fills *out (a default-constructed T) from the sample; large data goes where `sink` places
+  /// it. False: the sample gave no message (the decoder counted and reported why).
+  bool (*decode)(const void* context, const net::Sample& sample, void* out, const ByteSink* sink);
+};
+
 /// The bridge's own handle of the topic: a lane it imports into and a subscriber entry it
 /// exports from. Made per type (bridge_port.hpp); used by one bridge, the import side on the
 /// transport's thread and the export side by one exporter at a time (they share no state).
@@ -54,6 +63,8 @@ class BridgePort {
   virtual std::uint64_t lane_token() const = 0;
   /// Decodes a sample and writes it into the ring; false when it did not decode or was refused.
   virtual bool deliver(net::WireFormat format, const net::Sample& sample) = 0;
+  /// The same for a sample that `decoder` decodes (a topic mapped onto ROS 2).
+  virtual bool deliver_foreign(const ForeignDecoder& decoder, const net::Sample& sample) = 0;
   /// How many messages the lane takes before one would overwrite a message some subscriber has
   /// not read (the bridge's own export entry, which passes over this lane, aside).
   virtual std::size_t import_room() = 0;

@@ -36,6 +36,11 @@ HORUS_API_BEGIN
 
 namespace horus::detail {
 
+/// A sample that gave no message: reported (counted, logged) unless its decoder did (no text).
+inline void report_delivery_failure(TopicCore& core, const std::string& what) {
+  if (!what.empty()) report_network_decode_failure(core, what);
+}
+
 /// A fixed-size message travels by copy.
 template <class T>
 class FixedSlots {
@@ -75,8 +80,12 @@ class FixedSlots {
     return s.value;
   }
   void deliver(Port& port, net::WireFormat format, const net::Sample& sample) {
-    auto m = wire_decode<T>(format, sample, nullptr);
-    if (!m) return report_network_decode_failure(port.core(), m.error());
+    deliver_with(port, [&](const ByteSink* sink) { return wire_decode<T>(format, sample, sink); });
+  }
+  template <class Decode>
+  void deliver_with(Port& port, Decode&& decode) {
+    auto m = decode(nullptr);
+    if (!m) return report_delivery_failure(port.core(), m.error());
     write(port, *m);
   }
   std::size_t max_message_size(const TopicCore&) const noexcept { return sizeof(T); }
@@ -148,8 +157,12 @@ class SerializedSlots {
     return decode_inbox(port);
   }
   void deliver(Port& port, net::WireFormat format, const net::Sample& sample) {
-    auto m = wire_decode<T>(format, sample, nullptr);
-    if (!m) return report_network_decode_failure(port.core(), m.error());
+    deliver_with(port, [&](const ByteSink* sink) { return wire_decode<T>(format, sample, sink); });
+  }
+  template <class Decode>
+  void deliver_with(Port& port, Decode&& decode) {
+    auto m = decode(nullptr);
+    if (!m) return report_delivery_failure(port.core(), m.error());
     if (!prepare(port, *m)) {
       ++port.counters.send_failures;
       return;
@@ -252,6 +265,10 @@ class PooledSlots {
   /// Large data from the network: the bytes are decoded straight into a pool slot of the
   /// receiver's lane (one copy), then the descriptor is published as for a loan.
   void deliver(Port& port, net::WireFormat format, const net::Sample& sample) {
+    deliver_with(port, [&](const ByteSink* sink) { return wire_decode<T>(format, sample, sink); });
+  }
+  template <class Decode>
+  void deliver_with(Port& port, Decode&& decode) {
     struct Place {
       PooledSlots* self;
       Port* port;
@@ -268,8 +285,8 @@ class PooledSlots {
                                                    /*writable=*/true);
                           return true;
                         }};
-    auto m = wire_decode<T>(format, sample, &sink);
-    if (!m) return report_network_decode_failure(port.core(), m.error());  // a slot taken goes back with m
+    auto m = decode(&sink);
+    if (!m) return report_delivery_failure(port.core(), m.error());  // a slot taken goes back with m
     if (!place.claim) {
       if (!prepare(port, *m) || !write(port, *m)) ++port.counters.send_failures;
       return;

@@ -26,6 +26,10 @@ namespace horus::dds {
 /// breaks horus's own rules (validate_topic_name).
 Result<std::string> topic_name(std::string_view topic);
 
+/// The USER_DATA of every horus participant: "enclave=/;", as ROS 2's rmw layers give theirs (its
+/// security enclave, the root one), so that ROS 2's graph tools see a ROS 2 participant.
+inline constexpr std::string_view kParticipantUserData = "enclave=/;";
+
 /// Adds the transport to the registry ("cyclonedds" / "fastdds", XCDR1, topic_name, and a
 /// factory that reads HORUS_DOMAIN_ID and HORUS_DDS_LOCALHOST). Defined only when built.
 void register_cyclonedds();

@@ -27,6 +27,9 @@ HORUS_API_BEGIN
 
 namespace horus::net {
 
+/// The type hash of a USER_DATA as ROS 2 writes it ("...;typehash=RIHS01_<hex>;..."), or empty.
+std::string type_hash_of(std::string_view user_data);
+
 class RemoteTypes {
  public:
   /// A remote endpoint as the transport names it (a GUID, or a built-in topic instance handle
@@ -38,15 +41,20 @@ class RemoteTypes {
   /// `type_name`, and reports the remote endpoints already known to carry another type. When
   /// another local endpoint holds the topic with another type, nothing is added and that type
   /// is returned; otherwise an empty string.
+  /// `user_data`: the endpoint's USER_DATA; when it has a "typehash=...;" (a topic mapped onto
+  /// ROS 2), a remote endpoint of the same type whose USER_DATA has another hash is reported:
+  ///   "<label>: a remote publisher of type 'T' announces type hash B, this process's is A ..."
   std::string add_local(const void* key, std::string_view wire_topic, std::string_view type_name, std::string label,
-                        Report report);
+                        Report report, std::string_view user_data = {});
   void remove_local(const void* key);
   /// The type of another local endpoint on `wire_topic` if it is not `type_name`, else "".
   std::string local_conflict(std::string_view wire_topic, std::string_view type_name) const;
 
   /// A remote endpoint discovered (again): reported to each local endpoint of its topic with
-  /// another type that has not heard of it yet.
-  void remote_seen(const Id& id, std::string_view wire_topic, std::string_view type_name, bool publisher);
+  /// another type (or the same type with another type hash in `user_data`) that has not heard
+  /// of it yet.
+  void remote_seen(const Id& id, std::string_view wire_topic, std::string_view type_name, bool publisher,
+                   std::string_view user_data = {});
   /// A remote endpoint went away.
   void remote_gone(const Id& id);
   /// Every remote endpoint whose id starts with `prefix` went away (a remote participant).
@@ -57,10 +65,12 @@ class RemoteTypes {
     std::string wire_topic, type_name, label;
     Report report;
     std::set<Id> reported;  // remote endpoints it heard of
+    std::string type_hash;  // from its USER_DATA's "typehash=...;", or empty
   };
   struct Remote {
     std::string wire_topic, type_name;
     bool publisher = false;
+    std::string type_hash;
   };
   using Pending = std::vector<std::pair<Report, std::string>>;
 

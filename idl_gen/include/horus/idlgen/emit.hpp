@@ -16,7 +16,9 @@
 #include <string_view>
 #include <vector>
 
+#include "horus/error.hpp"
 #include "horus/idlgen/model.hpp"
+#include "horus/ros2/interface.hpp"
 
 #include "horus/export.hpp"
 
@@ -94,6 +96,17 @@ struct Ros2Options {
 std::vector<OutputFile> emit_ros2(const Model& model, const Ros2Options& options = {});
 /// "horus::msg::Pose2D" -> "horus_msgs/msg/Pose2D".
 std::string ros2_type_name(std::string_view qualified, const Ros2Options& options = {});
+
+/// One struct as the ROS 2 type emit_ros2 makes of it: its name ("horus_msgs/msg/Heartbeat"),
+/// the .msg types of it and of the types it uses, and its RIHS01 type hash (what a topic mapped
+/// onto ROS 2 announces in USER_DATA). An error names why the struct has none (a collection of
+/// collections, a name ROS 2 refuses).
+struct Ros2Type {
+  std::string name;
+  std::string type_hash;
+  ros2::Interfaces types;
+};
+Result<Ros2Type> ros2_type_of(const wire::DynType& root, const Ros2Options& options = {});
 
 /// IDL spelling of a name that collides with an IDL keyword (case-insensitively): "_name"
 /// (an escaped identifier; generated code still calls it `name`). Others are unchanged.

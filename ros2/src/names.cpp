@@ -1,0 +1,46 @@
+// ROS 2's topic-name rules (names.hpp), as rcl and rmw validate a fully qualified topic name.
+#include "horus/ros2/names.hpp"
+
+#include <fmt/format.h>
+
+#include <cctype>
+
+namespace horus::ros2 {
+namespace {
+
+bool alnum(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0; }
+
+Error bad_name(std::string_view text, std::string_view why) {
+  return Error(Errc::InvalidArgument, fmt::format("ROS 2 topic name '{}' {}", text, why));
+}
+
+}  // namespace
+
+Result<std::string> topic_name(std::string_view text) {
+  std::string name = text.starts_with('/') ? std::string(text) : "/" + std::string(text);
+  if (text.empty() || name == "/") return std::unexpected(bad_name(text, "is empty; expected /token[/token...]"));
+  if (name.size() > kMaxTopicNameLength)
+    return std::unexpected(bad_name(text, fmt::format("has {} characters; ROS 2 allows at most {}", name.size(),
+                                                      kMaxTopicNameLength)));
+  for (std::size_t i = 0; i < name.size(); ++i) {
+    const char c = name[i];
+    if (!alnum(c) && c != '_' && c != '/')
+      return std::unexpected(
+          bad_name(text, fmt::format("has '{}' at {}; expected letters, digits, '_' and '/' between tokens", c, i)));
+  }
+  if (name.ends_with('/')) return std::unexpected(bad_name(text, "ends with '/'"));
+  if (name.find("//") != std::string::npos) return std::unexpected(bad_name(text, "has an empty token ('//')"));
+  if (name.find("__") != std::string::npos) return std::unexpected(bad_name(text, "has repeated underscores ('__')"));
+  for (std::size_t i = 0; i + 1 < name.size(); ++i)
+    if (name[i] == '/' && std::isdigit(static_cast<unsigned char>(name[i + 1])))
+      return std::unexpected(bad_name(text, fmt::format("has a token that starts with a digit at {}", i + 1)));
+  return name;
+}
+
+std::string topic_name_of(std::string_view horus_topic) {
+  std::string out = "/";
+  for (char c : horus_topic) out += c == '.' ? '/' : c;
+  return out;
+}
+
+}  // namespace horus::ros2

@@ -1,0 +1,114 @@
+// Topics mapped onto ROS 2 (TopicOptions::ros2, the `ros2:` key; docs/ROS2.md) on both DDS
+// backends: what the ROS 2 type holds and horus's cannot is dropped and counted, a ROS 2 writer
+// of the same type with another type hash is reported, and a mapping that cannot be made fails
+// its open with an error naming why. (Field by field against ROS 2 peers built by idlc and
+// fastddsgen: tests/interop/test_ros2_interop.cpp.)
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include "dds_support.hpp"
+#include "horus/idlgen/emit.hpp"
+#include "horus/ros2/interface.hpp"
+#include "horus/wire/dynamic.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+using horus::Backend;
+using namespace horus::msg;
+
+class Ros2Topic : public ::testing::TestWithParam<Backend> {
+ protected:
+  void SetUp() override {
+    if (!horus::backend_available(GetParam())) GTEST_SKIP() << "this build has no " << horus::to_string(GetParam()) << " backend";
+    ::setenv("HORUS_DDS_LOCALHOST", "1", 1);
+    domain_ = std::to_string(1 + (::getpid() + 77) % 200);
+    ::setenv("HORUS_DOMAIN_ID", domain_.c_str(), 1);
+    static int n = 0;
+    prefix_ = "r2topic" + std::to_string(::getpid()) + "_" + std::to_string(++n);
+  }
+  template <class T>
+  horus::Result<horus::Topic<T>> open(const std::string& name, horus::Ros2Mapping m) {
+    horus::TopicOptions o;
+    o.backend = GetParam();
+    o.ros2 = std::move(m);
+    return horus::Topic<T>::open(name, o);
+  }
+  std::string domain_, prefix_;
+};
+
+TEST_P(Ros2Topic, AScanOfMoreBeamsThanHorusHoldsIsDroppedAndCountedAndAnotherTypeHashIsReported) {
+  const std::string other_hash = "RIHS01_" + std::string(64, '0');
+  horus_test::Peer peer(GetParam(), {"ros2-scan", "rt/" + prefix_ + "/scan", other_hash, "30"});
+  ASSERT_TRUE(peer.ready()) << "horus_dds_peer ros2-scan did not start";
+  horus::Ros2Mapping m;
+  m.qos = horus::Ros2Mapping::Qos::Default;
+  auto scan = open<LaserScan>(prefix_ + ".scan", m);
+  ASSERT_TRUE(scan) << scan.error().message();
+  std::optional<LaserScan> got;
+  ASSERT_TRUE(horus_test::eventually(
+      [&] {
+        if (auto s = scan->recv()) got = *s;
+        return got && scan->dropped_count() > 0 && scan->network_errors() > 0;
+      },
+      std::chrono::seconds(20)))
+      << "received " << got.has_value() << ", dropped " << scan->dropped_count() << ", errors " << scan->network_errors();
+  // The 100-beam scans arrive whole; each 720-beam one is dropped and counted, never cut to 360.
+  EXPECT_EQ(got->ranges[0], 2.5f);
+  EXPECT_EQ(got->ranges[99], 2.5f);
+  EXPECT_EQ(got->ranges[100], 0.0f);
+  EXPECT_EQ(got->timestamp_ns, 1'700'000'000'000'000'005ULL);
+  while (auto s = scan->recv()) EXPECT_EQ(s->ranges[100], 0.0f) << "a 720-beam scan was delivered cut";
+  EXPECT_EQ(peer.stop(), 0);
+}
+
+TEST_P(Ros2Topic, AMappingThatCannotBeMadeFailsItsOpenNamingWhy) {
+  horus::Ros2Mapping twist;
+  twist.type = "geometry_msgs/msg/Twist";
+  auto pose = open<Pose2D>(prefix_ + ".pose", twist);
+  ASSERT_FALSE(pose);
+  EXPECT_NE(pose.error().message().find("horus::msg::Pose2D does not convert to geometry_msgs/msg/Twist"), std::string::npos)
+      << pose.error().message();
+  EXPECT_NE(pose.error().message().find("it converts to geometry_msgs/msg/Pose2D"), std::string::npos)
+      << pose.error().message();
+  auto dashed = open<Pose2D>(prefix_ + ".front-left", {});
+  ASSERT_FALSE(dashed);
+  EXPECT_NE(dashed.error().message().find("ROS 2"), std::string::npos) << dashed.error().message();
+  horus::Ros2Mapping standard_other;
+  standard_other.type = "sensor_msgs/msg/Imu";
+  auto hb = open<Heartbeat>(prefix_ + ".heartbeat", standard_other);
+  ASSERT_FALSE(hb);
+  EXPECT_NE(hb.error().message().find("it has no ROS 2 equivalent"), std::string::npos) << hb.error().message();
+  // A type of its own package name: refused when the name is not its own.
+  horus::Ros2Mapping wrong_name;
+  wrong_name.type = "my_robot_msgs/msg/Beat";
+  auto beat = open<Heartbeat>(prefix_ + ".beat", wrong_name);
+  ASSERT_FALSE(beat);
+  EXPECT_NE(beat.error().message().find("is my_robot_msgs/msg/Heartbeat"), std::string::npos) << beat.error().message();
+}
+
+// A message with no ROS 2 equivalent is its own type of the horus_msgs package: it opens, and the
+// type hash it announces is the one `horus idl --ros2` prints for the generated .msg.
+TEST_P(Ros2Topic, AMessageWithoutAnEquivalentGoesAsItsHorusMsgsType) {
+  auto hb = open<Heartbeat>(prefix_ + ".heartbeat", {});
+  ASSERT_TRUE(hb) << hb.error().message();
+  auto dyn = horus::wire::parse_signature(horus::reflect::type_signature<Heartbeat>());
+  ASSERT_TRUE(dyn) << dyn.error();
+  auto t = horus::idlgen::ros2_type_of(*dyn);
+  ASSERT_TRUE(t) << t.error().message();
+  EXPECT_EQ(t->name, "horus_msgs/msg/Heartbeat");
+  EXPECT_TRUE(t->type_hash.starts_with("RIHS01_")) << t->type_hash;
+  horus::idlgen::Ros2Options mine;
+  mine.package = "my_robot_msgs";
+  auto other = horus::idlgen::ros2_type_of(*dyn, mine);
+  ASSERT_TRUE(other);
+  EXPECT_EQ(other->name, "my_robot_msgs/msg/Heartbeat");
+  // The package name is part of what is hashed (the type's name is in its description).
+  EXPECT_NE(other->type_hash, t->type_hash);
+}
+
+INSTANTIATE_TEST_SUITE_P(Backends, Ros2Topic, ::testing::Values(Backend::CycloneDds, Backend::FastDds),
+                         [](const auto& param_info) { return std::string(horus::to_string(param_info.param)); });
+
+}  // namespace
