@@ -199,7 +199,9 @@ except OSError:
     pass
 if net:
     summary["network"] = {}
-    pairs = {"dds": [("raw-cyclone", "horus-cyclonedds"), ("raw-fastdds", "horus-fastdds")],
+    # <dds>-ros2: the topics mapped onto ROS 2 (BENCH_ROS2=1), its base horus's own mapping.
+    pairs = {"dds": [("raw-cyclone", "horus-cyclonedds"), ("raw-fastdds", "horus-fastdds"),
+                     ("horus-cyclonedds", "horus-cyclonedds-ros2"), ("horus-fastdds", "horus-fastdds-ros2")],
              "lcm": [("raw-lcm", "horus-lcm")]}
     for setting in ("local", "netns"):
         lat_rows, tput_rows = [], []
@@ -230,7 +232,8 @@ if net:
                         summary["network"][f"{setting}/{suite}/{ours}/{typ}/tput_ratio"] = ratio
         where = "one host (loopback)" if setting == "local" else "two namespace hosts (veth)"
         if lat_rows:
-            table(f"network latency p50 (one-way, us), {where}: median (min-max) over rounds",
+            table(f"network latency p50 (one-way, us), {where}: median (min-max) over rounds "
+                  "(rows <dds>-ros2: the raw column is horus's own mapping)",
                   ["suite", "library", "type", "raw", "horus", "horus/raw"], lat_rows)
         if tput_rows:
             table(f"network throughput, reliable, back to back (one run of each; the scripts measure throughput once), {where}",
@@ -247,6 +250,15 @@ if os.path.exists(wakeups_path):
     print("\n" + text)
     md.append("\n**where the network latency goes (bench/net_wakeups.sh)**\n\n```\n" + text + "\n```")
     summary["net_wakeups"] = text
+
+# horus-ros2-convert: a topic mapped onto ROS 2 pays its conversion per message (the table it prints)
+convert_path = os.path.join(out_dir, "ros2_convert.txt")
+if os.path.exists(convert_path):
+    with open(convert_path) as fh:
+        text = "\n".join(l for l in fh.read().splitlines() if not l.startswith("RESULT")).strip()
+    print("\nROS 2 conversion (horus-ros2-convert)\n" + text)
+    md.append("\n**the conversion of a topic mapped onto ROS 2 (horus-ros2-convert)**\n\n```\n" + text + "\n```")
+    summary["ros2_convert"] = text
 
 with open(os.path.join(out_dir, "summary.json"), "w") as fh:
     json.dump(summary, fh, indent=1)

@@ -62,7 +62,7 @@ bin=build/default/bench
 if [ "$build" = 1 ]; then
   cmake --preset default >/dev/null
   targets=(horus_latency_local horus_latency_shm horus_fanout)
-  want network && targets+=(horus_dds_pingpong horus_wake_latency)
+  want network && targets+=(horus_dds_pingpong horus_wake_latency horus_ros2_convert)
   cmake --build --preset default -j "$(nproc)" --target "${targets[@]}"
   # The raw baselines exist when their generators were found at configure time.
   if want network; then
@@ -77,7 +77,7 @@ mkdir -p "$out"
 want local && rm -f "$out"/local.*.json
 want shm && rm -f "$out"/shm.*.json
 want fanout && rm -f "$out"/fanout.json
-want network && rm -f "$out"/network.txt "$out"/net_wakeups.txt
+want network && rm -f "$out"/network.txt "$out"/net_wakeups.txt "$out"/ros2_convert.txt
 rm -f "$out"/*.png "$out"/summary.*
 log="$out/bench.log"
 : >"$log"
@@ -105,6 +105,9 @@ if want network; then
   step "DDS: horus against raw Cyclone DDS and Fast DDS, $rounds rounds"
   HORUS_BENCH_RESULTS="$out/network.txt" bench/dds/run_dds_bench.sh "${q[@]}" --rounds "$rounds" >>"$log" 2>&1 ||
     echo "bench.sh: the DDS benchmark failed (see $log)"
+  step "ROS 2: the conversion per message of a topic mapped onto ROS 2, against horus's own encoding, $rounds rounds"
+  "$bin/horus-ros2-convert" --rounds "$rounds" $([ "$quick" = 1 ] && echo --samples 500) >"$out/ros2_convert.txt" 2>>"$log" ||
+    echo "bench.sh: horus-ros2-convert failed (see $log)"
   step "LCM: horus against raw LCM, $rounds rounds"
   HORUS_BENCH_RESULTS="$out/network.txt" bench/lcm/run_lcm_bench.sh "${q[@]}" --rounds "$rounds" >>"$log" 2>&1 ||
     echo "bench.sh: the LCM benchmark failed (see $log)"

@@ -19,6 +19,7 @@
 #include <utility>
 
 #include "horus/names.hpp"
+#include "horus/ros2/names.hpp"
 #include "horus/settings.hpp"
 #include "horus/shm/ring_layout.hpp"
 #include "horus/transport_registry.hpp"
@@ -37,7 +38,8 @@ std::string_view to_string(Source s) noexcept {
 
 namespace {
 
-constexpr std::array<std::string_view, 4> kTopLevelKeys{"network", "fleet", "security", "topics"};
+constexpr std::array<std::string_view, 5> kTopLevelKeys{"network", "fleet", "security", "ros2", "topics"};
+constexpr std::array<std::string_view, 1> kRos2Keys{"node"};
 constexpr std::array<std::string_view, 3> kSecurityKeys{"mode", "keystore", "identity"};
 constexpr std::array<std::string_view, 6> kFleetKeys{"announce", "heartbeat_ms", "announce_ms", "misses", "max_hosts",
                                                       "forget_after"};
@@ -206,6 +208,20 @@ class Parser {
                         parse_bandwidth);
       if (!b) return std::unexpected(b.error());
       out.max_bandwidth = *b;
+    }
+    return {};
+  }
+
+  Result<void> ros2(const YAML::Node& n, Ros2Section& out) const {
+    if (!n.IsDefined() || n.IsNull()) return {};
+    if (!n.IsMap()) return bad(n, "ros2", fmt::format("expected a map of {}, found {}", setting::listed(kRos2Keys), kind(n)));
+    if (auto ok = known_keys(n, "ros2", kRos2Keys); !ok) return ok;
+    out.line = n.Mark().line + 1;
+    if (const auto v = n["node"]) {
+      auto s = scalar(v, "ros2.node", "this process's ROS 2 node, [/namespace/]name");
+      if (!s) return std::unexpected(s.error());
+      if (auto ok = ros2::node_name(*s); !ok) return bad(v, "ros2.node", ok.error().message());
+      out.node = *s;
     }
     return {};
   }
@@ -389,6 +405,7 @@ Result<Config> Config::parse(std::string_view text, std::string file) {
     if (auto ok = p.network(root["network"], c.network_); !ok) return std::unexpected(ok.error());
     if (auto ok = p.fleet(root["fleet"], c.fleet_); !ok) return std::unexpected(ok.error());
     if (auto ok = p.security(root["security"], c.security_); !ok) return std::unexpected(ok.error());
+    if (auto ok = p.ros2(root["ros2"], c.ros2_); !ok) return std::unexpected(ok.error());
     if (const auto topics = root["topics"]; topics && !topics.IsNull()) {
       if (!topics.IsSequence())
         return p.bad(topics, "topics", fmt::format("expected a list of rules (- match: ...), found {}", Parser::kind(topics)));

@@ -17,6 +17,8 @@
 #include "horus/error.hpp"
 #include "horus/network.hpp"
 #include "horus/transport/endpoint_gate.hpp"
+#include <cstring>
+
 #include "horus/transport/linger.hpp"
 #include "horus/transport/remote_types.hpp"
 #include "horus/transport/shared_cache.hpp"
@@ -24,6 +26,16 @@
 namespace horus::dds::cyclone {
 
 inline constexpr std::uint32_t kTakeBatch = 16;
+
+/// An entity's GUID, or nothing (no entity: 0).
+inline std::optional<net::Guid> guid_of(dds_entity_t entity) {
+  dds_guid_t g;
+  if (entity <= 0 || dds_get_guid(entity, &g) < 0) return std::nullopt;
+  net::Guid out;
+  static_assert(sizeof(g.v) == out.size());
+  std::memcpy(out.data(), g.v, out.size());
+  return out;
+}
 
 std::string dds_error(dds_return_t rc);
 
@@ -91,6 +103,7 @@ class CycloneTransport final : public net::Transport, public std::enable_shared_
   std::string_view name() const noexcept override { return "cyclonedds"; }
   bool holds_samples() const noexcept override { return true; }
   bool secure() const noexcept override { return secure_; }
+  std::optional<net::Guid> participant_guid() const override { return guid_of(participant_); }
   Result<std::unique_ptr<net::Endpoint>> open(const net::EndpointSpec& spec, net::Listener& listener) override;
 
   const net::Config& config() const noexcept { return config_; }
@@ -133,6 +146,8 @@ class CycloneEndpoint final : public net::Endpoint {
   }
   std::uint32_t matched_publishers() const override;
   std::uint32_t matched_subscribers() const override;
+  std::optional<net::Guid> writer_guid() const override { return guid_of(writer_); }
+  std::optional<net::Guid> reader_guid() const override { return guid_of(reader_); }
 
  private:
   std::shared_ptr<CycloneTransport> transport_;  // keeps the participant alive

@@ -9,6 +9,7 @@
 //   fastdds_raw_type.hpp   the raw XCDR1 TopicDataType
 #pragma once
 
+#include <cstring>
 #include <array>
 #include <atomic>
 #include <condition_variable>
@@ -53,6 +54,14 @@ namespace horus::dds::fastdds_detail {
 
 namespace fd = eprosima::fastdds::dds;
 namespace rtps = eprosima::fastrtps::rtps;
+
+/// A GUID as 16 bytes: the prefix, then the entity id.
+inline horus::net::Guid guid_of(const rtps::GUID_t& g) {
+  horus::net::Guid out;
+  std::memcpy(out.data(), g.guidPrefix.value, 12);
+  std::memcpy(out.data() + 12, g.entityId.value, 4);
+  return out;
+}
 using eprosima::fastrtps::types::ReturnCode_t;
 
 inline constexpr std::int32_t kMaxBlockingMs = 100;  // reliable write: bounded wait
@@ -239,6 +248,9 @@ class FastddsTransport final : public net::Transport, public std::enable_shared_
   std::string_view name() const noexcept override { return "fastdds"; }
   bool holds_samples() const noexcept override { return true; }
   bool secure() const noexcept override { return secure_; }
+  std::optional<net::Guid> participant_guid() const override {
+    return participant_ != nullptr ? std::optional(guid_of(participant_->guid())) : std::nullopt;
+  }
   Result<std::unique_ptr<net::Endpoint>> open(const net::EndpointSpec& spec, net::Listener& listener) override;
 
   // For endpoints.
@@ -305,6 +317,12 @@ class FastddsEndpoint final : public net::Endpoint {
   void take_held() noexcept override { core_->drain(); }
   std::uint32_t matched_publishers() const override { return core_->matched(true); }
   std::uint32_t matched_subscribers() const override { return core_->matched(false); }
+  std::optional<net::Guid> writer_guid() const override {
+    return writer_ != nullptr ? std::optional(guid_of(writer_->guid())) : std::nullopt;
+  }
+  std::optional<net::Guid> reader_guid() const override {
+    return reader_ != nullptr ? std::optional(guid_of(reader_->guid())) : std::nullopt;
+  }
 
  private:
   std::shared_ptr<FastddsTransport> transport_;

@@ -16,12 +16,16 @@ for line in sys.stdin:
     key = "tput" if kv.get("mode") == "tput" else "lat"
     rows.setdefault((key, kv["type"], kv["impl"]), []).append(kv)
 
+# horus against the raw programs; horus mapped onto ROS 2 (BENCH_ROS2=1) against horus's own mapping.
+IMPLS = ["raw-cyclone", "horus-cyclonedds", "horus-cyclonedds-ros2", "raw-fastdds", "horus-fastdds", "horus-fastdds-ros2"]
+BASE = {"horus-cyclonedds": "raw-cyclone", "horus-fastdds": "raw-fastdds",
+        "horus-cyclonedds-ros2": "horus-cyclonedds", "horus-fastdds-ros2": "horus-fastdds"}
 title = "one host (loopback)" if setting == "local" else "two namespace hosts (veth)"
-print(f"\n{title}")
-print(f"{'type':<9} {'implementation':<17} {'p50 us':>9} {'p99 us':>9} {'p99.9 us':>9} {'lost':>5} {'horus/raw p50':>14}")
+print(f"\n{title}  (/base: horus-<dds> against the raw program of its library; horus-<dds>-ros2, mapped onto ROS 2, against horus-<dds>)")
+print(f"{'type':<9} {'implementation':<22} {'p50 us':>9} {'p99 us':>9} {'p99.9 us':>9} {'lost':>5} {'/base p50':>14}")
 for t in ["cmdvel", "kilobyte", "image"]:
     med = {}
-    for impl in ["raw-cyclone", "horus-cyclonedds", "raw-fastdds", "horus-fastdds"]:
+    for impl in IMPLS:
         rs = rows.get(("lat", t, impl))
         if not rs:
             continue
@@ -30,21 +34,21 @@ for t in ["cmdvel", "kilobyte", "image"]:
         p999 = statistics.median(float(r["p999_ns"]) for r in rs) / 1000
         lost = sum(int(r.get("lost", 0)) for r in rs)
         med[impl] = p50
-        base = {"horus-cyclonedds": "raw-cyclone", "horus-fastdds": "raw-fastdds"}.get(impl)
+        base = BASE.get(impl)
         ratio = f"{p50 / med[base]:.2f}x" if base in med else ""
-        print(f"{t:<9} {impl:<17} {p50:>9.1f} {p99:>9.1f} {p999:>9.1f} {lost:>5} {ratio:>14}")
-print(f"\n{'type':<9} {'implementation':<17} {'msgs/s':>10} {'MB/s':>9} {'horus/raw':>10}   (throughput, one sink)")
+        print(f"{t:<9} {impl:<22} {p50:>9.1f} {p99:>9.1f} {p999:>9.1f} {lost:>5} {ratio:>14}")
+print(f"\n{'type':<9} {'implementation':<22} {'msgs/s':>10} {'MB/s':>9} {'/base':>10}   (throughput, one sink)")
 for t in ["cmdvel", "kilobyte", "image"]:
     rate = {}
-    for impl in ["raw-cyclone", "horus-cyclonedds", "raw-fastdds", "horus-fastdds"]:
+    for impl in IMPLS:
         rs = rows.get(("tput", t, impl))
         if not rs:
             continue
         r = statistics.median(float(x["rate"]) for x in rs)
         mb = statistics.median(float(x["mbps"]) for x in rs)
         rate[impl] = r
-        base = {"horus-cyclonedds": "raw-cyclone", "horus-fastdds": "raw-fastdds"}.get(impl)
+        base = BASE.get(impl)
         ratio = f"{r / rate[base]:.2f}x" if base in rate and rate[base] > 0 else ""
-        print(f"{t:<9} {impl:<17} {r:>10.0f} {mb:>9.1f} {ratio:>10}")
+        print(f"{t:<9} {impl:<22} {r:>10.0f} {mb:>9.1f} {ratio:>10}")
 for f in failed:
     print(f)

@@ -7,6 +7,8 @@
 //   horus-dds-pingpong source <domain> <type> <seconds>    bench.<type>.tput, sent back to back (send_blocking)
 //     type: cmdvel | kilobyte | image (1920x1080 RGB8)
 //
+// BENCH_ROS2=1 maps the topics onto ROS 2 (TopicOptions::ros2: CmdVel as geometry_msgs/msg/Twist,
+// the image as sensor_msgs/msg/Image, the kilobyte as its horus_msgs type), impl horus-<backend>-ros2.
 // The backend comes from HORUS_BACKEND (cyclonedds, fastdds or lcm); BENCH_LOCALHOST=1 keeps DDS
 // on loopback (HORUS_DDS_LOCALHOST=1); LCM uses HORUS_LCM_URL (bench/lcm/run_lcm_bench.sh), the
 // channels being the topic names, as for the raw baseline raw-lcm-pingpong. LCM has no
@@ -77,6 +79,13 @@ horus::Result<horus::Topic<T>> open(const std::string& name, std::uint32_t capac
   o.capacity = capacity != 0 ? capacity : std::is_same_v<T, horus::msg::Image> ? 4u : 16u;
   o.reliability = horus::net::Reliability::Reliable;
   o.durability = horus::net::Durability::Volatile;
+  // BENCH_ROS2=1: the topics as a ROS 2 node's (rt/bench/<type>/ping, the ROS 2 type, converted;
+  // docs/ROS2.md), against horus's own naming and bytes in the same run.
+  static const bool ros2 = [] {
+    const char* v = std::getenv("BENCH_ROS2");
+    return v != nullptr && std::string(v) == "1";
+  }();
+  if (ros2) o.ros2 = horus::Ros2Mapping{};
   return horus::Topic<T>::open(name, o);
 }
 
@@ -305,7 +314,9 @@ int source(const std::string& type, double seconds) {
 template <class T>
 int run(const std::string& role, const std::string& type, char** argv) {
   const char* backend = std::getenv("HORUS_BACKEND");
-  const std::string impl = std::string("horus-") + (backend != nullptr ? backend : "?");
+  const char* ros2 = std::getenv("BENCH_ROS2");
+  const std::string impl = std::string("horus-") + (backend != nullptr ? backend : "?") +
+                           (ros2 != nullptr && std::string(ros2) == "1" ? "-ros2" : "");
   if (role == "pong") return pong<T>(type, std::atof(argv[4]));
   if (role == "sink") return sink<T>(type, impl, std::atof(argv[4]));
   if (role == "source") return source<T>(type, std::atof(argv[4]));

@@ -53,6 +53,8 @@ impls=()
 [ -x "$bin/horus-dds-pingpong" ] && impls+=("horus-cyclonedds")
 [ -x "$bin/raw-fastdds-pingpong" ] && impls+=("raw-fastdds")
 [ -x "$bin/horus-dds-pingpong" ] && impls+=("horus-fastdds")
+# The same topics mapped onto ROS 2 (rt/..., the ROS 2 types, converted): against horus's own.
+[ -x "$bin/horus-dds-pingpong" ] && [ "$secure" = 0 ] && impls+=("horus-cyclonedds-ros2" "horus-fastdds-ros2")
 [ ${#impls[@]} -gt 0 ] || { echo "no ping-pong programs in $bin (build first)" >&2; exit 1; }
 
 # --secure: the keystore, each side's files for the raw programs, and the protection in force.
@@ -95,6 +97,8 @@ prog() {
     raw-fastdds) echo "$bin/raw-fastdds-pingpong" ;;
     horus-cyclonedds) echo "env HORUS_BACKEND=cyclonedds $bin/horus-dds-pingpong" ;;
     horus-fastdds) echo "env HORUS_BACKEND=fastdds $bin/horus-dds-pingpong" ;;
+    horus-cyclonedds-ros2) echo "env HORUS_BACKEND=cyclonedds BENCH_ROS2=1 $bin/horus-dds-pingpong" ;;
+    horus-fastdds-ros2) echo "env HORUS_BACKEND=fastdds BENCH_ROS2=1 $bin/horus-dds-pingpong" ;;
   esac
 }
 

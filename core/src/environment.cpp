@@ -30,6 +30,7 @@ Environment Environment::read() {
   e.shm_mode = variable("HORUS_SHM_MODE");
   e.log_level = variable("HORUS_LOG_LEVEL");
   e.log_topics = variable("HORUS_LOG_TOPICS");
+  e.ros2_node = variable("HORUS_ROS2_NODE");
   return e;
 }
 

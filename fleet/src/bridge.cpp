@@ -181,7 +181,14 @@ Result<std::unique_ptr<horus::detail::NetworkLink>> Bridge::open(horus::detail::
   if (!transport) return std::unexpected(std::move(transport.error()));
   std::unique_ptr<Bridge> b(new Bridge(core, ops, wire_qos, std::move(*engine), std::move(*transport)));
   b->wire_topic_ = std::move(*wire);
-  if (ros2) b->map_ros2(std::move(*ros2));
+  if (ros2) {
+    auto node = ros2_node_of(settings);
+    if (!node) return std::unexpected(std::move(node.error()));
+    auto graph = Ros2Graph::of(b->transport_, *node);
+    if (!graph) return std::unexpected(std::move(graph.error()));
+    b->ros2_graph_ = std::move(*graph);
+    b->map_ros2(std::move(*ros2));
+  }
   b->set_budget(options, settings.file);
   const auto claim = b->segment().claim_bridge();
   if (claim == shm::ShmSegment::BridgeClaim::Claimed || claim == shm::ShmSegment::BridgeClaim::TookOver) {
@@ -205,6 +212,7 @@ Bridge::~Bridge() {
     (void)port_.release();
     new std::shared_ptr<Engine>(std::move(engine_));  // never released in the child
     new std::shared_ptr<net::Transport>(std::move(transport_));
+    new std::shared_ptr<Ros2Graph>(std::move(ros2_graph_));
     new Presence(std::move(presence_));
     return;
   }
@@ -329,6 +337,7 @@ Result<void> Bridge::open_endpoint(bool receive) {
   if (!endpoint) return std::unexpected(std::move(endpoint.error()));
   std::lock_guard lock(endpoint_mutex_);
   endpoint_ = std::move(*endpoint);
+  if (ros2_graph_) ros2_graph_->add(this, *endpoint_);  // its writer and reader on the ROS 2 graph
   return {};
 }
 
@@ -336,6 +345,7 @@ void Bridge::close_endpoint() noexcept {
   std::lock_guard receiving(receiving_mutex_);  // no opening handle is inside update_receiving()
   std::lock_guard lock(endpoint_mutex_);        // the import pump is not inside take_held()
   endpoint_ready_.store(false, std::memory_order_release);
+  if (ros2_graph_ && endpoint_) ros2_graph_->remove(this);
   endpoint_.reset();  // no callback after this
 }
 

@@ -53,6 +53,7 @@
 #include "horus/detail/network_link.hpp"
 #include "horus/detail/topic_core.hpp"
 #include "horus/settings.hpp"
+#include "ros2_graph.hpp"
 #include "ros2_wire.hpp"
 
 namespace horus::fleet::detail {
@@ -197,6 +198,7 @@ class Bridge final : public horus::detail::NetworkLink, public net::Listener, pu
   net::WireFormat format_;
   std::string wire_topic_;
   std::optional<Ros2Wire> ros2_;  // mapped onto ROS 2 (TopicOptions::ros2)
+  std::shared_ptr<Ros2Graph> ros2_graph_;  // its node on the ROS 2 graph (ros_discovery_info)
   ros2::Context ros2_context_;    // views of ros2_'s frame ids
   horus::detail::ForeignDecoder foreign_{};
   mutable std::atomic<std::uint64_t> ros2_refused_{0};          // samples the type could not hold

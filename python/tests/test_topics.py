@@ -135,6 +135,26 @@ def test_a_fleet_scope_without_a_backend_names_where_to_choose_one(unique, monke
     assert horus.Topic(unique, Pose, scope="fleet").backend == "cyclonedds"
 
 
+def test_ros2_maps_a_topic_onto_the_ros2_graph_and_checks_what_it_is_given(unique, monkeypatch):
+    monkeypatch.delenv("HORUS_BACKEND", raising=False)
+    monkeypatch.delenv("HORUS_CONFIG", raising=False)
+    # A mapped topic is a fleet topic on DDS (Cyclone DDS without a scope chosen).
+    cmd = horus.Topic(unique + ".cmd_vel", horus.msg.CmdVel, ros2={"name": "/py_cmd_vel", "qos": "default"})
+    assert cmd.backend == "cyclonedds"
+    cmd.close()
+    assert horus.Topic(unique + ".off", Pose, ros2=False).backend == "shm"
+    with pytest.raises(ValueError, match="ros2: ROS 2 topic name '/1st' has a token that starts with a digit"):
+        horus.Topic(unique + ".a", Pose, ros2={"name": "/1st"})
+    with pytest.raises(ValueError, match="unknown key 'nmae' in ros2"):
+        horus.Topic(unique + ".b", Pose, ros2={"nmae": "/x"})
+    with pytest.raises(TypeError, match="ros2"):
+        horus.Topic(unique + ".c", Pose, ros2=3)
+    with pytest.raises(horus.ConfigError, match="does not convert to geometry_msgs/msg/Twist"):
+        horus.Topic(unique + ".d", Pose, ros2={"type": "geometry_msgs/msg/Twist"})
+    with pytest.raises(horus.ConfigError, match="ROS 2 nodes speak DDS"):
+        horus.Topic(unique + ".e", Pose, ros2=True, backend="lcm")
+
+
 def test_in_process_topics_and_iteration(unique):
     pub = horus.Topic(unique, Pose, scope="process")
     sub = horus.Topic(unique, Pose, scope="process")

@@ -37,6 +37,27 @@ Result<std::string> topic_name(std::string_view text) {
   return name;
 }
 
+Result<NodeName> node_name(std::string_view text) {
+  NodeName n;
+  const auto slash = text.rfind('/');
+  n.name = std::string(slash == std::string_view::npos ? text : text.substr(slash + 1));
+  const auto bad = [&](std::string_view why) {
+    return Error(Errc::InvalidArgument, fmt::format("ROS 2 node name '{}' {}", text, why));
+  };
+  if (n.name.empty()) return std::unexpected(bad("has no name; expected [/namespace/]name"));
+  if (n.name.size() > 255) return std::unexpected(bad("is over 255 characters"));
+  if (std::isdigit(static_cast<unsigned char>(n.name.front())) != 0) return std::unexpected(bad("starts with a digit"));
+  for (char c : n.name)
+    if (!alnum(c) && c != '_')
+      return std::unexpected(bad(fmt::format("has '{}'; a node's name has letters, digits and '_'", c)));
+  if (slash != std::string_view::npos && slash != 0) {
+    auto ns = topic_name(text.substr(0, slash));
+    if (!ns) return std::unexpected(bad(fmt::format("has a namespace that is not one: {}", ns.error().message())));
+    n.name_space = *ns;
+  }
+  return n;
+}
+
 std::string topic_name_of(std::string_view horus_topic) {
   std::string out = "/";
   for (char c : horus_topic) out += c == '.' ? '/' : c;

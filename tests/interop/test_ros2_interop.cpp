@@ -3,14 +3,17 @@
 // common_interfaces' field lists (tests/interop/ros2/), on rt/<name> with ROS 2's type names and
 // USER_DATA. Both horus backends against both peers, on loopback. The peer reports, field by
 // field, what it read (units, stamps, frame ids, arrays) and the USER_DATA it saw; it echoes each
-// sample back, and horus checks what the conversion made of the peer's bytes.
+// sample back, and horus checks what the conversion made of the peer's bytes. The peer reads
+// ros_discovery_info as ROS 2's graph does and finds horus's node with the writers it matched.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -26,6 +29,7 @@ using horus::Backend;
 using namespace horus::msg;
 
 constexpr std::uint64_t kStamp = 1'700'000'000'123'456'789ULL;  // 1700000000 s, 123456789 ns
+constexpr const char* kNode = "horus_interop_node";              // HORUS_ROS2_NODE
 
 // The peer's entries, in its order: the horus name under the prefix and the ROS 2 type.
 const std::vector<std::pair<std::string, std::string>> kEntries = {
@@ -128,6 +132,7 @@ class Ros2Interop : public ::testing::TestWithParam<Case> {
     ::setenv("HORUS_DDS_LOCALHOST", "1", 1);
     domain_ = std::to_string(1 + ::getpid() % 200);
     ::setenv("HORUS_DOMAIN_ID", domain_.c_str(), 1);
+    ::setenv("HORUS_ROS2_NODE", kNode, 1);
   }
   std::string domain_;
 };
@@ -208,16 +213,35 @@ TEST_P(Ros2Interop, ARos2PeerReadsHorusFieldByFieldAndHorusReadsItsEcho) {
   bool enclave = false;
   for (auto [it, end] = r.equal_range("participant"); it != end; ++it) enclave |= it->second == std::vector<std::string>{"enclave=/;"};
   EXPECT_TRUE(enclave) << "no participant with USER_DATA enclave=/;";
+  std::vector<std::string> writer_gids;  // the GUIDs of horus's writers the peer matched
   for (const auto& [name, type] : kEntries) {
     const std::string topic = "rt/" + prefix + "/" + name;
     bool found = false;
     for (auto [it, end] = r.equal_range("userdata"); it != end; ++it)
-      if (it->second.size() == 2 && it->second[0] == topic) {
+      if (it->second.size() == 3 && it->second[0] == topic) {
         found = true;
-        EXPECT_EQ(it->second[1], "typehash=" + hashes[name] + ";") << topic;
+        writer_gids.push_back(it->second[1]);
+        EXPECT_EQ(it->second[2], "typehash=" + hashes[name] + ";") << topic;
       }
     EXPECT_TRUE(found) << "the peer matched no writer on " << topic;
   }
+  // ros_discovery_info: horus's participant is one node, named by HORUS_ROS2_NODE, whose writers
+  // are the ones the peer matched (and whose readers the echo topics'), under its participant's GID.
+  bool node = false;
+  for (auto [it, end] = r.equal_range("graph"); it != end && !node; ++it) {
+    const auto& g = it->second;  // gid ns name "writers" w... "readers" r...
+    if (g.size() < 4 || g[2] != kNode) continue;
+    const auto readers_at = std::find(g.begin(), g.end(), "readers");
+    const std::set<std::string> writers(g.begin() + 4, readers_at);
+    const std::size_t readers = static_cast<std::size_t>(g.end() - readers_at) - 1;
+    bool lists_all = readers >= kEntries.size();
+    for (const auto& w : writer_gids) lists_all = lists_all && writers.contains(w) && w.substr(0, 24) == g[0].substr(0, 24);
+    if (lists_all) {
+      node = true;
+      EXPECT_EQ(g[1], "/");
+    }
+  }
+  EXPECT_TRUE(node) << "no ros_discovery_info of node '" << kNode << "' listing the writers the peer matched";
   auto line = [&](const std::string& kind) {
     auto it = r.find(kind);
     return it == r.end() ? std::vector<std::string>{} : it->second;

@@ -141,7 +141,7 @@ TEST_F(ConfigTest, EveryErrorNamesTheFileTheLineTheKeyAndWhatIsValid) {
     std::vector<std::string> expected;  // substrings of the message
   };
   const std::vector<Case> cases{
-      {"netwrok:\n  backend: lcm\n", {"robot.yaml, line 1", "'netwrok'", "unknown key", "network, fleet, security or topics"}},
+      {"netwrok:\n  backend: lcm\n", {"robot.yaml, line 1", "'netwrok'", "unknown key", "network, fleet, security, ros2 or topics"}},
       {"fleet:\n  heartbeat_ms: 5\n", {"line 2", "fleet.heartbeat_ms", "'5'", "10 to 60000"}},
       {"fleet:\n  misses: 0\n", {"line 2", "fleet.misses", "1 to 100"}},
       {"fleet:\n  max_hosts: 4\n", {"line 2", "fleet.max_hosts", "8 to 65536"}},

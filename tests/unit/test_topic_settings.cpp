@@ -213,3 +213,21 @@ TEST(TopicSettings, Ros2MakesAFleetTopicOnDdsAndRefusesAnotherScopeOrLcm) {
   ASSERT_TRUE(off);
   EXPECT_FALSE(horus::is_network(off->backend));
 }
+
+// The file's `ros2:` section names the process's node on the ROS 2 graph, by ROS 2's rules.
+TEST(TopicSettings, TheFilesRos2NodeIsCheckedByRos2sRules) {
+  auto ok = horus::Config::parse("ros2:\n  node: /robot1/planner\n", "n.yaml");
+  ASSERT_TRUE(ok) << ok.error().message();
+  EXPECT_EQ(ok->ros2().node, "/robot1/planner");
+  auto digit = horus::Config::parse("ros2:\n  node: 9lives\n", "n.yaml");
+  ASSERT_FALSE(digit);
+  EXPECT_NE(digit.error().message().find("n.yaml, line 2, key 'ros2.node': ROS 2 node name '9lives' starts with a digit"),
+            std::string::npos)
+      << digit.error().message();
+  auto dash = horus::Config::parse("ros2:\n  node: my-node\n", "n.yaml");
+  ASSERT_FALSE(dash);
+  EXPECT_NE(dash.error().message().find("has '-'"), std::string::npos) << dash.error().message();
+  auto key = horus::Config::parse("ros2:\n  name: x\n", "n.yaml");
+  ASSERT_FALSE(key);
+  EXPECT_NE(key.error().message().find("unknown key; expected node"), std::string::npos) << key.error().message();
+}

@@ -153,6 +153,12 @@ struct NetworkSection {
   int peers_line = 0;
 };
 
+/// The `ros2:` section: this process's node on the ROS 2 graph (docs/ROS2.md).
+struct Ros2Section {
+  std::optional<std::string> node;  // "[/namespace/]name", checked by ROS 2's rules
+  int line = 0;
+};
+
 /// A parsed configuration file.
 class Config {
  public:
@@ -165,6 +171,7 @@ class Config {
   const NetworkSection& network() const noexcept { return network_; }
   const FleetSection& fleet() const noexcept { return fleet_; }
   const SecuritySection& security() const noexcept { return security_; }
+  const Ros2Section& ros2() const noexcept { return ros2_; }
   const std::vector<TopicRule>& rules() const noexcept { return rules_; }
   /// The first rule whose pattern matches `topic`, or nullptr.
   const TopicRule* match(std::string_view topic) const noexcept;
@@ -174,6 +181,7 @@ class Config {
   NetworkSection network_;
   FleetSection fleet_;
   SecuritySection security_;
+  Ros2Section ros2_;
   std::vector<TopicRule> rules_;
 };
 

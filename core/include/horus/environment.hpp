@@ -33,6 +33,7 @@ struct Environment {
   std::string shm_mode;            // HORUS_SHM_MODE: the mode of new segments
   std::string log_level;           // HORUS_LOG_LEVEL: the library logger's level
   std::string log_topics;          // HORUS_LOG_TOPICS: topics whose traffic is logged (patterns, `!` for off)
+  std::string ros2_node;           // HORUS_ROS2_NODE: this process's node on the ROS 2 graph ([/namespace/]name)
   std::string test_clock_offset_ms;  // HORUS_TEST_CLOCK_OFFSET_MS: tests only, shifts this host's heartbeat clock
 
   /// The variables as they are now.

@@ -9,6 +9,7 @@
 // This header includes no DDS or LCM header: <horus/topic.hpp> stays fast to compile.
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -139,6 +140,9 @@ namespace horus::net {
 /// (The process's settings: horus::net::config_from_environment() in horus/config.hpp.)
 Result<Config> config_from(const Environment& env, const FileDefaults& file);
 
+/// A DDS entity's GUID (prefix and entity id): what ROS 2 calls its GID (rmw_dds_common/msg/Gid).
+using Guid = std::array<std::uint8_t, 16>;
+
 /// One topic as a backend sees it.
 struct EndpointSpec {
   std::string topic;       // the horus topic name ("fleet.robot_1.pose")
@@ -212,6 +216,10 @@ class Endpoint {
   /// Takes what the reader held back while Listener::room() said 0, as far as room() allows
   /// now. Thread-safe; never called from a listener callback.
   virtual void take_held() noexcept {}
+  /// The GUIDs of its writer and reader (DDS; a topic mapped onto ROS 2 lists them in the ROS 2
+  /// graph); nothing for a transport without them (LCM) or an entity security left out.
+  virtual std::optional<Guid> writer_guid() const { return std::nullopt; }
+  virtual std::optional<Guid> reader_guid() const { return std::nullopt; }
   /// Remote writers matched with our reader (other processes and hosts).
   virtual std::uint32_t matched_publishers() const = 0;
   /// Remote readers matched with our writer.
@@ -234,6 +242,8 @@ class Transport {
   /// True when its endpoints honour Listener::room(): a sample not taken stays in the reader
   /// and the protocol pushes back on the writer (DDS, reliable). LCM has nowhere to keep it.
   virtual bool holds_samples() const noexcept { return false; }
+  /// The participant's GUID (DDS), or nothing (LCM).
+  virtual std::optional<Guid> participant_guid() const { return std::nullopt; }
   /// True when it runs under DDS-Security (net::Security): its peers are authenticated hosts of
   /// the keystore, their access checked, the traffic signed or encrypted.
   virtual bool secure() const noexcept { return false; }

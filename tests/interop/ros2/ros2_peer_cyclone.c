@@ -7,7 +7,8 @@
  *
  * For each entry it reads rt/<prefix>/<name>, writes what it read to <report> as text (the
  * fields by name: ros2_peer_report.h) and writes the sample back on rt/<prefix>/<name>_echo. It
- * also reports the USER_DATA of every writer it matched and of every participant it discovered.
+ * also reports the USER_DATA of every writer it matched (with its GUID) and of every participant it
+ * discovered, and what other participants say of their nodes on ros_discovery_info.
  * Prints "ready" when its endpoints exist; stops when stdin closes or after <seconds>.
  * Loopback only, unicast discovery (horus's HORUS_DDS_LOCALHOST=1). */
 #include <poll.h>
@@ -116,11 +117,13 @@ static void report_matched(FILE* out, struct entry* e, const char* topic) {
     if (ep == NULL) continue;
     void* ud = NULL;
     size_t size = 0;
+    char guid[33];
+    hex16(ep->key.v, guid);
     if (dds_qget_userdata(ep->qos, &ud, &size) && ud != NULL) {
-      fprintf(out, "userdata %s %.*s\n", topic, (int)size, (const char*)ud);
+      fprintf(out, "userdata %s %s %.*s\n", topic, guid, (int)size, (const char*)ud);
       dds_free(ud);
     } else {
-      fprintf(out, "userdata %s (none)\n", topic);
+      fprintf(out, "userdata %s %s (none)\n", topic, guid);
     }
     dds_builtintopic_free_endpoint(ep);
     e->seen[e->n_seen++] = handles[i];
@@ -128,6 +131,31 @@ static void report_matched(FILE* out, struct entry* e, const char* topic) {
 }
 
 static dds_guid_t own_guid;
+
+/* What ros_discovery_info says: a line per node of each participant (not ours). */
+static void report_graph(FILE* out, dds_entity_t reader) {
+  void* samples[1] = {NULL};
+  dds_sample_info_t info;
+  while (dds_take(reader, samples, &info, 1, 1) > 0) {
+    const rmw_dds_common_msg_dds__ParticipantEntitiesInfo_* p = samples[0];
+    if (info.valid_data && memcmp(p->gid.data, &own_guid, 16) != 0) {
+      char gid[33], g[33];
+      hex16(p->gid.data, gid);
+      for (uint32_t n = 0; n < p->node_entities_info_seq._length; n++) {
+        const rmw_dds_common_msg_dds__NodeEntitiesInfo_* node = &p->node_entities_info_seq._buffer[n];
+        fprintf(out, "graph %s %s %s writers", gid, node->node_namespace, node->node_name);
+        for (uint32_t i = 0; i < node->writer_gid_seq._length; i++)
+          fprintf(out, " %s", hex16(node->writer_gid_seq._buffer[i].data, g));
+        fprintf(out, " readers");
+        for (uint32_t i = 0; i < node->reader_gid_seq._length; i++)
+          fprintf(out, " %s", hex16(node->reader_gid_seq._buffer[i].data, g));
+        fprintf(out, "\n");
+      }
+    }
+    dds_return_loan(reader, samples, 1);
+    samples[0] = NULL;
+  }
+}
 
 static void report_participants(FILE* out, dds_entity_t reader) {
   void* samples[4] = {NULL};
@@ -165,6 +193,15 @@ int main(int argc, char** argv) {
   dds_delete_qos(pq);
   if (pp < 0 || dds_get_guid(pp, &own_guid) < 0) return 3;
   const dds_entity_t parts = dds_create_reader(pp, DDS_BUILTIN_TOPIC_DCPSPARTICIPANT, NULL, NULL);
+  /* ros_discovery_info as a ROS 2 participant reads it: reliable, transient local, keep last. */
+  dds_qos_t* gq = dds_create_qos();
+  dds_qset_reliability(gq, DDS_RELIABILITY_RELIABLE, DDS_MSECS(100));
+  dds_qset_durability(gq, DDS_DURABILITY_TRANSIENT_LOCAL);
+  dds_qset_history(gq, DDS_HISTORY_KEEP_LAST, 1);
+  const dds_entity_t gt = dds_create_topic(pp, &rmw_dds_common_msg_dds__ParticipantEntitiesInfo__desc, "ros_discovery_info", NULL, NULL);
+  const dds_entity_t graph = dds_create_reader(pp, gt, gq, NULL);
+  dds_delete_qos(gq);
+  if (gt < 0 || graph < 0) return 3;
   dds_data_representation_id_t xcdr1 = DDS_DATA_REPRESENTATION_XCDR1;
   char topics[N_ENTRIES][256];
   for (size_t i = 0; i < N_ENTRIES; i++) {
@@ -195,6 +232,7 @@ int main(int argc, char** argv) {
   fflush(stdout);
   while (time(NULL) < end && !parent_gone()) {
     report_participants(out, parts);
+    report_graph(out, graph);
     for (size_t i = 0; i < N_ENTRIES; i++) {
       report_matched(out, &entries[i], topics[i]);
       void* samples[1] = {NULL};

@@ -7,10 +7,13 @@
 //
 // The same behaviour and report as ros2_peer_cyclone.c: each entry's rt/<prefix>/<name> read,
 // reported as text (ros2_peer_report.h) and written back on rt/<prefix>/<name>_echo; the USER_DATA
-// of every remote writer on those topics and of every remote participant. Loopback only.
+// of every remote writer on those topics (with its GUID) and of every remote participant, and what
+// other participants say of their nodes on ros_discovery_info. Loopback only.
 #include <poll.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -49,6 +52,33 @@ std::string g_prefix;  // "rt/<prefix>/"
 
 std::string text_of(const std::vector<rtps::octet>& v) { return std::string(v.begin(), v.end()); }
 
+std::array<uint8_t, 16> guid_bytes(const rtps::GUID_t& g) {
+  std::array<uint8_t, 16> out{};
+  std::copy(std::begin(g.guidPrefix.value), std::end(g.guidPrefix.value), out.begin());
+  std::copy(std::begin(g.entityId.value), std::end(g.entityId.value), out.begin() + 12);
+  return out;
+}
+std::array<uint8_t, 16> g_own{};  // our participant's GUID
+
+// What ros_discovery_info says: a line per node of each participant (not ours).
+void report_graph(fd::DataReader* reader) {
+  rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_ p;
+  fd::SampleInfo info;
+  while (reader->take_next_sample(&p, &info) == ReturnCode_t::RETCODE_OK) {
+    if (!info.valid_data || std::equal(g_own.begin(), g_own.end(), p.gid().data().begin())) continue;
+    char gid[33], g[33];
+    hex16(p.gid().data().data(), gid);
+    std::lock_guard lock(g_out_mutex);
+    for (const auto& node : p.node_entities_info_seq()) {
+      std::fprintf(g_out, "graph %s %s %s writers", gid, node.node_namespace().c_str(), node.node_name().c_str());
+      for (const auto& w : node.writer_gid_seq()) std::fprintf(g_out, " %s", hex16(w.data().data(), g));
+      std::fprintf(g_out, " readers");
+      for (const auto& r : node.reader_gid_seq()) std::fprintf(g_out, " %s", hex16(r.data().data(), g));
+      std::fprintf(g_out, "\n");
+    }
+  }
+}
+
 // What discovery tells of the others: participants' and our topics' writers' USER_DATA.
 class Discovery final : public fd::DomainParticipantListener {
   void on_participant_discovery(fd::DomainParticipant*, rtps::ParticipantDiscoveryInfo&& info) override {
@@ -63,8 +93,10 @@ class Discovery final : public fd::DomainParticipantListener {
     const std::string topic = info.info.topicName().to_string();
     if (topic.rfind(g_prefix, 0) != 0 || topic.size() >= 5 && topic.compare(topic.size() - 5, 5, "_echo") == 0) return;
     const std::string ud = text_of(info.info.m_qos.m_userData.data_vec());
+    char guid[33];
     std::lock_guard lock(g_out_mutex);
-    std::fprintf(g_out, "userdata %s %s\n", topic.c_str(), ud.empty() ? "(none)" : ud.c_str());
+    std::fprintf(g_out, "userdata %s %s %s\n", topic.c_str(), hex16(guid_bytes(info.info.guid()).data(), guid),
+                 ud.empty() ? "(none)" : ud.c_str());
   }
 };
 
@@ -181,6 +213,19 @@ int main(int argc, char** argv) {
   if (pp == nullptr) return 3;
   fd::Publisher* pub = pp->create_publisher(fd::PUBLISHER_QOS_DEFAULT);
   fd::Subscriber* sub = pp->create_subscriber(fd::SUBSCRIBER_QOS_DEFAULT);
+  g_own = guid_bytes(pp->guid());
+  // ros_discovery_info as a ROS 2 participant reads it: reliable, transient local, keep last.
+  fd::TypeSupport graph_type(new rmw_dds_common::msg::dds_::ParticipantEntitiesInfo_PubSubType());
+  graph_type.register_type(pp);
+  fd::DataReaderQos gq;
+  gq.reliability().kind = fd::RELIABLE_RELIABILITY_QOS;
+  gq.durability().kind = fd::TRANSIENT_LOCAL_DURABILITY_QOS;
+  gq.history().kind = fd::KEEP_LAST_HISTORY_QOS;
+  gq.history().depth = 1;
+  gq.data_sharing().off();
+  fd::Topic* gt = pp->create_topic("ros_discovery_info", graph_type.get_type_name(), fd::TOPIC_QOS_DEFAULT);
+  fd::DataReader* graph = gt != nullptr ? sub->create_datareader(gt, gq) : nullptr;
+  if (graph == nullptr) return 3;
 
   std::vector<std::unique_ptr<PeerBase>> peers;
   bool ok = true;
@@ -228,6 +273,7 @@ int main(int argc, char** argv) {
   std::fflush(stdout);
   while (std::chrono::steady_clock::now() < end && !parent_gone()) {
     for (auto& p : peers) p->pump();
+    report_graph(graph);
     {
       std::lock_guard lock(g_out_mutex);
       std::fflush(g_out);

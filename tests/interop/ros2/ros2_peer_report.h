@@ -18,6 +18,17 @@ static inline uint32_t checksum(const uint8_t* p, uint32_t n) {
 /* A text field: "-" when empty (the line's fields are separated by spaces). */
 static inline const char* text_or_dash(const char* s) { return s != NULL && *s != 0 ? s : "-"; }
 
+/* 16 bytes (a GUID, a ROS 2 GID) as 32 lower-case hex digits into out[33]. */
+static inline const char* hex16(const uint8_t* p, char* out) {
+  static const char digits[] = "0123456789abcdef";
+  for (int i = 0; i < 16; i++) {
+    out[2 * i] = digits[p[i] >> 4];
+    out[2 * i + 1] = digits[p[i] & 15];
+  }
+  out[32] = 0;
+  return out;
+}
+
 #define REPORT_TWIST(o, lx, ly, lz, ax, ay, az) \
   fprintf(o, "twist %.17g %.17g %.17g %.17g %.17g %.17g\n", lx, ly, lz, ax, ay, az)
 #define REPORT_SCAN(o, sec, nsec, frame, amin, amax, ainc, rmin, rmax, n, r0, r1, rlast)                            \

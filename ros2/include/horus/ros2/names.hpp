@@ -27,6 +27,15 @@ inline constexpr std::size_t kMaxTopicNameLength = 247;
 Result<std::string> topic_name(std::string_view text);
 /// The ROS 2 name of a horus topic: "/" + its name with '.' as '/' (not checked).
 std::string topic_name_of(std::string_view horus_topic);
+/// A ROS 2 node: its namespace ("/" or "/robot1") and name ("planner").
+struct NodeName {
+  std::string name_space = "/";
+  std::string name;
+};
+/// Parses "[/namespace/]name" by ROS 2's rules (the name: letters, digits and '_', not starting
+/// with a digit; the namespace: as a topic name); the error says which rule is broken.
+Result<NodeName> node_name(std::string_view text);
+
 /// The DDS topic of a ROS 2 topic, as rmw_cyclonedds_cpp and rmw_fastrtps_cpp name it.
 inline std::string dds_topic(std::string_view ros_name) { return "rt" + std::string(ros_name); }
 
