@@ -137,8 +137,8 @@ struct CompressedImageCompressedImage {
   static constexpr bool kPreferred = true;
   static constexpr std::string_view kLoses =
       "to ROS 2: width and height (ROS 2 has none), header.frame_id is the rule's frame_id when frame_id is "
-      "empty; from ROS 2: width and height are 0 (unknown); a format over 7 characters (image_transport's "
-      "\"rgb8; jpeg compressed bgr8\") is refused";
+      "empty; from ROS 2: width and height are 0 (unknown); image_transport's format (\"rgb8; jpeg compressed "
+      "bgr8\") is its compression, jpeg or png; another format over 7 characters is refused";
   template <class S>
   static void put(Out<S>& o, const Horus& m, const Context& ctx) {
     o.header(m.timestamp_ns, frame_or(m.frame_id_str(), ctx.frame_id));
@@ -148,10 +148,15 @@ struct CompressedImageCompressedImage {
   static bool get(In& in, Horus& m) {
     std::string_view frame;
     std::size_t n = 0;
+    std::string_view format;
     if (!in.header(m.timestamp_ns, frame) ||
         !in.text(m.frame_id, frame, "header.frame_id", "horus::msg::CompressedImage.frame_id") ||
-        !in.string(m.format, "format", "horus::msg::CompressedImage.format") || !in.count(n, 1, "data"))
+        !in.string_view(format, "format"))
       return false;
+    // image_transport writes "<encoding>; <jpeg|png> compressed <encoding>": the compression is the format.
+    if (format.size() >= m.format.size() && format.find(" compressed") != std::string_view::npos)
+      format = format.find("png") != std::string_view::npos ? "png" : format.find("jpeg") != std::string_view::npos ? "jpeg" : format;
+    if (!in.text(m.format, format, "format", "horus::msg::CompressedImage.format") || !in.count(n, 1, "data")) return false;
     const auto* p = reinterpret_cast<const std::uint8_t*>(in.r.here());
     m.data.assign(p, p + n);
     in.r.skip(n);

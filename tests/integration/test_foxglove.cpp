@@ -374,6 +374,46 @@ TEST(Foxglove, BadClientInputIsClosedWithACodeAndAReasonAndTheServerStaysUp) {
   EXPECT_FALSE(server.process().ended()) << server.output();
 }
 
+// A WebSocket upgrade offering `subprotocols`: the response's status line and headers.
+std::string ws_upgrade(int port, const std::string& subprotocols) {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(static_cast<std::uint16_t>(port));
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  timeval tv{5, 0};
+  ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  std::string text;
+  if (::connect(fd, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0) {
+    const std::string req = "GET / HTTP/1.1\r\nHost: localhost\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n"
+                            "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n"
+                            "Sec-WebSocket-Protocol: " + subprotocols + "\r\n\r\n";
+    (void)!::write(fd, req.data(), req.size());
+    char buf[4096];
+    for (ssize_t n; text.find("\r\n\r\n") == std::string::npos && (n = ::read(fd, buf, sizeof buf)) > 0;)
+      text.append(buf, static_cast<std::size_t>(n));
+  }
+  ::close(fd);
+  return text;
+}
+
+// Foxglove's SDK servers answer foxglove.sdk.v1, and its newer clients offer it: horus foxglove
+// takes it beside foxglove.websocket.v1 (the first of the offer it speaks), and names both when
+// an offer has neither.
+TEST(Foxglove, TheSdkSubprotocolIsAcceptedBesideTheWebsocketOne) {
+  const std::string prefix = horus_test::unique_name("fxsdk");
+  Server server(prefix + ".**");
+  ASSERT_GT(server.port(), 0) << server.output();
+  const std::string sdk = ws_upgrade(server.port(), "foxglove.sdk.v1");
+  EXPECT_NE(sdk.find("101"), std::string::npos) << sdk;
+  EXPECT_NE(sdk.find("Sec-WebSocket-Protocol: foxglove.sdk.v1"), std::string::npos) << sdk;
+  const std::string both = ws_upgrade(server.port(), "foxglove.websocket.v1, foxglove.sdk.v1");
+  EXPECT_NE(both.find("Sec-WebSocket-Protocol: foxglove.websocket.v1"), std::string::npos) << both;
+  const std::string other = ws_upgrade(server.port(), "mqtt");
+  EXPECT_NE(other.find("400"), std::string::npos) << other;
+  EXPECT_NE(other.find("foxglove.websocket.v1 or foxglove.sdk.v1"), std::string::npos) << other;
+}
+
 TEST(Foxglove, TheStatusPageAndItsFiguresAreServedAndAnUnknownPathIsNamed) {
   const std::string prefix = horus_test::unique_name("fxhttp");
   auto pose = horus::Topic<horus::msg::Pose2D>::open(prefix + ".pose");

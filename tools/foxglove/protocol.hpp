@@ -23,6 +23,9 @@
 namespace horus::tools::fox {
 
 inline constexpr std::string_view kSubprotocol = "foxglove.websocket.v1";
+/// The same protocol under the name Foxglove's SDK servers answer and its newer clients offer
+/// (foxglove/foxglove-sdk, websocket/handshake.rs): accepted beside kSubprotocol.
+inline constexpr std::string_view kSdkSubprotocol = "foxglove.sdk.v1";
 /// The largest frame a client may send (a client message of an image fits); a larger one closes the connection with
 /// 1009 (message too big).
 inline constexpr std::size_t kMaxClientFrame = std::size_t{16} << 20;

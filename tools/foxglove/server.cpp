@@ -37,6 +37,22 @@ struct Shared {
   std::atomic<std::size_t> clients{0};
 };
 
+// The first subprotocol of a client's Sec-WebSocket-Protocol offer ("a, b") that this server
+// speaks: foxglove.websocket.v1 or foxglove.sdk.v1 (the same messages); empty when none.
+std::string_view chosen_subprotocol(std::string_view offered) {
+  for (std::size_t at = 0; at <= offered.size();) {
+    auto end = offered.find(',', at);
+    if (end == std::string_view::npos) end = offered.size();
+    auto item = offered.substr(at, end - at);
+    while (!item.empty() && (item.front() == ' ' || item.front() == '\t')) item.remove_prefix(1);
+    while (!item.empty() && (item.back() == ' ' || item.back() == '\t')) item.remove_suffix(1);
+    if (item == kSubprotocol) return kSubprotocol;
+    if (item == kSdkSubprotocol) return kSdkSubprotocol;
+    at = end + 1;
+  }
+  return {};
+}
+
 class WsSession final : public Client, public std::enable_shared_from_this<WsSession> {
  public:
   WsSession(tcp::socket socket, Shared& shared) : ws_(std::move(socket)), shared_(shared) {
@@ -47,11 +63,12 @@ class WsSession final : public Client, public std::enable_shared_from_this<WsSes
   }
   ~WsSession() override { --shared_.clients; }
 
-  void accept(http::request<http::string_body> req) {
+  // `subprotocol`: the one of the client's offer this server speaks (chosen_subprotocol).
+  void accept(http::request<http::string_body> req, std::string_view subprotocol) {
     beast::get_lowest_layer(ws_).expires_never();
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
-    ws_.set_option(websocket::stream_base::decorator([](websocket::response_type& res) {
-      res.set(http::field::sec_websocket_protocol, std::string(kSubprotocol));
+    ws_.set_option(websocket::stream_base::decorator([subprotocol](websocket::response_type& res) {
+      res.set(http::field::sec_websocket_protocol, std::string(subprotocol));
       res.set(http::field::server, "horus foxglove");
     }));
     ws_.read_message_max(0);   // read() enforces kMaxClientFrame as the parts arrive
@@ -296,20 +313,11 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
     auto req = parser_->release();
     if (websocket::is_upgrade(req)) {
       const auto offered = std::string(req[http::field::sec_websocket_protocol]);
-      bool ok = false;
-      for (std::size_t at = 0; at <= offered.size();) {
-        auto end = offered.find(',', at);
-        if (end == std::string::npos) end = offered.size();
-        auto item = offered.substr(at, end - at);
-        item.erase(0, item.find_first_not_of(" \t"));
-        item.erase(item.find_last_not_of(" \t") + 1);
-        if (item == kSubprotocol) ok = true;
-        at = end + 1;
-      }
-      if (!ok) {
+      const std::string_view subprotocol = chosen_subprotocol(offered);
+      if (subprotocol.empty()) {
         respond(req, http::status::bad_request, "text/plain",
-                fmt::format("a WebSocket here speaks subprotocol {} (Sec-WebSocket-Protocol offered: '{}')\n",
-                            kSubprotocol, offered),
+                fmt::format("a WebSocket here speaks subprotocol {} or {} (Sec-WebSocket-Protocol offered: '{}')\n",
+                            kSubprotocol, kSdkSubprotocol, offered),
                 false);
         return;
       }
@@ -322,7 +330,7 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
       }
       auto ws = std::make_shared<WsSession>(stream_.release_socket(), shared_);
       keep_(ws);
-      ws->accept(std::move(req));
+      ws->accept(std::move(req), subprotocol);
       return;
     }
     if (req.method() != http::verb::get && req.method() != http::verb::head) {
@@ -337,8 +345,8 @@ class HttpSession final : public std::enable_shared_from_this<HttpSession> {
     else
       respond(req, http::status::not_found, "text/plain",
               fmt::format("{} is not here: / is the status page, /status.json its figures, and a WebSocket with "
-                          "subprotocol {} is the Foxglove connection\n",
-                          target, kSubprotocol),
+                          "subprotocol {} (or {}) is the Foxglove connection\n",
+                          target, kSubprotocol, kSdkSubprotocol),
               req.keep_alive());
   }
 
