@@ -7,7 +7,7 @@
 //   horus-dds-pingpong source <domain> <type> <seconds>    bench.<type>.tput, sent back to back (send_blocking)
 //     type: cmdvel | kilobyte | image (1920x1080 RGB8)
 //
-// BENCH_ROS2=1 maps the topics onto ROS 2 (TopicOptions::ros2: CmdVel as geometry_msgs/msg/Twist,
+// BENCH_ROS2=1 maps the topics onto ROS 2 (TopicOptions::ros2: CmdVel as geometry_msgs/msg/TwistStamped,
 // the image as sensor_msgs/msg/Image, the kilobyte as its horus_msgs type), impl horus-<backend>-ros2.
 // The backend comes from HORUS_BACKEND (cyclonedds, fastdds or lcm); BENCH_LOCALHOST=1 keeps DDS
 // on loopback (HORUS_DDS_LOCALHOST=1); LCM uses HORUS_LCM_URL (bench/lcm/run_lcm_bench.sh), the
@@ -42,7 +42,9 @@
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr std::uint64_t kStop = std::numeric_limits<std::uint64_t>::max();
+// The stop marker: a sequence number no run reaches, and a stamp ROS 2's Time holds (its seconds
+// are an int32: 2e18 ns is 2e9 s), so that it survives a topic mapped onto ROS 2.
+constexpr std::uint64_t kStop = 2'000'000'000'000'000'000ULL;
 
 std::uint64_t seq_of(const horus::msg::CmdVel& m) { return m.stamp_nanos; }
 std::uint64_t seq_of(const horus_bench::Kilobyte& m) { return m.seq; }
@@ -85,7 +87,11 @@ horus::Result<horus::Topic<T>> open(const std::string& name, std::uint32_t capac
     const char* v = std::getenv("BENCH_ROS2");
     return v != nullptr && std::string(v) == "1";
   }();
-  if (ros2) o.ros2 = horus::Ros2Mapping{};
+  if (ros2) {
+    o.ros2 = horus::Ros2Mapping{};
+    // The sequence number travels in the stamp: a CmdVel as a TwistStamped (a Twist has none).
+    if constexpr (std::is_same_v<T, horus::msg::CmdVel>) o.ros2->type = "geometry_msgs/msg/TwistStamped";
+  }
   return horus::Topic<T>::open(name, o);
 }
 

@@ -80,10 +80,14 @@ struct LaserScanLaserScan {
     o.num(m.range_min);
     o.num(m.range_max);
     const std::size_t n = sensor_scan_beams(m);
-    std::array<float, msg::LaserScan::kMaxRanges> ranges{};
-    for (std::size_t i = 0; i < n; ++i)
-      ranges[i] = m.ranges[i] == 0.0f ? std::numeric_limits<float>::infinity() : m.ranges[i];
-    o.sequence(std::span<const float>(ranges.data(), n));
+    if constexpr (S::kCounting) {  // sizing: the bytes, not the values
+      o.sequence(std::span<const float>(m.ranges.data(), n));
+    } else {
+      std::array<float, msg::LaserScan::kMaxRanges> ranges;  // the first n are written
+      for (std::size_t i = 0; i < n; ++i)
+        ranges[i] = m.ranges[i] == 0.0f ? std::numeric_limits<float>::infinity() : m.ranges[i];
+      o.sequence(std::span<const float>(ranges.data(), n));
+    }
     o.count(0);  // intensities
   }
   static bool get(In& in, Horus& m) {
