@@ -56,6 +56,32 @@ std::multimap<std::string, std::vector<std::string>> read_report(const std::stri
   return out;
 }
 
+// The GUIDs of the writers on `prefix`'s topics the peer matched (its "userdata" lines).
+std::vector<std::string> matched_writers(const std::multimap<std::string, std::vector<std::string>>& r,
+                                         const std::string& prefix) {
+  std::vector<std::string> out;
+  for (const auto& [name, type] : kEntries)
+    for (auto [it, end] = r.equal_range("userdata"); it != end; ++it)
+      if (it->second.size() == 3 && it->second[0] == "rt/" + prefix + "/" + name) out.push_back(it->second[1]);
+  return out;
+}
+
+// Whether a "graph" line of the report (ros_discovery_info) has horus's node at "/" listing every
+// writer of `gids` under its participant's GID (a writer's GUID prefix), and a reader per entry.
+bool graph_lists(const std::multimap<std::string, std::vector<std::string>>& r, const std::vector<std::string>& gids) {
+  if (gids.size() < kEntries.size()) return false;
+  for (auto [it, end] = r.equal_range("graph"); it != end; ++it) {
+    const auto& g = it->second;  // gid ns name "writers" w... "readers" r...
+    if (g.size() < 4 || g[2] != kNode || g[1] != "/") continue;
+    const auto readers_at = std::find(g.begin(), g.end(), "readers");
+    const std::set<std::string> writers(g.begin() + 4, readers_at);
+    bool lists_all = static_cast<std::size_t>(g.end() - readers_at) - 1 >= kEntries.size();
+    for (const auto& w : gids) lists_all = lists_all && writers.contains(w) && w.substr(0, 24) == g[0].substr(0, 24);
+    if (lists_all) return true;
+  }
+  return false;
+}
+
 double num(const std::string& s) { return std::strtod(s.c_str(), nullptr); }
 
 template <class T>
@@ -181,28 +207,37 @@ TEST_P(Ros2Interop, ARos2PeerReadsHorusFieldByFieldAndHorusReadsItsEcho) {
   std::optional<JointState> got_joints;
   std::optional<Odometry> got_odom;
   std::optional<TransformStamped> got_tf;
+  auto resend_at = std::chrono::steady_clock::now();
   const bool all = horus_test::eventually(
       [&] {
-        // Sent again until echoed: the peer's reader matches ours at its own pace.
-        if (!got_cmd) cmd.send(sent.cmd);
-        if (!got_scan) scan.send(sent.scan);
-        if (!got_image) image.send(sent.image);
-        if (!got_joints) joints.send(sent.joints);
-        if (!got_odom) odom.send(sent.odom);
-        if (!got_tf) tf.send(sent.tf);
-        for (int i = 0; i < 25; ++i) {
-          if (auto m = cmd_back.recv()) got_cmd = *m;
-          if (auto m = scan_back.recv()) got_scan = *m;
-          if (auto m = image_back.recv()) got_image = std::move(*m);
-          if (auto m = joints_back.recv()) got_joints = *m;
-          if (auto m = odom_back.recv()) got_odom = *m;
-          if (auto m = tf_back.recv()) got_tf = *m;
-          std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        // Sent again every 50 ms until echoed: the peer's reader matches ours at its own pace.
+        if (std::chrono::steady_clock::now() >= resend_at) {
+          resend_at += std::chrono::milliseconds(50);
+          if (!got_cmd) cmd.send(sent.cmd);
+          if (!got_scan) scan.send(sent.scan);
+          if (!got_image) image.send(sent.image);
+          if (!got_joints) joints.send(sent.joints);
+          if (!got_odom) odom.send(sent.odom);
+          if (!got_tf) tf.send(sent.tf);
         }
+        if (auto m = cmd_back.recv()) got_cmd = *m;
+        if (auto m = scan_back.recv()) got_scan = *m;
+        if (auto m = image_back.recv()) got_image = std::move(*m);
+        if (auto m = joints_back.recv()) got_joints = *m;
+        if (auto m = odom_back.recv()) got_odom = *m;
+        if (auto m = tf_back.recv()) got_tf = *m;
         return got_cmd && got_scan && got_image && got_joints && got_odom && got_tf;
       },
-      std::chrono::seconds(30), std::chrono::milliseconds(1));
+      std::chrono::seconds(30), std::chrono::milliseconds(2));
+  // The peer reads ros_discovery_info at its own pace: its report lists horus's node once it has.
+  const bool graphed = all && horus_test::eventually(
+                                  [&] {
+                                    const auto now = read_report(report);
+                                    return graph_lists(now, matched_writers(now, prefix));
+                                  },
+                                  std::chrono::seconds(10), std::chrono::milliseconds(20));
   EXPECT_EQ(peer.stop(), 0);
+  EXPECT_TRUE(graphed) << "the peer's report never listed horus's node with the writers it matched";
   ASSERT_TRUE(all) << "echoes: cmd_vel " << got_cmd.has_value() << " scan " << got_scan.has_value() << " image "
                    << got_image.has_value() << " joints " << got_joints.has_value() << " odom " << got_odom.has_value()
                    << " tf " << got_tf.has_value();
@@ -227,21 +262,7 @@ TEST_P(Ros2Interop, ARos2PeerReadsHorusFieldByFieldAndHorusReadsItsEcho) {
   }
   // ros_discovery_info: horus's participant is one node, named by HORUS_ROS2_NODE, whose writers
   // are the ones the peer matched (and whose readers the echo topics'), under its participant's GID.
-  bool node = false;
-  for (auto [it, end] = r.equal_range("graph"); it != end && !node; ++it) {
-    const auto& g = it->second;  // gid ns name "writers" w... "readers" r...
-    if (g.size() < 4 || g[2] != kNode) continue;
-    const auto readers_at = std::find(g.begin(), g.end(), "readers");
-    const std::set<std::string> writers(g.begin() + 4, readers_at);
-    const std::size_t readers = static_cast<std::size_t>(g.end() - readers_at) - 1;
-    bool lists_all = readers >= kEntries.size();
-    for (const auto& w : writer_gids) lists_all = lists_all && writers.contains(w) && w.substr(0, 24) == g[0].substr(0, 24);
-    if (lists_all) {
-      node = true;
-      EXPECT_EQ(g[1], "/");
-    }
-  }
-  EXPECT_TRUE(node) << "no ros_discovery_info of node '" << kNode << "' listing the writers the peer matched";
+  EXPECT_TRUE(graph_lists(r, writer_gids)) << "no ros_discovery_info of node '" << kNode << "' at / listing the writers the peer matched";
   auto line = [&](const std::string& kind) {
     auto it = r.find(kind);
     return it == r.end() ? std::vector<std::string>{} : it->second;
