@@ -191,6 +191,9 @@ void add_record_commands(CLI::App& app, Cli& c) {
   record->add_flag("--overwrite", rec.overwrite, "replace the output file(s) when they exist (else refused)");
   record->add_option("--compression", rec.compression, "MCAP chunk compression: zstd (default), lz4 or none");
   record->add_option("--format", rec.format, "mcap (default) or lcm (an LCM event log, as lcm-logger writes)");
+  record->add_option("--profile", rec.profile,
+                     "horus (default: horus's types) or ros2 (a bag as rosbag2 writes: ROS 2 names, types and CDR; "
+                     "docs/ROS2.md)");
   record->add_option("--backend", rec.backend, "network backend of the fleet (default: the configuration's)");
   record->add_flag("--foxglove", rec.foxglove,
                    "also record, beside each topic Foxglove's panels draw (images, clouds, scans, poses, "
@@ -234,6 +237,8 @@ void add_play_command(CLI::App& app, Cli& c) {
   play->add_flag("--loop", play_args.loop, "start over at the end, until Ctrl-C");
   play->add_option("--topics", play_args.topics, "topic patterns to play (default: all)");
   play->add_option("--remap", play_args.remap, "publish recorded topic OLD into topic NEW (OLD=NEW)");
+  play->add_flag("--ros2", play_args.ros2,
+                 "publish each topic onto the ROS 2 wire too (its ros2: mapping: the recorded ROS 2 name and type)");
 }
 
 // horus bench pong | ping | local.

@@ -24,6 +24,7 @@
 #include "horus/record/mcap.hpp"
 #include "horus/record/player.hpp"
 #include "horus/record/recorder.hpp"
+#include "horus/ros2/names.hpp"
 #include "foxglove/schemas.hpp"
 #include "typed_reader.hpp"
 
@@ -100,6 +101,17 @@ class Progress {
 // Checks the arguments and sets the recorder's options from them; false, with the error printed,
 // when they are wrong.
 bool record_options(const RecordArgs& a, RecorderOptions& o) {
+  auto profile = parse_record_profile(a.profile);
+  if (!profile) {
+    fmt::print(stderr, "horus record: --profile: {}\n", profile.error().message());
+    return false;
+  }
+  if (*profile == RecordProfile::Ros2 && (a.foxglove || a.format != "mcap")) {
+    fmt::print(stderr, "horus record: --profile ros2 writes a rosbag2 MCAP bag of ROS 2 types; not with {}\n",
+               a.foxglove ? "--foxglove (Foxglove's ROS panels read the ROS 2 types themselves)" : "--format " + a.format);
+    return false;
+  }
+  o.profile = *profile;
   if (a.foxglove && a.format != "mcap") {
     fmt::print(stderr, "horus record: --foxglove records Foxglove's schemas, which only MCAP holds (not --format {})\n",
                a.format);
@@ -379,10 +391,17 @@ bool bind_channel(const PlayArgs& a, Player& player, const PlayChannel& c,
     return false;
   }
   const auto it = remap.find(c.topic);
-  const std::string to = it == remap.end() ? c.topic : it->second;
+  const std::string to = it == remap.end() ? c.horus_topic : it->second;
   std::uint64_t hash = 0;
   std::string error;
-  auto sink = open_play_sink(type, to, lcm, hash, error);
+  TopicOptions options;
+  if (a.ros2) {
+    Ros2Mapping m;
+    m.name = !c.ros2_type.empty() && it == remap.end() ? c.topic : ros2::topic_name_of(to);  // a ROS 2 bag's own
+    m.type = c.ros2_type;
+    options.ros2 = m;
+  }
+  auto sink = open_play_sink(type, to, lcm, c.conversion, options, hash, error);
   if (sink && !lcm && c.type_hash != 0 && c.type_hash != hash)
     error = fmt::format("it was recorded with type hash {:016x}; this build's {} has {:016x}", c.type_hash, type, hash);
   if (!error.empty() || !sink) {

@@ -16,6 +16,7 @@ struct RecordArgs {
   double split_mb = 0;              // 0: one file
   std::string compression = "zstd";
   std::string format = "mcap";
+  std::string profile = "horus";    // ros2: a rosbag2 bag (RecordProfile::Ros2)
   std::string backend;              // the fleet's transport (--backend), else the configuration's
   bool overwrite = false;           // replace an existing -o file (else refused)
   bool foxglove = false;            // also TOPIC/foxglove in Foxglove's schema (foxglove/schemas.hpp)
@@ -32,6 +33,7 @@ struct PlayArgs {
   bool loop = false;
   std::vector<std::string> topics;  // patterns
   std::vector<std::string> remap;   // OLD=NEW
+  bool ros2 = false;                // onto the ROS 2 wire: each topic mapped (TopicOptions::ros2)
 };
 int cmd_play(const PlayArgs& args, const std::atomic<bool>& stop);
 

@@ -100,11 +100,13 @@ std::unique_ptr<RecordSource> open_record_source(std::string_view type_name, con
 }
 
 std::unique_ptr<PlaySink> open_play_sink(std::string_view type_name, const std::string& name, bool lcm_encoding,
+                                         const ros2::Conversion* conversion, const TopicOptions& options,
                                          std::uint64_t& type_hash, std::string& error) {
   error.clear();
   type_hash = 0;
   if (find_standard_type(type_name) == nullptr) return nullptr;
-  auto sink = open_standard_sink(type_name, name, lcm_encoding, type_hash);
+  auto sink = conversion != nullptr ? open_ros2_sink(type_name, name, *conversion, type_hash, options)
+                                    : open_standard_sink(type_name, name, lcm_encoding, type_hash, options);
   if (!sink) error = sink.error().message();
   return sink ? std::move(*sink) : nullptr;
 }

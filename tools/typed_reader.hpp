@@ -68,7 +68,10 @@ std::unique_ptr<RecordSource> open_record_source(std::string_view type_name, con
 /// A player's sink publishing into topic `name` (the environment and configuration choose its
 /// scope), decoding the recorded bytes (LCM's encoding, or XCDR1 with its header); `type_hash`
 /// receives the standard type's hash to compare with the recorded one.
+/// A channel of a ROS 2 bag of a converted type (`conversion`) plays through it; `options`
+/// (`horus play --ros2`: a ROS 2 mapping) open the topic.
 std::unique_ptr<PlaySink> open_play_sink(std::string_view type_name, const std::string& name, bool lcm_encoding,
+                                         const ros2::Conversion* conversion, const TopicOptions& options,
                                          std::uint64_t& type_hash, std::string& error);
 
 namespace detail {

@@ -3,6 +3,7 @@
 // in parallel: the large-data types are in the first). Internal to api/src.
 #pragma once
 
+#include <memory>
 #include <span>
 #include <utility>
 #include <vector>
@@ -58,6 +59,16 @@ class TopicOf final : public AnyTopic {
       m = cdr::decode<T>(s.body, s.little_endian);
     }
     if (!m) return std::unexpected(Error(Errc::Corrupt, m.error()));
+    if (auto ok = topic_.send_blocking(*m, timeout); !ok) {
+      if (ok.error().code() != Errc::Timeout) return ok;
+      topic_.send(*m);
+    }
+    return {};
+  }
+  Result<void> send_filled(Result<void> (*fill)(void* ctx, void* msg), void* ctx,
+                           std::chrono::nanoseconds timeout) override {
+    auto m = std::make_unique<T>();  // an Image or a cloud is large for a stack
+    if (auto ok = fill(ctx, m.get()); !ok) return ok;
     if (auto ok = topic_.send_blocking(*m, timeout); !ok) {
       if (ok.error().code() != Errc::Timeout) return ok;
       topic_.send(*m);

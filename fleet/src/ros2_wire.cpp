@@ -6,7 +6,6 @@
 #include "horus/idlgen/emit.hpp"
 #include "horus/ros2/interface.hpp"
 #include "horus/ros2/names.hpp"
-#include "horus/wire/dynamic.hpp"
 
 namespace horus::fleet::detail {
 namespace {
@@ -24,25 +23,6 @@ Result<std::string> ros2_name(const horus::detail::TopicCore& core, const Ros2Ma
     return fail(Errc::Config, fmt::format("topic '{}': its ROS 2 name: {}; give it one ('ros2: {{name: /...}}')",
                                           core.name, name.error().message()));
   return name;
-}
-
-// A message with no conversion: its own type in the ROS 2 package (`horus idl --ros2`).
-Result<void> own_type(const horus::detail::TopicCore& core, const Ros2Mapping& m, Ros2Wire& w) {
-  const std::string_view signature = core.segment ? core.segment->signature() : std::string_view{};
-  auto dyn = wire::parse_signature(signature, core.type_hash);
-  if (signature.empty() || !dyn)
-    return fail(Errc::Config, fmt::format("topic '{}': {} has no ROS 2 type: its layout is not known here ({})",
-                                          core.name, core.type_name, dyn ? "no signature" : dyn.error()));
-  idlgen::Ros2Options options;
-  if (!m.type.empty()) options.package = ros2::parse_type_name(m.type)->package;  // checked by resolve_ros2
-  auto t = idlgen::ros2_type_of(*dyn, options);
-  if (!t) return fail(Errc::Config, fmt::format("topic '{}': {}", core.name, t.error().message()));
-  if (!m.type.empty() && m.type != t->name)
-    return fail(Errc::Config, fmt::format("topic '{}': {} is {} in package {}, not {}", core.name, core.type_name,
-                                          t->name, options.package, m.type));
-  w.type = t->name;
-  w.type_hash = t->type_hash;
-  return {};
 }
 
 }  // namespace
@@ -69,22 +49,12 @@ Result<Ros2Wire> resolve_ros2(const horus::detail::TopicCore& core, const Ros2Ma
   w.frame_id = m.frame_id;
   w.child_frame_id = m.child_frame_id;
   w.qos = m.qos;
-  const auto& standard = ros2::Interfaces::standard();
-  w.conversion = ros2::find_conversion(core.type_hash, m.type);
-  if (w.conversion != nullptr) {
-    w.type = std::string(w.conversion->ros_type);
-    auto hash = standard.type_hash(w.type);
-    if (!hash) return std::unexpected(hash.error());
-    w.type_hash = *hash;
-  } else if (!m.type.empty() && standard.find(m.type) != nullptr) {
-    const std::string targets = ros2::conversion_targets(core.type_hash);
-    return fail(Errc::Config, fmt::format("topic '{}': {} does not convert to {}; {}", core.name, core.type_name, m.type,
-                                          targets.empty() ? "it has no ROS 2 equivalent (leave out `type:` to map it "
-                                                            "as its own type of the horus_msgs package)"
-                                                          : "it converts to " + targets));
-  } else if (auto ok = own_type(core, m, w); !ok) {
-    return std::unexpected(ok.error());
-  }
+  auto type = idlgen::ros2_mapped_type(core.type_name, core.type_hash,
+                                       core.segment ? core.segment->signature() : std::string_view{}, m.type);
+  if (!type) return fail(Errc::Config, fmt::format("topic '{}': {}", core.name, type.error().message()));
+  w.conversion = type->conversion;
+  w.type = std::move(type->type);
+  w.type_hash = std::move(type->type_hash);
   w.dds_type = ros2::parse_type_name(w.type)->dds();
   return w;
 }

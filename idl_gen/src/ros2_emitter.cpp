@@ -10,6 +10,7 @@
 
 #include "horus/idlgen/emit.hpp"
 #include "horus/ros2/interface.hpp"
+#include "horus/wire/dynamic.hpp"
 
 namespace horus::idlgen {
 namespace {
@@ -253,6 +254,53 @@ Result<Ros2Type> ros2_type_of(const wire::DynType& root, const Ros2Options& opti
   auto hash = out.types.type_hash(out.name);
   if (!hash) return std::unexpected(hash.error());
   out.type_hash = *hash;
+  return out;
+}
+
+Result<Ros2Mapped> ros2_mapped_type(std::string_view type_name, std::uint64_t type_hash, std::string_view signature,
+                                    std::string_view requested) {
+  std::string wanted;
+  Ros2Options options;
+  if (!requested.empty()) {
+    auto t = ros2::parse_type_name(requested);
+    if (!t) return std::unexpected(t.error());
+    wanted = t->full();
+    options.package = t->package;
+  }
+  Ros2Mapped out;
+  const auto& standard = ros2::Interfaces::standard();
+  out.conversion = ros2::find_conversion(type_hash, wanted);
+  if (out.conversion != nullptr) {
+    out.type = std::string(out.conversion->ros_type);
+    auto hash = standard.type_hash(out.type);
+    if (!hash) return std::unexpected(hash.error());
+    auto definition = standard.message_definition(out.type);
+    if (!definition) return std::unexpected(definition.error());
+    out.type_hash = std::move(*hash);
+    out.definition = std::move(*definition);
+    return out;
+  }
+  if (!wanted.empty() && standard.find(wanted) != nullptr) {
+    const std::string targets = ros2::conversion_targets(type_hash);
+    return fail(Errc::Config, fmt::format("{} does not convert to {}; {}", type_name, wanted,
+                                          targets.empty() ? "it has no ROS 2 equivalent (leave out `type:` to map it "
+                                                            "as its own type of the horus_msgs package)"
+                                                          : "it converts to " + targets));
+  }
+  auto dyn = wire::parse_signature(signature, type_hash);
+  if (signature.empty() || !dyn)
+    return fail(Errc::Config, fmt::format("{} has no ROS 2 type: its layout is not known here ({})", type_name,
+                                          dyn ? "no signature" : dyn.error()));
+  auto own = ros2_type_of(*dyn, options);
+  if (!own) return fail(Errc::Config, own.error().message());
+  if (!wanted.empty() && wanted != own->name)
+    return fail(Errc::Config,
+                fmt::format("{} is {} in package {}, not {}", type_name, own->name, options.package, wanted));
+  auto definition = own->types.message_definition(own->name);
+  if (!definition) return std::unexpected(definition.error());
+  out.type = std::move(own->name);
+  out.type_hash = std::move(own->type_hash);
+  out.definition = std::move(*definition);
   return out;
 }
 

@@ -260,14 +260,17 @@ void bind_player(py::module_& record) {
                                            "type=horus.msg.X", topic, c->lcm_fingerprint));
         const MessageType& t = *found;
         std::uint64_t hash = 0;
-        auto sink = ok_or_raise(open_standard_sink(t.qualified, to.empty() ? topic : to, c->encoding == "lcm", hash,
-                                                   topic_options(kw)));
+        const std::string into = to.empty() ? c->horus_topic : to;
+        auto sink = ok_or_raise(c->conversion != nullptr
+                                    ? open_ros2_sink(t.qualified, into, *c->conversion, hash, topic_options(kw))
+                                    : open_standard_sink(t.qualified, into, c->encoding == "lcm", hash, topic_options(kw)));
         if (c->encoding != "lcm" && c->type_hash != 0 && c->type_hash != hash)
           raise(Error(Errc::TypeMismatch, fmt::format("topic '{}' was recorded as {} with type hash {:016x}; {} has {:016x}",
                                                       topic, c->type, c->type_hash, t.qualified, hash)));
         ok_or_raise(p.bind(topic, std::move(sink)));
       }, py::arg("topic"), py::arg("type") = py::none(), py::arg("to") = "",
-         "Plays recorded topic into a topic (named `to`, default the same); the type from the recording unless given")
+         "Plays recorded topic into a topic (named `to`, default the same; a ROS 2 bag's /a/b: a.b); the type from "
+         "the recording unless given")
       .def("play", [](Player& p, double rate) {
         PlayOptions o;
         o.rate = rate;

@@ -33,6 +33,7 @@ struct Reader::Impl {
   bool truncated = false;
   std::map<std::uint16_t, Schema> schemas;
   std::map<std::uint16_t, Channel> channels;
+  std::map<std::string, std::map<std::string, std::string>> metadata;
   std::optional<Statistics> stats;
   std::vector<std::byte> chunk;
 
@@ -284,8 +285,14 @@ struct Reader::Impl {
         s = &it->second;
       }
       return f(c->second, s, m);
+    } else if (op == detail::kMetadata) {
+      In in(content, at, where + "Metadata");
+      std::string name = in.str("name");
+      auto values = in.string_map("metadata");
+      if (!in.ok()) return std::unexpected(corrupt(in.error()->message()));
+      metadata[std::move(name)] = std::move(values);
     }
-    return true;  // indexes, attachments, metadata: nothing for a message reader
+    return true;  // indexes, attachments: nothing for a message reader
   }
 
   Result<void> read(const std::function<bool(const Channel&, const Schema*, const Message&)>& f) {
@@ -385,6 +392,9 @@ bool Reader::has_summary() const noexcept { return impl_->summary_start != 0; }
 bool Reader::truncated() const noexcept { return impl_->truncated; }
 const std::map<std::uint16_t, Schema>& Reader::schemas() const noexcept { return impl_->schemas; }
 const std::map<std::uint16_t, Channel>& Reader::channels() const noexcept { return impl_->channels; }
+const std::map<std::string, std::map<std::string, std::string>>& Reader::metadata() const noexcept {
+  return impl_->metadata;
+}
 
 Result<void> Reader::read_messages(const std::function<bool(const Channel&, const Schema*, const Message&)>& f) {
   return impl_->read(f);

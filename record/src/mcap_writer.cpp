@@ -37,6 +37,11 @@ struct Writer::Impl {
     std::uint64_t compressed_size, uncompressed_size;
   };
   std::vector<ChunkIndex> chunk_indexes;
+  struct MetadataIndex {
+    std::uint64_t offset, length;
+    std::string name;
+  };
+  std::vector<MetadataIndex> metadata_indexes;
   std::vector<std::byte> scratch, compressed;
 
   Result<void> put(std::span<const std::byte> b, bool data_section) {
@@ -121,7 +126,7 @@ struct Writer::Impl {
     o.u16(stats.schema_count);
     o.u32(stats.channel_count);
     o.u32(0);  // attachments
-    o.u32(0);  // metadata
+    o.u32(static_cast<std::uint32_t>(metadata_indexes.size()));
     o.u32(stats.chunk_count);
     o.u64(stats.message_start_time);
     o.u64(stats.message_end_time);
@@ -183,6 +188,15 @@ struct Writer::Impl {
     group(detail::kStatistics, [&] { statistics_record(o); });
     group(detail::kChunkIndex, [&] {
       for (const auto& ci : chunk_indexes) chunk_index_record(o, ci);
+    });
+    group(detail::kMetadataIndex, [&] {
+      for (const auto& mi : metadata_indexes) {
+        at = o.begin_record(detail::kMetadataIndex);
+        o.u64(mi.offset);
+        o.u64(mi.length);
+        o.str(mi.name);
+        o.end_record(at);
+      }
     });
     const std::uint64_t summary_offset_start = summary_start + o.size();
     for (const auto& g : groups) {
@@ -291,6 +305,20 @@ Result<void> Writer::write(const Message& m) {
   ++s.channel_message_counts[m.channel_id];
   if (d.records.size() >= d.options.chunk_size) return d.write_chunk();
   return {};
+}
+
+Result<void> Writer::add_metadata(std::string_view name, const std::map<std::string, std::string>& metadata) {
+  auto& d = *impl_;
+  if (d.closed) return fail(Errc::InvalidArgument, d.path + ": the MCAP writer is closed");
+  if (auto ok = d.write_chunk(); !ok) return ok;  // a Metadata record stands outside chunks
+  d.scratch.clear();
+  Out o(d.scratch);
+  const auto at = o.begin_record(detail::kMetadata);
+  o.str(name);
+  o.string_map(metadata);
+  o.end_record(at);
+  d.metadata_indexes.push_back({d.offset, d.scratch.size(), std::string(name)});
+  return d.put(d.scratch, true);
 }
 
 Result<void> Writer::flush() {

@@ -2,12 +2,15 @@
 #include "horus/record/player.hpp"
 
 #include <algorithm>
+#include <set>
 #include <thread>
 
 #include <fmt/format.h>
 
 #include "horus/config.hpp"
 #include "horus/record/lcm_log.hpp"
+#include "horus/ros2/names.hpp"
+#include "horus/standard_types.hpp"
 
 namespace horus {
 
@@ -41,6 +44,35 @@ void note(PlayChannel& c, std::uint64_t t, std::size_t bytes) {
   c.bytes += bytes;
 }
 
+// A ROS 2 bag's channel (schema encoding ros2msg): the horus type it plays as, and how. The type
+// horus recorded it from (its "horus.type") when that converts to the channel's type; else the
+// standard message whose preferred ROS 2 type it is (else the first that converts to it); a
+// horus_msgs type is the standard message of its name, bytes as they are.
+void resolve_ros2(PlayChannel& c, const std::string& schema_name, const std::string& recorded,
+                  const std::string& horus_topic) {
+  auto name = ros2::parse_type_name(schema_name);
+  c.ros2_type = name ? name->full() : schema_name;
+  c.horus_topic = !horus_topic.empty() ? horus_topic : ros2::horus_topic_of(c.topic);
+  c.type.clear();
+  c.type_hash = 0;
+  const ros2::Conversion* chosen = nullptr;
+  for (const auto& conv : ros2::conversions()) {
+    if (conv.ros_type != c.ros2_type) continue;
+    if (!recorded.empty() ? conv.horus_type == recorded : (chosen == nullptr || (conv.preferred && !chosen->preferred)))
+      chosen = &conv;
+  }
+  if (chosen != nullptr) {
+    c.conversion = chosen;
+    c.type = std::string(chosen->horus_type);
+    c.type_hash = chosen->horus_hash;
+  } else if (name && name->package == "horus_msgs") {
+    if (const StandardType* t = find_standard_type(name->name); t != nullptr) {
+      c.type = std::string(t->name);
+      c.type_hash = t->hash;
+    }
+  }
+}
+
 }  // namespace
 
 struct Player::Impl {
@@ -60,6 +92,7 @@ struct Player::Impl {
     by_topic.emplace(std::string(topic), channels.size());
     PlayChannel c;
     c.topic = std::string(topic);
+    c.horus_topic = c.topic;
     channels.push_back(std::move(c));
     return channels.back();
   }
@@ -117,6 +150,7 @@ struct Player::Impl {
       if (auto it = mcap->schemas().find(ch.schema_id); it != mcap->schemas().end()) {
         if (c.type.empty()) c.type = it->second.name;
         c.schema_encoding = it->second.encoding;
+        if (c.schema_encoding == "ros2msg") resolve_ros2(c, it->second.name, meta("horus.type"), meta("horus.topic"));
       }
   }
 };
@@ -184,6 +218,19 @@ Result<void> Player::playable(const PlayChannel& c) {
     return fail(Errc::TypeMismatch, fmt::format("topic '{}' (channel {}) has message encoding '{}'; horus plays cdr "
                                                 "messages (with an omgidl schema) and LCM logs",
                                                 c.topic, c.channel_id, c.encoding));
+  if (c.schema_encoding == "ros2msg") {
+    if (!c.type.empty()) return {};
+    const std::string targets = [&] {
+      std::set<std::string_view> types;
+      for (const auto& conv : ros2::conversions()) types.insert(conv.ros_type);
+      std::string out;
+      for (auto t : types) out += (out.empty() ? "" : ", ") + std::string(t);
+      return out;
+    }();
+    return fail(Errc::TypeMismatch, fmt::format("topic '{}' (channel {}) is of ROS 2 type {}, which no horus message "
+                                                "converts from (horus plays {} and the horus_msgs types; docs/ROS2.md)",
+                                                c.topic, c.channel_id, c.ros2_type, targets));
+  }
   if (!c.schema_encoding.empty() && c.schema_encoding != "omgidl")
     return fail(Errc::TypeMismatch, fmt::format("topic '{}' (channel {}) has schema {} of encoding '{}'; horus plays cdr "
                                                 "messages whose schema is omgidl",
@@ -201,7 +248,9 @@ Result<PlayStats> Player::play(const PlayOptions& options, const std::atomic<boo
   std::vector<PlaySink*> sink_of(impl_->channels.size(), nullptr);
   for (auto& [index, sink] : impl_->sinks) {
     bool wanted = options.topics.empty();
-    for (const auto& p : options.topics) wanted = wanted || topic_pattern_matches(p, impl_->channels[index].topic);
+    const auto& c = impl_->channels[index];
+    for (const auto& p : options.topics)
+      wanted = wanted || topic_pattern_matches(p, c.topic) || topic_pattern_matches(p, c.horus_topic);
     if (wanted) sink_of[index] = sink.get();
   }
   PlayStats stats;

@@ -12,6 +12,7 @@
 #include "horus/log.hpp"
 #include "horus/record/lcm_log.hpp"
 #include "horus/wire/dynamic.hpp"
+#include "ros2_profile.hpp"
 
 namespace horus {
 
@@ -21,6 +22,14 @@ Result<RecordFormat> parse_record_format(std::string_view name) {
   if (name == "mcap") return RecordFormat::Mcap;
   if (name == "lcm") return RecordFormat::Lcm;
   return fail(Errc::InvalidArgument, fmt::format("unknown recording format '{}'; expected mcap or lcm", name));
+}
+
+std::string_view to_string(RecordProfile p) noexcept { return p == RecordProfile::Ros2 ? "ros2" : "horus"; }
+
+Result<RecordProfile> parse_record_profile(std::string_view name) {
+  if (name == "horus") return RecordProfile::Horus;
+  if (name == "ros2") return RecordProfile::Ros2;
+  return fail(Errc::InvalidArgument, fmt::format("unknown recording profile '{}'; expected horus or ros2", name));
 }
 
 namespace {
@@ -60,6 +69,7 @@ struct Recorder::Impl {
     std::uint16_t channel = 0;
     std::uint32_t sequence = 0;
     bool attached = false;
+    std::optional<record_detail::Ros2Channel> ros2;  // RecordProfile::Ros2
     RecordedTopic stats;
   };
 
@@ -100,6 +110,7 @@ struct Recorder::Impl {
       mcap::WriterOptions w;
       w.compression = options.compression;
       w.chunk_size = options.chunk_size;
+      if (options.profile == RecordProfile::Ros2) w.profile = "ros2";
       auto writer = mcap::Writer::create(path, w);
       if (!writer) return std::unexpected(writer.error());
       mcap = std::move(*writer);
@@ -124,7 +135,8 @@ struct Recorder::Impl {
   Result<void> close_file() {
     Result<void> r;
     if (mcap) {
-      r = mcap->close();
+      if (options.profile == RecordProfile::Ros2) r = write_bag_metadata();
+      if (auto ok = mcap->close(); r) r = ok;
       closed_bytes += mcap->file_size();
       mcap.reset();
     }
@@ -136,8 +148,41 @@ struct Recorder::Impl {
     return r;
   }
 
+  // rosbag2's "rosbag2" Metadata record of the current file: its metadata.yaml.
+  Result<void> write_bag_metadata() {
+    const auto& st = mcap->statistics();
+    std::vector<record_detail::BagTopic> topics;
+    for (const auto& e : entries) {
+      const auto n = st.channel_message_counts.find(e.channel);
+      topics.push_back({&*e.ros2, n == st.channel_message_counts.end() ? 0 : n->second});
+    }
+    const std::string yaml = record_detail::bag_metadata(files.back(), topics, st.message_start_time,
+                                                         st.message_end_time, st.message_count);
+    return mcap->add_metadata("rosbag2", {{"serialized_metadata", yaml}});
+  }
+
+  // A ROS 2 topic's schema (once per type and file) and channel in the current MCAP file.
+  Result<void> register_ros2_channel(Entry& e) {
+    const auto& type = e.ros2->type;
+    std::uint16_t schema = 0;
+    if (auto it = schema_ids.find(type.type); it != schema_ids.end()) {
+      schema = it->second;
+    } else {
+      auto id = mcap->add_schema(type.type, "ros2msg",
+                                 std::as_bytes(std::span(type.definition.data(), type.definition.size())));
+      if (!id) return std::unexpected(id.error());
+      schema = *id;
+      schema_ids.emplace(type.type, schema);
+    }
+    auto channel = mcap->add_channel(schema, e.ros2->topic, "cdr", e.ros2->metadata(*e.source));
+    if (!channel) return std::unexpected(channel.error());
+    e.channel = *channel;
+    return {};
+  }
+
   // The entry's schema (once per type and file) and channel in the current MCAP file.
   Result<void> register_channel(Entry& e) {
+    if (e.ros2) return register_ros2_channel(e);
     const auto& type = e.source->type();
     std::uint16_t schema = 0;
     if (auto it = schema_ids.find(type.name); it != schema_ids.end()) {
@@ -184,7 +229,7 @@ struct Recorder::Impl {
         if (n + 1 == kBatch) backlog = true;  // a topic has more: no pause before the next round
         std::optional<std::uint64_t> stamp;
         try {
-          stamp = e.source->next(options.format, buffer);
+          stamp = e.ros2 ? e.ros2->next(*e.source, buffer) : e.source->next(options.format, buffer);
         } catch (const std::exception& ex) {
           ++e.stats.dropped;
           detail::log().warn("horus record: a message of topic '{}' could not be encoded and is not recorded: {}",
@@ -271,6 +316,8 @@ Recorder::Recorder(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 
 Result<std::unique_ptr<Recorder>> Recorder::open(const std::string& path, RecorderOptions options) {
   if (options.chunk_size == 0) return fail(Errc::InvalidArgument, "RecorderOptions::chunk_size is 0; expected bytes > 0");
+  if (options.profile == RecordProfile::Ros2 && options.format != RecordFormat::Mcap)
+    return fail(Errc::InvalidArgument, "the ros2 profile is a kind of MCAP file (a rosbag2 bag); not an LCM log");
   auto impl = std::make_unique<Impl>();
   impl->base_path = path;
   impl->options = options;
@@ -309,6 +356,18 @@ Result<void> Recorder::add(std::unique_ptr<RecordSource> source) {
     return fail(Errc::InvalidArgument, fmt::format("topic '{}' is longer than an LCM channel may be ({} bytes)",
                                                    source->topic(), lcmlog::kMaxChannel));
   Impl::Entry e;
+  if (impl_->options.profile == RecordProfile::Ros2) {
+    auto ros2 = record_detail::ros2_channel(*source);
+    if (!ros2) return std::unexpected(ros2.error());
+    for (const auto& other : impl_->entries)
+      if (other.ros2->topic == ros2->topic)
+        return fail(Errc::InvalidArgument, fmt::format("topics '{}' and '{}' are both the ROS 2 topic {}; a bag holds "
+                                                       "a topic once (give one another name: 'ros2: {{name: /...}}')",
+                                                       other.source->topic(), source->topic(), ros2->topic));
+    e.stats.ros2_topic = ros2->topic;
+    e.stats.ros2_type = ros2->type.type;
+    e.ros2 = std::move(*ros2);
+  }
   e.stats.topic = source->topic();
   e.stats.type = source->type().name;
   e.stats.scope = source->scope();

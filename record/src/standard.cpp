@@ -35,6 +35,14 @@ class StandardSource final : public RecordSource {
     });
     return stamp;
   }
+  std::optional<std::uint64_t> take(void (*fn)(void* ctx, const void* msg), void* ctx) override {
+    std::optional<std::uint64_t> stamp;
+    topic_->take([&](const void* m) {
+      fn(ctx, m);
+      stamp = topic_->type().own_stamp(m);
+    });
+    return stamp;
+  }
   bool attach(WaitSet& ws) override {
     try {
       topic_->attach(ws);
@@ -67,6 +75,34 @@ class StandardSink final : public PlaySink {
   bool lcm_;
 };
 
+class Ros2Sink final : public PlaySink {
+ public:
+  Ros2Sink(std::unique_ptr<AnyTopic> topic, const ros2::Conversion& conversion)
+      : topic_(std::move(topic)), conversion_(conversion) {
+    topic_->publish_only();
+  }
+  Result<void> publish(std::span<const std::byte> data) override {
+    auto sample = net::encapsulation::parse(data);
+    if (const auto* why = std::get_if<std::string>(&sample)) return fail(Errc::Corrupt, *why);
+    struct Fill {
+      const ros2::Conversion& conversion;
+      const net::Sample& sample;
+    } fill{conversion_, std::get<net::Sample>(sample)};
+    return topic_->send_filled(
+        [](void* ctx, void* msg) -> Result<void> {
+          const auto& f = *static_cast<const Fill*>(ctx);
+          auto ok = f.conversion.decode(f.sample.body, f.sample.little_endian, msg, nullptr);
+          if (ok) return {};
+          return fail(ok.error().malformed ? Errc::Corrupt : Errc::LimitReached, ok.error().what);
+        },
+        &fill, std::chrono::milliseconds(100));
+  }
+
+ private:
+  std::unique_ptr<AnyTopic> topic_;
+  const ros2::Conversion& conversion_;
+};
+
 Result<std::unique_ptr<AnyTopic>> open_named(std::string_view type_name, std::string_view name,
                                              const TopicOptions& options, std::uint64_t* type_hash) {
   const StandardType* type = find_standard_type(type_name);
@@ -95,6 +131,18 @@ Result<std::unique_ptr<PlaySink>> open_standard_sink(std::string_view type_name,
   auto topic = open_named(type_name, name, options, &type_hash);
   if (!topic) return std::unexpected(std::move(topic.error()));
   return std::unique_ptr<PlaySink>(new StandardSink(std::move(*topic), lcm_encoding));
+}
+
+Result<std::unique_ptr<PlaySink>> open_ros2_sink(std::string_view type_name, std::string_view name,
+                                                 const ros2::Conversion& conversion, std::uint64_t& type_hash,
+                                                 const TopicOptions& options) {
+  type_hash = 0;
+  auto topic = open_named(type_name, name, options, &type_hash);
+  if (!topic) return std::unexpected(std::move(topic.error()));
+  if (type_hash != conversion.horus_hash)
+    return fail(Errc::TypeMismatch, fmt::format("topic '{}': {} does not convert from {} ({} does)", name, type_name,
+                                                conversion.ros_type, conversion.horus_type));
+  return std::unique_ptr<PlaySink>(new Ros2Sink(std::move(*topic), conversion));
 }
 
 }  // namespace horus

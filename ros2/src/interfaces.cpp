@@ -188,9 +188,11 @@ Result<std::string> Interfaces::message_definition(std::string_view type_name) c
   auto refs = references(type_name);
   if (!refs) return std::unexpected(refs.error());
   std::string out = find(type_name)->text;
+  // As rosbag2 (Jazzy) writes it, which Foxglove's ROS 2 parser reads: a newline after the
+  // text, the separator line, "MSG: pkg/Name" (the name as fields write it, without "msg/").
   for (const std::string& r : *refs) {
-    if (!out.empty() && out.back() != '\n') out += '\n';
-    out += std::string(80, '=') + "\nMSG: " + r + "\n" + find(r)->text;
+    const auto t = parse_type_name(r);
+    out += "\n" + std::string(80, '=') + "\nMSG: " + (t ? t->package + "/" + t->name : r) + "\n" + find(r)->text;
   }
   return out;
 }

@@ -64,4 +64,10 @@ std::string topic_name_of(std::string_view horus_topic) {
   return out;
 }
 
+std::string horus_topic_of(std::string_view ros_name) {
+  std::string out;
+  for (char c : ros_name.substr(ros_name.starts_with('/') ? 1 : 0)) out += c == '/' ? '.' : c;
+  return out;
+}
+
 }  // namespace horus::ros2

@@ -146,10 +146,12 @@ TEST(Ros2Interfaces, AnUnknownTypeOrReferenceIsAnErrorAndAddedTypesHash) {
 TEST(Ros2Interfaces, TheDefinitionListsEveryReferencedTypeAfterRosbag2sSeparator) {
   auto d = Interfaces::standard().message_definition("geometry_msgs/msg/TwistStamped");
   ASSERT_TRUE(d) << d.error().message();
-  const std::string sep = std::string(80, '=') + "\nMSG: ";
-  for (const char* dep : {"builtin_interfaces/msg/Time", "geometry_msgs/msg/Twist", "geometry_msgs/msg/Vector3",
-                          "std_msgs/msg/Header"})
+  // rosbag2's: the text's newline, a blank line, the separator, the name as fields write it.
+  const std::string sep = "\n\n" + std::string(80, '=') + "\nMSG: ";
+  for (const char* dep : {"builtin_interfaces/Time", "geometry_msgs/Twist", "geometry_msgs/Vector3", "std_msgs/Header"})
     EXPECT_NE(d->find(sep + dep + "\n"), std::string::npos) << dep << " in\n" << *d;
+  for (std::size_t at = d->find("\nMSG: "); at != std::string::npos; at = d->find("\nMSG: ", at + 1))
+    EXPECT_EQ(d->substr(at, d->find('\n', at + 1) - at).find("/msg/"), std::string::npos) << *d;
   EXPECT_TRUE(d->starts_with(Interfaces::standard().find("geometry_msgs/msg/TwistStamped")->text));
 }
 

@@ -242,7 +242,7 @@ class HubImpl final : public Hub {
         error = fmt::format("schema '{}' is not a standard horus message (e.g. horus::msg::CmdVel)", c.schema_name);
       } else if (c.encoding == "cdr") {
         std::uint64_t hash = 0;
-        pub.sink = open_play_sink(type, c.topic, false, hash, error);
+        pub.sink = open_play_sink(type, c.topic, false, nullptr, {}, hash, error);
       } else {
         pub.writer = open_writer(type, c.topic, std::nullopt, error);
       }

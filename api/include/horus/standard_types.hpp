@@ -101,6 +101,11 @@ class AnyTopic {
   /// publisher). Errc::Corrupt names what did not decode; Errc::TypeMismatch when LCM cannot
   /// carry the type.
   virtual Result<void> send_recorded(std::span<const std::byte> data, bool lcm, std::chrono::nanoseconds timeout) = 0;
+  /// Publishes the message `fill` makes of a default-constructed message of the topic's type (a
+  /// ROS 2 sample's conversion, horus/ros2/convert.hpp), as send_recorded does; fill's error is
+  /// returned and nothing is sent.
+  virtual Result<void> send_filled(Result<void> (*fill)(void* ctx, void* msg), void* ctx,
+                                   std::chrono::nanoseconds timeout) = 0;
 
   virtual std::string_view name() const noexcept = 0;
   virtual Backend backend() const noexcept = 0;

@@ -18,6 +18,7 @@
 
 #include "horus/error.hpp"
 #include "horus/idlgen/model.hpp"
+#include "horus/ros2/convert.hpp"
 #include "horus/ros2/interface.hpp"
 
 #include "horus/export.hpp"
@@ -107,6 +108,21 @@ struct Ros2Type {
   ros2::Interfaces types;
 };
 Result<Ros2Type> ros2_type_of(const wire::DynType& root, const Ros2Options& options = {});
+
+/// The ROS 2 type a horus message is on a ROS 2 wire or in a ROS 2 bag: the conversion of
+/// ros2/convert.hpp to `requested` ("pkg/msg/Name" or "pkg/Name"; empty: the message's preferred
+/// one) when it has one; else its own type in the package emit_ros2 writes (`requested`'s
+/// package, or horus_msgs), whose CDR bytes are the message's XCDR1 bytes, from its layout
+/// `signature` (reflect::type_signature). Errors (the caller names the topic): a type it does not
+/// convert to (naming those it does), no layout, no ROS 2 type.
+struct Ros2Mapped {
+  std::string type;                              // "geometry_msgs/msg/Twist"
+  std::string type_hash;                         // "RIHS01_..."
+  const ros2::Conversion* conversion = nullptr;  // nullptr: the message's own XCDR1 bytes
+  std::string definition;  // the type's ros2msg text (Interfaces::message_definition): MCAP's schema
+};
+Result<Ros2Mapped> ros2_mapped_type(std::string_view type_name, std::uint64_t type_hash, std::string_view signature,
+                                    std::string_view requested = {});
 
 /// IDL spelling of a name that collides with an IDL keyword (case-insensitively): "_name"
 /// (an escaped identifier; generated code still calls it `name`). Others are unchanged.

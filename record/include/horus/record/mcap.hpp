@@ -93,6 +93,9 @@ class Writer {
   Result<std::uint16_t> add_schema(std::string_view name, std::string_view encoding, std::span<const std::byte> data);
   Result<std::uint16_t> add_channel(std::uint16_t schema_id, std::string_view topic, std::string_view message_encoding,
                                     const std::map<std::string, std::string>& metadata = {});
+  /// Writes a Metadata record (after the open chunk), indexed in the summary: rosbag2's
+  /// "rosbag2" record, for one.
+  Result<void> add_metadata(std::string_view name, const std::map<std::string, std::string>& metadata);
   /// Appends to the current chunk; writes the chunk when it is full.
   Result<void> write(const Message& message);
   /// Writes the current chunk now (what a killed recorder leaves readable ends here).
@@ -147,6 +150,8 @@ class Reader {
   /// summary, else after read_messages()).
   const std::map<std::uint16_t, Schema>& schemas() const noexcept;
   const std::map<std::uint16_t, Channel>& channels() const noexcept;
+  /// The Metadata records by name (after read_messages(): they are in the data section).
+  const std::map<std::string, std::map<std::string, std::string>>& metadata() const noexcept;
   /// From the summary; a file without one is read through once to count.
   Result<Statistics> statistics();
 

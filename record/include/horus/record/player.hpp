@@ -8,6 +8,12 @@
 //   o.rate = 2.0;                                                   // twice as fast
 //   auto stats = player.value()->play(o);                           // blocks until the end
 //
+// A ROS 2 bag (rosbag2's MCAP, `horus record --profile ros2`): a channel of a ROS 2 type that a
+// standard message converts from (ros2/convert.hpp; the channel's "horus.type" when horus wrote
+// it, else the message whose preferred type it is) plays through the conversion, one of the
+// horus_msgs package as its horus type; its ROS 2 name "/robot1/cmd_vel" plays into the horus
+// topic "robot1.cmd_vel" (the channel's "horus.topic" when horus wrote it).
+//
 // A channel plays only once bound (bind<T>, or bind() with a sink of one's own: the CLI binds
 // the standard types by name). bind<T> checks the recorded type: the MCAP channel's horus type
 // hash, or the fingerprint of the first LCM message on the channel.
@@ -27,6 +33,7 @@
 
 #include "horus/error.hpp"
 #include "horus/record/recorder.hpp"
+#include "horus/ros2/convert.hpp"
 
 #include "horus/export.hpp"
 
@@ -37,6 +44,7 @@ namespace horus {
 /// One recorded topic.
 struct PlayChannel {
   std::string topic;             // as recorded (an LCM log: the channel)
+  std::string horus_topic;       // the topic it plays into unless told: `topic`, or a ROS 2 name's horus one
   std::string type;              // qualified horus type; empty when unknown (an lcm-logger log)
   std::uint64_t type_hash = 0;   // MCAP: from the channel's metadata (0: none)
   std::string signature;         // MCAP: the layout text (empty: none)
@@ -45,6 +53,10 @@ struct PlayChannel {
   std::uint16_t channel_id = 0;  // MCAP
   std::uint64_t lcm_fingerprint = 0;  // LCM: the first message's fingerprint
   std::string scope;             // MCAP: as recorded
+  std::string ros2_type;         // a ROS 2 bag's channel: its type ("sensor_msgs/msg/LaserScan")
+  /// A ROS 2 bag's channel of a converted type: the conversion it plays through (nullptr: the
+  /// bytes are the horus type's own, or the channel is no ROS 2 one).
+  const ros2::Conversion* conversion = nullptr;
   std::uint64_t messages = 0;
   std::uint64_t bytes = 0;
   std::uint64_t first_ns = 0, last_ns = 0;  // log times
@@ -57,6 +69,32 @@ class PlaySink {
   virtual ~PlaySink() = default;
   /// Publishes one message; an error names what did not decode.
   virtual Result<void> publish(std::span<const std::byte> data) = 0;
+};
+
+/// The sink of a Topic<T> fed a ROS 2 type's CDR through its conversion.
+template <class T>
+class ConvertingSink final : public PlaySink {
+ public:
+  ConvertingSink(Topic<T> topic, const ros2::Conversion& conversion) : topic_(std::move(topic)), conversion_(conversion) {
+    topic_.publish_only();
+  }
+  Result<void> publish(std::span<const std::byte> data) override {
+    auto sample = net::encapsulation::parse(data);
+    if (const auto* why = std::get_if<std::string>(&sample)) return fail(Errc::Corrupt, *why);
+    const auto& s = std::get<net::Sample>(sample);
+    auto m = std::make_unique<T>();
+    if (auto ok = conversion_.decode(s.body, s.little_endian, m.get(), nullptr); !ok)
+      return fail(ok.error().malformed ? Errc::Corrupt : Errc::LimitReached, ok.error().what);
+    if (auto ok = topic_.send_blocking(*m, std::chrono::milliseconds(100)); !ok) {
+      if (ok.error().code() != Errc::Timeout) return ok;
+      topic_.send(*m);
+    }
+    return {};
+  }
+
+ private:
+  Topic<T> topic_;
+  const ros2::Conversion& conversion_;
 };
 
 /// The sink of a Topic<T>.
@@ -125,7 +163,7 @@ class Player {
   /// The MCAP file ended early and was read up to its last complete chunk (open with recover).
   bool truncated() const noexcept;
 
-  /// Plays recorded topic `topic` into Topic<T> named `to` (default: the recorded name),
+  /// Plays recorded topic `topic` into Topic<T> named `to` (default: its horus_topic),
   /// checking the recorded type against T.
   template <class T>
   Result<void> bind(std::string_view topic, std::string_view to = {}, const TopicOptions& options = {}) {
@@ -141,12 +179,14 @@ class Player {
     } else if (c->type_hash != 0 && c->type_hash != type_hash<T>) {
       return mismatch(*c, type_name<T>());
     }
-    auto t = Topic<T>::open(to.empty() ? topic : to, options);
+    auto t = Topic<T>::open(to.empty() ? std::string_view(c->horus_topic) : to, options);
     if (!t) return std::unexpected(t.error());
+    if (c->conversion != nullptr) return bind(topic, std::make_unique<ConvertingSink<T>>(std::move(*t), *c->conversion));
     return bind(topic, std::make_unique<TopicSink<T>>(std::move(*t), c->encoding == "lcm"));
   }
   Result<void> bind(std::string_view topic, std::unique_ptr<PlaySink> sink);
-  /// Whether horus can play channel `c`: cdr messages with an omgidl schema (or none), or LCM;
+  /// Whether horus can play channel `c`: cdr messages with an omgidl schema (or none), of a ROS 2
+  /// type horus converts from (ros2msg), or LCM;
   /// else an error naming the channel, its encodings and what horus plays.
   static Result<void> playable(const PlayChannel& c);
 

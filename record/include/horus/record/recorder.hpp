@@ -58,6 +58,19 @@ std::string_view to_string(RecordFormat f) noexcept;
 /// "mcap" or "lcm" (Errc::InvalidArgument naming both otherwise).
 Result<RecordFormat> parse_record_format(std::string_view name);
 
+/// What an MCAP recording holds. Horus: each topic as horus's own type (above). Ros2: a bag as
+/// rosbag2 writes it (docs/ROS2.md), which `ros2 bag` and Foxglove's ROS panels read: the
+/// Header's profile "ros2"; each topic under its ROS 2 name (its `ros2:` rule's, else "/" + its
+/// name with '.' as '/') as its ROS 2 type (a conversion of ros2/convert.hpp, else its own type
+/// of the horus_msgs package: `horus idl --ros2`), a schema of encoding "ros2msg" (the .msg text
+/// and its dependencies), messages "cdr" as a ROS 2 node sends them, channel metadata
+/// "offered_qos_profiles" and "topic_type_hash"; and at the end of each file a Metadata record
+/// "rosbag2" holding the bag's metadata.yaml ("serialized_metadata").
+enum class RecordProfile : std::uint8_t { Horus, Ros2 };
+std::string_view to_string(RecordProfile p) noexcept;
+/// "horus" or "ros2" (Errc::InvalidArgument naming both otherwise).
+Result<RecordProfile> parse_record_profile(std::string_view name);
+
 /// The type a recorded topic carries.
 struct RecordedType {
   std::string name;       // qualified: "horus::msg::Imu"
@@ -83,6 +96,15 @@ class RecordSource {
   /// XCDR1 body; LCM: lcm-gen's bytes); its own timestamp in ns (0: it has none), or nothing
   /// when there was no message.
   virtual std::optional<std::uint64_t> next(RecordFormat format, std::vector<std::byte>& out) = 0;
+  /// Takes the next message and hands it to `fn` (a `const void*` to a message of type().hash,
+  /// valid during the call); its own timestamp in ns (0: none), or nothing when there was none.
+  /// The ROS 2 profile converts messages through it; a source of no horus type (Foxglove's
+  /// schemas) has none and returns nothing.
+  virtual std::optional<std::uint64_t> take(void (*fn)(void* ctx, const void* msg), void* ctx) {
+    (void)fn;
+    (void)ctx;
+    return std::nullopt;
+  }
   /// Attaches the topic to `ws` (false: this source cannot be waited for; it is polled).
   virtual bool attach(WaitSet& ws) = 0;
   /// Messages the subscription lost before they were taken (the ring overwrote them).
@@ -138,6 +160,13 @@ class TopicSource final : public RecordSource {
     }
     return record_detail::own_stamp(msg);
   }
+  std::optional<std::uint64_t> take(void (*fn)(void* ctx, const void* msg), void* ctx) override {
+    auto m = topic_.recv();
+    if (!m) return std::nullopt;
+    const T& msg = *m;
+    fn(ctx, &msg);
+    return record_detail::own_stamp(msg);
+  }
   bool attach(WaitSet& ws) override {
     try {
       ws.attach(topic_);
@@ -156,6 +185,7 @@ class TopicSource final : public RecordSource {
 
 struct RecorderOptions {
   RecordFormat format = RecordFormat::Mcap;
+  RecordProfile profile = RecordProfile::Horus;  // Ros2: MCAP only
   mcap::Compression compression = mcap::Compression::Zstd;  // MCAP only
   std::size_t chunk_size = 4u << 20;                         // MCAP: a chunk is written when it holds this much
   std::chrono::milliseconds flush_interval{1000};            // and at least this often (what a kill loses)
@@ -170,6 +200,8 @@ struct RecordedTopic {
   std::string topic;
   std::string type;
   std::string scope;
+  std::string ros2_topic;  // RecordProfile::Ros2: the channel's name ("/robot1/cmd_vel") and type
+  std::string ros2_type;
   std::uint64_t messages = 0;
   std::uint64_t bytes = 0;    // encoded, as in the file
   std::uint64_t dropped = 0;  // lost before the recorder took them

@@ -32,6 +32,12 @@ Result<std::unique_ptr<PlaySink>> open_standard_sink(std::string_view type_name,
                                                      bool lcm_encoding, std::uint64_t& type_hash,
                                                      const TopicOptions& options = {});
 
+/// The same for a channel of a ROS 2 bag whose messages are `conversion`'s ROS 2 type (CDR with
+/// its header), each converted into the standard message (a PlayChannel's `conversion`).
+Result<std::unique_ptr<PlaySink>> open_ros2_sink(std::string_view type_name, std::string_view name,
+                                                 const ros2::Conversion& conversion, std::uint64_t& type_hash,
+                                                 const TopicOptions& options = {});
+
 }  // namespace horus
 
 HORUS_API_END

@@ -129,8 +129,8 @@ class Interfaces {
   Result<std::string> hashed_description(std::string_view type_name) const;
   /// "RIHS01_" + the SHA-256 of hashed_description, in lower-case hex.
   Result<std::string> type_hash(std::string_view type_name) const;
-  /// The definition an MCAP `ros2msg` schema holds: the type's .msg text, then each referenced
-  /// type's after a line of 80 '=' and "MSG: pkg/msg/Name".
+  /// The definition an MCAP `ros2msg` schema holds, as rosbag2 writes it: the type's .msg text,
+  /// then for each referenced type a newline, a line of 80 '=', "MSG: pkg/Name" and its text.
   Result<std::string> message_definition(std::string_view type_name) const;
 
  private:

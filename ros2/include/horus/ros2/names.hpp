@@ -3,6 +3,7 @@
 //   topic_name("cmd_vel")              -> "/cmd_vel" (made absolute: horus's node is at "/")
 //   topic_name("/robot1/2d")           -> error: a token starts with a digit
 //   topic_name_of("robot1.cmd_vel")    -> "/robot1/cmd_vel"
+//   horus_topic_of("/robot1/cmd_vel")  -> "robot1.cmd_vel"
 //   dds_topic("/robot1/cmd_vel")       -> "rt/robot1/cmd_vel"
 #pragma once
 
@@ -27,6 +28,8 @@ inline constexpr std::size_t kMaxTopicNameLength = 247;
 Result<std::string> topic_name(std::string_view text);
 /// The ROS 2 name of a horus topic: "/" + its name with '.' as '/' (not checked).
 std::string topic_name_of(std::string_view horus_topic);
+/// The horus topic of a ROS 2 name: "/robot1/cmd_vel" -> "robot1.cmd_vel" (not checked).
+std::string horus_topic_of(std::string_view ros_name);
 /// A ROS 2 node: its namespace ("/" or "/robot1") and name ("planner").
 struct NodeName {
   std::string name_space = "/";
