@@ -57,6 +57,7 @@
 #include "record_cmd.hpp"
 #include "security_cmd.hpp"
 #include "topic_cmd.hpp"
+#include "ros2_cmd.hpp"
 
 namespace {
 
@@ -67,7 +68,7 @@ extern "C" void on_signal(int) { g_stop.store(true); }
 // the subcommands that dispatch asks which one was given.
 struct Cli {
   horus::tools::Lookup lookup;
-  bool json = false, verbose = false, local_only = false, all = false, once = false;
+  bool json = false, verbose = false, local_only = false, all = false, once = false, ros2 = false;
   double rate_window_s = 1.0, timeout_s = 0, duration_s = 0, window_s = 1.0, rate_hz = 0;
   long count = 0;
   int fleet_wait_ms = 1000;
@@ -109,6 +110,8 @@ void add_topic_commands(CLI::App& app, Cli& c) {
   c.list->add_flag("-v,--verbose", c.verbose, "show the processes of each topic");
   c.list->add_flag("--local", c.local_only, "this host's topics only");
   c.list->add_flag("--all", c.all, "also the fleet layer's own topics (horus.fleet.*)");
+  c.list->add_flag("--ros2", c.ros2,
+                   "the ROS 2 topics of the DDS domain instead (name, ROS 2 type, publishers, subscribers, nodes)");
   auto rate_flag = [&](CLI::App* s) {
     s->add_option("--window", c.rate_window_s, "seconds over which rates are measured (default 1; 0: no rates)")
         ->check(CLI::Range(0.0, 60.0));
@@ -316,6 +319,7 @@ int run_host_command(Cli& c, const std::string& ns) {
     c.fox.ns = ns;
     return horus::tools::cmd_foxglove(c.fox, g_stop);
   }
+  if (*c.list && c.ros2) return horus::tools::cmd_list_ros2(c.json, c.lookup, g_stop);
   if (*c.list) return horus::tools::cmd_list(ns, c.json, c.verbose, c.lookup, c.local_only, c.all, g_stop);
   if (*c.info) return horus::tools::cmd_info(ns, c.name, c.lookup, g_stop);
   if (*c.echo) return horus::tools::cmd_echo(ns, c.name, c.lookup, c.json, c.count, c.timeout_s, g_stop);

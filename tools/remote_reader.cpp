@@ -1,6 +1,9 @@
 #include "remote_reader.hpp"
 
 #include <condition_variable>
+#include <expected>
+#include <functional>
+#include <span>
 #include <deque>
 #include <mutex>
 #include <vector>
@@ -8,6 +11,9 @@
 #include "horus/backend.hpp"
 #include "horus/config.hpp"
 #include "horus/network.hpp"
+#include "horus/ros2/dynamic.hpp"
+#include "horus/ros2/interface.hpp"
+#include "horus/ros2/names.hpp"
 #include "horus/transport_registry.hpp"
 #include "horus/wire/dynamic.hpp"
 
@@ -17,9 +23,12 @@ namespace {
 
 constexpr std::size_t kQueue = 4096;
 
+// A sample's body (and its byte order) as JSON, or why it does not decode.
+using Decoder = std::function<std::expected<nlohmann::json, std::string>(std::span<const std::byte>, bool)>;
+
 class NetworkReader final : public RemoteReader, public net::Listener {
  public:
-  NetworkReader(wire::DynType type, net::WireFormat format) : type_(std::move(type)), format_(format) {}
+  explicit NetworkReader(Decoder decode) : decode_(std::move(decode)) {}
   ~NetworkReader() override { endpoint_.reset(); }  // no callback after this
 
   bool start(const net::TransportInfo& info, const net::EndpointSpec& spec, std::string& error) {
@@ -67,8 +76,7 @@ class NetworkReader final : public RemoteReader, public net::Listener {
     Sample out;
     out.bytes = raw.body.size();
     if (decode) {
-      auto j = wire::decode_json(type_, format_ == net::WireFormat::Lcm ? wire::DynFormat::Lcm : wire::DynFormat::Xcdr1,
-                                 raw.body, raw.little_endian);
+      auto j = decode_(raw.body, raw.little_endian);
       if (j) out.value = std::move(*j);
       else out.error = j.error();
     }
@@ -92,8 +100,7 @@ class NetworkReader final : public RemoteReader, public net::Listener {
     std::vector<std::byte> body;
     bool little_endian = true;
   };
-  wire::DynType type_;
-  net::WireFormat format_;
+  Decoder decode_;
   std::shared_ptr<net::Transport> transport_;
   std::unique_ptr<net::Endpoint> endpoint_;
   mutable std::mutex mutex_;
@@ -134,7 +141,42 @@ std::unique_ptr<RemoteReader> RemoteReader::open(const std::string& topic, const
   spec.type_hash = type_hash;
   spec.qos.reliability = net::Reliability::BestEffort;  // matches reliable and best-effort writers
   spec.qos.depth = 64;
-  auto r = std::make_unique<NetworkReader>(std::move(*type), info->format);
+  spec.send = false;  // an observer: no writer that the topic's readers would match
+  auto r = std::make_unique<NetworkReader>([type = std::move(*type), format](std::span<const std::byte> body, bool le) {
+    return wire::decode_json(type, format, body, le);
+  });
+  if (!r->start(*info, spec, error)) return nullptr;
+  return r;
+}
+
+std::unique_ptr<RemoteReader> RemoteReader::open_ros2(const std::string& ros_name, const std::string& transport,
+                                                      const std::string& ros_type, std::string& error) {
+  const auto* info = net::find_transport(transport);
+  if (info == nullptr || info->format != net::WireFormat::Xcdr1) {
+    error = info == nullptr ? "this build of horus has no " + transport + " backend"
+                            : "ROS 2 topics are on DDS (cyclonedds or fastdds), not " + transport;
+    return nullptr;
+  }
+  const auto& types = ros2::Interfaces::standard();
+  auto name = ros2::parse_type_name(ros_type);
+  auto hash = types.type_hash(ros_type);
+  if (!name || !hash) {
+    error = (!name ? name.error() : hash.error()).message();
+    return nullptr;
+  }
+  net::EndpointSpec spec;
+  spec.topic = ros_name;
+  spec.wire_topic = ros2::dds_topic(ros_name);
+  spec.type_name = name->dds();
+  spec.user_data = ros2::user_data_of(*hash);
+  spec.qos.reliability = net::Reliability::BestEffort;  // matches reliable and best-effort writers
+  spec.qos.depth = 64;
+  spec.send = false;
+  auto r = std::make_unique<NetworkReader>([&types, ros_type](std::span<const std::byte> body, bool le) {
+    auto j = ros2::decode_json(types, ros_type, body, le);
+    return j ? std::expected<nlohmann::json, std::string>(std::move(*j))
+             : std::unexpected(j.error().message());
+  });
   if (!r->start(*info, spec, error)) return nullptr;
   return r;
 }

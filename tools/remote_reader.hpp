@@ -29,6 +29,11 @@ class RemoteReader {
   static std::unique_ptr<RemoteReader> open(const std::string& topic, const std::string& transport,
                                             const std::string& type_name, std::uint64_t type_hash,
                                             const std::string& signature, std::string& error);
+  /// Opens the ROS 2 topic `ros_name` ("/scan": DDS topic rt/scan) on `transport` (a DDS one) as
+  /// the ROS 2 type `ros_type` of horus/ros2/interface.hpp's common interfaces, decoded through
+  /// its .msg (horus/ros2/dynamic.hpp): what `horus topic echo /scan` reads.
+  static std::unique_ptr<RemoteReader> open_ros2(const std::string& ros_name, const std::string& transport,
+                                                 const std::string& ros_type, std::string& error);
   virtual ~RemoteReader() = default;
   virtual std::optional<Sample> recv(bool decode) = 0;
   virtual bool wait(std::chrono::nanoseconds timeout) = 0;

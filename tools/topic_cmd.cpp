@@ -31,6 +31,7 @@
 #include "horus/horus.hpp"
 #include "horus/msg/all.hpp"
 #include "remote_reader.hpp"
+#include "ros2_cmd.hpp"
 #include "typed_reader.hpp"
 
 namespace horus::tools {
@@ -266,6 +267,13 @@ std::unique_ptr<horus::tools::RemoteReader> open_remote_reader(const RemoteTopic
 template <class Body>
 int with_topic(const std::string& ns, const std::string& name, const char* cmd, const Lookup& lookup,
                const std::atomic<bool>& stop, Body&& body) {
+  // A ROS 2 name ("/scan"): the ROS 2 topic of the domain, whoever publishes it.
+  if (name.starts_with('/')) {
+    auto reader = open_ros2_topic(name, lookup, cmd, stop);
+    if (!reader) return 1;
+    RemoteSource src(std::move(reader));
+    return body(static_cast<Source&>(src));
+  }
   // A topic of this host: read through its segment.
   auto local = [&](const horus::discovery::TopicEntry& entry) -> int {
     auto reader = open_local_reader(entry, name, cmd);

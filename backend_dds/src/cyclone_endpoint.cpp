@@ -246,7 +246,7 @@ Result<void> CycloneEndpoint::create() {
   // Under DDS-Security, the host's permissions may allow only one direction: the other one is
   // left out (what this host's publishers write then stays on the host: write() says why, the
   // bridge counts it as dropped). Neither direction is an error.
-  writer_ = dds_create_writer(participant, topic_, qos.get(), writer_listener.get());
+  writer_ = spec.send ? dds_create_writer(participant, topic_, qos.get(), writer_listener.get()) : 0;
   bool publish_denied = false;
   if (writer_ < 0) {
     const dds_return_t rc = writer_;

@@ -104,6 +104,7 @@ class CycloneTransport final : public net::Transport, public std::enable_shared_
   bool holds_samples() const noexcept override { return true; }
   bool secure() const noexcept override { return secure_; }
   std::optional<net::Guid> participant_guid() const override { return guid_of(participant_); }
+  std::vector<Remote> remote_endpoints() const override { return remote_types_.remotes(); }
   Result<std::unique_ptr<net::Endpoint>> open(const net::EndpointSpec& spec, net::Listener& listener) override;
 
   const net::Config& config() const noexcept { return config_; }

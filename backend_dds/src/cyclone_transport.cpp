@@ -180,6 +180,7 @@ void CycloneTransport::take_builtin(dds_entity_t reader, bool publisher) noexcep
       net::RemoteTypes::Id id;
       bool alive;
       std::string topic, type, user_data;
+      net::Guid guid{};
     };
     std::vector<Event> events;
     for (;;) {
@@ -191,14 +192,17 @@ void CycloneTransport::take_builtin(dds_entity_t reader, bool publisher) noexcep
         for (dds_return_t i = 0; i < n; i++) {
           const auto id = remote_id(info[i].instance_handle);
           if (info[i].instance_state != DDS_IST_ALIVE) {
-            events.push_back(Event{id, false, {}, {}, {}});
+            events.push_back(Event{id, false, {}, {}, {}, {}});
             continue;
           }
           if (!info[i].valid_data) continue;
           const auto* ep = static_cast<const dds_builtintopic_endpoint_t*>(samples[i]);
           if (std::memcmp(&ep->participant_key, &guid_, sizeof guid_) == 0) continue;  // ours
-          events.push_back(Event{id, true, ep->topic_name ? ep->topic_name : "", ep->type_name ? ep->type_name : "",
-                                 user_data_of(ep->qos)});
+          Event e{id, true, ep->topic_name ? ep->topic_name : "", ep->type_name ? ep->type_name : "",
+                  user_data_of(ep->qos), {}};
+          static_assert(sizeof(ep->key.v) == sizeof(e.guid));
+          std::memcpy(e.guid.data(), ep->key.v, e.guid.size());
+          events.push_back(std::move(e));
         }
       } catch (...) {
         dds_return_loan(reader, samples, n);
@@ -209,7 +213,7 @@ void CycloneTransport::take_builtin(dds_entity_t reader, bool publisher) noexcep
     }
     for (const Event& e : events) {
       if (e.alive)
-        remote_types_.remote_seen(e.id, e.topic, e.type, publisher, e.user_data);
+        remote_types_.remote_seen(e.id, e.topic, e.type, publisher, e.user_data, &e.guid);
       else
         remote_types_.remote_gone(e.id);
     }

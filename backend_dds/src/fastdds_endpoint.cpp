@@ -337,6 +337,9 @@ Result<void> FastddsEndpoint::create(fd::Topic* topic, fd::ContentFilteredTopic*
     return fail(Errc::Io, core_->topic_label() + ": Fast DDS could not create the DataReader (QoS " +
                               describe(q) + ")");
   if (reader_ != nullptr) core_->attach_reader(reader_);
+  if (!core_->spec().send) return reader_ != nullptr && reader_->enable() == ReturnCode_t::RETCODE_OK
+                                    ? Result<void>{}
+                                    : fail(Errc::Io, core_->topic_label() + ": Fast DDS could not enable the DataReader");
   writer_ = transport_->publisher()->create_datawriter(
       topic, wq, &writer_listener_,
       fd::StatusMask::publication_matched() << fd::StatusMask::offered_incompatible_qos());

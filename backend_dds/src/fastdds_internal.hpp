@@ -248,6 +248,7 @@ class FastddsTransport final : public net::Transport, public std::enable_shared_
   std::string_view name() const noexcept override { return "fastdds"; }
   bool holds_samples() const noexcept override { return true; }
   bool secure() const noexcept override { return secure_; }
+  std::vector<Remote> remote_endpoints() const override { return remote_types_.remotes(); }
   std::optional<net::Guid> participant_guid() const override {
     return participant_ != nullptr ? std::optional(guid_of(participant_->guid())) : std::nullopt;
   }

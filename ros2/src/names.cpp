@@ -64,6 +64,15 @@ std::string topic_name_of(std::string_view horus_topic) {
   return out;
 }
 
+std::string ros_type_of_dds(std::string_view dds_type) {
+  constexpr std::string_view kMid = "::msg::dds_::";
+  const auto mid = dds_type.find(kMid);
+  if (mid == std::string_view::npos || mid == 0 || !dds_type.ends_with('_')) return {};
+  const auto name = dds_type.substr(mid + kMid.size(), dds_type.size() - mid - kMid.size() - 1);
+  if (name.empty() || name.find(':') != std::string_view::npos) return {};
+  return std::string(dds_type.substr(0, mid)) + "/msg/" + std::string(name);
+}
+
 std::string horus_topic_of(std::string_view ros_name) {
   std::string out;
   for (char c : ros_name.substr(ros_name.starts_with('/') ? 1 : 0)) out += c == '/' ? '.' : c;

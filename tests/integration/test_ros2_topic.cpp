@@ -5,12 +5,17 @@
 // fastddsgen: tests/interop/test_ros2_interop.cpp.)
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <string>
+#include <thread>
+
+#include <nlohmann/json.hpp>
 
 #include "dds_support.hpp"
 #include "horus/idlgen/emit.hpp"
 #include "horus/ros2/interface.hpp"
 #include "horus/wire/dynamic.hpp"
+#include "process_support.hpp"
 #include "test_support.hpp"
 
 namespace {
@@ -106,6 +111,55 @@ TEST_P(Ros2Topic, AMessageWithoutAnEquivalentGoesAsItsHorusMsgsType) {
   EXPECT_EQ(other->name, "my_robot_msgs/msg/Heartbeat");
   // The package name is part of what is hashed (the type's name is in its description).
   EXPECT_NE(other->type_hash, t->type_hash);
+}
+
+// The CLI on the ROS 2 graph, without a configuration file: `horus topic list --ros2` lists a
+// mapped topic with its ROS 2 type, its publisher and the node ros_discovery_info names;
+// `horus topic echo` and `hz` read it by its ROS 2 name.
+TEST_P(Ros2Topic, TheCliListsEchoesAndRatesATopicByItsRos2Name) {
+  const std::string node = "cli_check_" + std::to_string(::getpid());
+  ::setenv("HORUS_ROS2_NODE", node.c_str(), 1);
+  auto cmd = open<CmdVel>(prefix_ + ".cmd_vel", {});
+  ASSERT_TRUE(cmd) << cmd.error().message();
+  std::atomic<bool> done{false};
+  std::thread sender([&] {
+    for (int i = 0; !done.load() && i < 3000; ++i) {  // 20 Hz, at most 150 s
+      cmd->send(CmdVel{0, 1.25f, -0.5f});
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  });
+  const std::string ros_name = "/" + prefix_ + "/cmd_vel";
+  const std::string cli = std::string(HORUS_CLI) + " topic ";
+  const std::string backend = " --backend " + std::string(horus::to_string(GetParam()));
+  std::string out;
+  EXPECT_EQ(horus_test::run_command(cli + "list --ros2 --json --wait 3000" + backend, out), 0) << out;
+  const auto list = nlohmann::json::parse(out.substr(std::min(out.find('{'), out.size())), nullptr, false);
+  bool listed = false;
+  for (const auto& t : list.is_discarded() ? nlohmann::json::array() : list["topics"])
+    if (t["name"] == ros_name) {
+      listed = true;
+      EXPECT_EQ(t["type"], "geometry_msgs/msg/Twist");
+      EXPECT_EQ(t["type_hash"], horus::ros2::Interfaces::standard().type_hash("geometry_msgs/msg/Twist").value());
+      EXPECT_GE(t["publishers"].get<int>(), 1);
+      EXPECT_EQ(t["publishing_nodes"], nlohmann::json::array({"/" + node})) << t.dump();
+    }
+  EXPECT_TRUE(listed) << ros_name << " not in\n" << out;
+  EXPECT_EQ(horus_test::run_command(cli + "echo " + ros_name + " -n 2 --json --wait 5000" + backend, out), 0) << out;
+  const auto brace = std::min(out.find('{'), out.size());
+  const auto first = nlohmann::json::parse(out.substr(brace, out.find('\n', brace) - brace), nullptr, false);
+  EXPECT_EQ(out.find("INCOMPATIBLE"), std::string::npos) << "the echo is an observer, no writer:\n" << out;
+  EXPECT_FALSE(first.is_discarded()) << out;
+  if (!first.is_discarded()) {
+    EXPECT_FLOAT_EQ(first["linear"]["x"].get<float>(), 1.25f) << out;
+    EXPECT_FLOAT_EQ(first["angular"]["z"].get<float>(), -0.5f) << out;
+  }
+  EXPECT_EQ(horus_test::run_command(cli + "hz " + ros_name + " --duration 2 --wait 5000" + backend, out), 0) << out;
+  EXPECT_NE(out.find("average rate"), std::string::npos) << out;
+  // A ROS 2 name nobody publishes: named, with what the domain has.
+  EXPECT_EQ(horus_test::run_command(cli + "echo /" + prefix_ + "/nothing -n 1 --wait 500" + backend, out), 1) << out;
+  EXPECT_NE(out.find("no ROS 2 publisher"), std::string::npos) << out;
+  done = true;
+  sender.join();
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, Ros2Topic, ::testing::Values(Backend::CycloneDds, Backend::FastDds),

@@ -161,6 +161,10 @@ struct EndpointSpec {
   /// set_receiving(true) (a host whose handles only publish). Like set_receiving, a hint:
   /// a backend that gains nothing by not receiving (DDS) ignores it.
   bool receive = true;
+  /// false: a reader only, no writer (DDS): an observer such as `horus topic echo`, which no
+  /// publisher should match as a subscriber of its own QoS nor count as a writer. write() then
+  /// fails.
+  bool send = true;
 };
 
 /// A sample that arrived: the serialized body (for DDS: the XCDR1 bytes after the 4-byte
@@ -244,6 +248,15 @@ class Transport {
   virtual bool holds_samples() const noexcept { return false; }
   /// The participant's GUID (DDS), or nothing (LCM).
   virtual std::optional<Guid> participant_guid() const { return std::nullopt; }
+  /// The endpoints of other participants its discovery knows now, on every topic of the domain
+  /// (DDS: `horus topic list --ros2`); none where it has no discovery (LCM).
+  struct Remote {
+    Guid guid;
+    std::string wire_topic, type_name;
+    bool publisher = false;
+    std::string type_hash;  // a ROS 2 endpoint's USER_DATA "typehash=...", or empty
+  };
+  virtual std::vector<Remote> remote_endpoints() const { return {}; }
   /// True when it runs under DDS-Security (net::Security): its peers are authenticated hosts of
   /// the keystore, their access checked, the traffic signed or encrypted.
   virtual bool secure() const noexcept { return false; }

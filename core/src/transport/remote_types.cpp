@@ -79,16 +79,25 @@ std::string RemoteTypes::local_conflict(std::string_view wire_topic, std::string
 }
 
 void RemoteTypes::remote_seen(const Id& id, std::string_view wire_topic, std::string_view type_name, bool publisher,
-                              std::string_view user_data) {
+                              std::string_view user_data, const Id* guid) {
   Pending pending;
   {
     std::lock_guard lock(mutex_);
     auto& remote = remotes_[id];
-    remote = Remote{std::string(wire_topic), std::string(type_name), publisher, type_hash_of(user_data)};
+    remote = Remote{std::string(wire_topic), std::string(type_name), publisher, type_hash_of(user_data),
+                    guid != nullptr ? *guid : id};
     auto [first, last] = locals_.equal_range(wire_topic);
     for (auto it = first; it != last; ++it) report_locked(it->second.second, id, remote, pending);
   }
   deliver(pending);
+}
+
+std::vector<Transport::Remote> RemoteTypes::remotes() const {
+  std::lock_guard lock(mutex_);
+  std::vector<Transport::Remote> out;
+  out.reserve(remotes_.size());
+  for (const auto& [id, r] : remotes_) out.push_back({r.guid, r.wire_topic, r.type_name, r.publisher, r.type_hash});
+  return out;
 }
 
 void RemoteTypes::remote_gone(const Id& id) {

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "horus/export.hpp"
+#include "horus/network.hpp"
 
 HORUS_API_BEGIN
 
@@ -53,12 +54,16 @@ class RemoteTypes {
   /// A remote endpoint discovered (again): reported to each local endpoint of its topic with
   /// another type (or the same type with another type hash in `user_data`) that has not heard
   /// of it yet.
+  /// `guid`: the endpoint's GUID where `id` is not it (Cyclone DDS's instance handles).
   void remote_seen(const Id& id, std::string_view wire_topic, std::string_view type_name, bool publisher,
-                   std::string_view user_data = {});
+                   std::string_view user_data = {}, const Id* guid = nullptr);
   /// A remote endpoint went away.
   void remote_gone(const Id& id);
   /// Every remote endpoint whose id starts with `prefix` went away (a remote participant).
   void remotes_gone(std::span<const std::uint8_t> prefix);
+
+  /// Every remote endpoint known now, on any topic (Transport::remote_endpoints).
+  std::vector<Transport::Remote> remotes() const;
 
  private:
   struct Local {
@@ -71,6 +76,7 @@ class RemoteTypes {
     std::string wire_topic, type_name;
     bool publisher = false;
     std::string type_hash;
+    Id guid{};
   };
   using Pending = std::vector<std::pair<Report, std::string>>;
 

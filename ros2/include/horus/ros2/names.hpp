@@ -39,6 +39,9 @@ struct NodeName {
 /// with a digit; the namespace: as a topic name); the error says which rule is broken.
 Result<NodeName> node_name(std::string_view text);
 
+/// The ROS 2 type of a DDS type name rmw registers: "sensor_msgs::msg::dds_::LaserScan_" ->
+/// "sensor_msgs/msg/LaserScan"; empty when it is not of that form (not a ROS 2 message).
+std::string ros_type_of_dds(std::string_view dds_type);
 /// The DDS topic of a ROS 2 topic, as rmw_cyclonedds_cpp and rmw_fastrtps_cpp name it.
 inline std::string dds_topic(std::string_view ros_name) { return "rt" + std::string(ros_name); }
 

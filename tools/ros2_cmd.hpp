@@ -1,0 +1,27 @@
+// The ROS 2 graph from the command line (ros2_cmd.cpp): `horus topic list --ros2` (the DDS
+// domain's ROS 2 topics, their types, publishers, subscribers and nodes), and the ROS 2 topics
+// that `horus topic echo/hz/bw /scan` read by their ROS 2 name, without a configuration file.
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <string>
+
+#include "remote_reader.hpp"
+#include "topic_cmd.hpp"
+
+namespace horus::tools {
+
+/// The DDS transport the ROS 2 commands use: --backend, else the configured fleet transport when
+/// it is a DDS one, else Cyclone DDS (ROS 2's rmw layers all speak DDS; the domain is
+/// HORUS_DOMAIN_ID's, as ROS_DOMAIN_ID).
+std::string ros2_transport(const std::string& backend_flag);
+
+int cmd_list_ros2(bool json, const Lookup& lookup, const std::atomic<bool>& stop);
+
+/// A reader of ROS 2 topic `name` ("/scan") as the type its publishers announce, once one is
+/// discovered (within lookup's wait); null, with the error printed (`horus topic CMD: ...`).
+std::unique_ptr<RemoteReader> open_ros2_topic(const std::string& name, const Lookup& lookup, const char* cmd,
+                                              const std::atomic<bool>& stop);
+
+}  // namespace horus::tools
