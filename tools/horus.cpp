@@ -226,6 +226,8 @@ void add_foxglove_command(CLI::App& app, Cli& c) {
   foxglove->add_option("--backend", fox.backend, "network backend of the fleet (default: the configuration's)");
   foxglove->add_option("--duration", fox.duration_s, "stop after S seconds (default: until Ctrl-C)")
       ->check(CLI::PositiveNumber);
+  foxglove->add_flag("--ros2", fox.ros2,
+                     "also the ROS 2 topics of the DDS domain (any ROS 2 node's), in their ROS 2 schemas (ros2msg)");
 }
 
 // horus play.

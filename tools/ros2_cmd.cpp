@@ -31,16 +31,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr const char* kGraphType = "rmw_dds_common/msg/ParticipantEntitiesInfo";
 
-Result<std::shared_ptr<net::Transport>> open_transport(const std::string& name) {
-  const auto* info = net::find_transport(name);
-  if (info == nullptr || info->format != net::WireFormat::Xcdr1)
-    return fail(Errc::InvalidArgument, info == nullptr ? "this build of horus has no " + name + " backend"
-                                                       : "ROS 2 topics are on DDS (cyclonedds or fastdds), not " + name);
-  auto config = net::config_from_environment();
-  if (!config) return std::unexpected(config.error());
-  return info->open(*config);
-}
-
 net::Guid gid_of(const nlohmann::json& gid) {
   net::Guid g{};
   const auto& data = gid.at("data");
@@ -111,28 +101,20 @@ class GraphReader final : public net::Listener {
   std::map<net::Guid, std::vector<Node>> by_participant_;
 };
 
-struct Ros2Row {
-  std::string type, dds_type, type_hash;
-  std::size_t publishers = 0, subscribers = 0;
-  std::set<std::string> nodes, publishing_nodes, subscribing_nodes;
-};
-
-// The domain's ROS 2 topics ("rt/..."), by ROS 2 name.
-std::map<std::string, Ros2Row> ros2_topics(const net::Transport& transport, const GraphReader* graph) {
-  std::map<std::string, Ros2Row> rows;
+// The domain's ROS 2 topics ("rt/..."), by ROS 2 name, with their nodes when `graph` is given.
+std::map<std::string, Ros2TopicInfo> topics_with_nodes(const net::Transport& transport, const GraphReader* graph) {
+  std::map<std::string, Ros2TopicInfo> rows;
   for (const auto& r : transport.remote_endpoints()) {
     if (!r.wire_topic.starts_with("rt/")) continue;
-    Ros2Row& row = rows[r.wire_topic.substr(2)];
+    Ros2TopicInfo& row = rows[r.wire_topic.substr(2)];
     row.dds_type = r.type_name;
     row.type = ros2::ros_type_of_dds(r.type_name);
     if (row.type.empty()) row.type = r.type_name;
     if (!r.type_hash.empty()) row.type_hash = r.type_hash;
     ++(r.publisher ? row.publishers : row.subscribers);
     if (graph == nullptr) continue;
-    if (auto node = graph->node_of(r.guid, r.publisher); !node.empty()) {
-      row.nodes.insert(node);
+    if (auto node = graph->node_of(r.guid, r.publisher); !node.empty())
       (r.publisher ? row.publishing_nodes : row.subscribing_nodes).insert(node);
-    }
   }
   return rows;
 }
@@ -143,7 +125,7 @@ std::string joined(const std::set<std::string>& names) {
   return out;
 }
 
-void print_rows(const std::map<std::string, Ros2Row>& rows, bool json) {
+void print_rows(const std::map<std::string, Ros2TopicInfo>& rows, bool json) {
   if (json) {
     auto topics = nlohmann::json::array();
     for (const auto& [name, r] : rows)
@@ -163,12 +145,29 @@ void print_rows(const std::map<std::string, Ros2Row>& rows, bool json) {
     return;
   }
   fmt::print("{:<40} {:<40} {:>4} {:>4}  {}\n", "TOPIC", "TYPE", "PUB", "SUB", "NODES");
-  for (const auto& [name, r] : rows)
+  for (const auto& [name, r] : rows) {
+    std::set<std::string> nodes = r.publishing_nodes;
+    nodes.insert(r.subscribing_nodes.begin(), r.subscribing_nodes.end());
     fmt::print("{:<40} {:<40} {:>4} {:>4}  {}\n", name, r.type, r.publishers, r.subscribers,
-               r.nodes.empty() ? "-" : joined(r.nodes));
+               nodes.empty() ? "-" : joined(nodes));
+  }
 }
 
 }  // namespace
+
+Result<std::shared_ptr<net::Transport>> open_ros2_transport(const std::string& name) {
+  const auto* info = net::find_transport(name);
+  if (info == nullptr || info->format != net::WireFormat::Xcdr1)
+    return fail(Errc::InvalidArgument, info == nullptr ? "this build of horus has no " + name + " backend"
+                                                       : "ROS 2 topics are on DDS (cyclonedds or fastdds), not " + name);
+  auto config = net::config_from_environment();
+  if (!config) return std::unexpected(config.error());
+  return info->open(*config);
+}
+
+std::map<std::string, Ros2TopicInfo> ros2_topics(const net::Transport& transport) {
+  return topics_with_nodes(transport, nullptr);
+}
 
 std::string ros2_transport(const std::string& backend_flag) {
   const std::string configured = fleet_transport(backend_flag);
@@ -178,7 +177,7 @@ std::string ros2_transport(const std::string& backend_flag) {
 
 int cmd_list_ros2(bool json, const Lookup& lookup, const std::atomic<bool>& stop) {
   const std::string name = ros2_transport(lookup.transport);
-  auto transport = open_transport(name);
+  auto transport = open_ros2_transport(name);
   if (!transport) {
     fmt::print(stderr, "horus topic list --ros2: {}\n", transport.error().message());
     return 1;
@@ -190,7 +189,7 @@ int cmd_list_ros2(bool json, const Lookup& lookup, const std::atomic<bool>& stop
   // Discovery and the participants' transient-local graph states arrive within the wait.
   for (const auto end = Clock::now() + std::chrono::milliseconds(lookup.wait_ms); !stop.load() && Clock::now() < end;)
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  print_rows(ros2_topics(**transport, &graph), json);
+  print_rows(topics_with_nodes(**transport, &graph), json);
   return 0;
 }
 
@@ -202,7 +201,7 @@ std::unique_ptr<RemoteReader> open_ros2_topic(const std::string& name, const Loo
     return nullptr;
   }
   const std::string transport_name = ros2_transport(lookup.transport);
-  auto transport = open_transport(transport_name);
+  auto transport = open_ros2_transport(transport_name);
   if (!transport) {
     fmt::print(stderr, "horus topic {}: {}\n", cmd, transport.error().message());
     return nullptr;
@@ -214,7 +213,7 @@ std::unique_ptr<RemoteReader> open_ros2_topic(const std::string& name, const Loo
       if (r.publisher && r.wire_topic == ros2::dds_topic(*checked)) dds_type = r.type_name;
   if (dds_type.empty()) {
     std::string known;
-    for (const auto& [n, r] : ros2_topics(**transport, nullptr)) known += (known.empty() ? "" : ", ") + n;
+    for (const auto& [n, r] : ros2_topics(**transport)) known += (known.empty() ? "" : ", ") + n;
     fmt::print(stderr, "horus topic {}: no ROS 2 publisher of '{}' on {} (domain HORUS_DOMAIN_ID) within {:.1f} s{}\n",
                cmd, *checked, transport_name,
                std::chrono::duration<double>(std::max<Clock::duration>(std::chrono::milliseconds(lookup.wait_ms),

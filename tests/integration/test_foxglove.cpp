@@ -72,9 +72,8 @@ std::vector<json> json_lines(const std::string& out) {
 // `horus foxglove` on a free port of this host, serving `pattern`.
 class Server {
  public:
-  explicit Server(const std::string& pattern)
-      : proc_(horus_test::start_logged({HORUS_CLI, "foxglove", "--port", "0", "--topics", pattern, "--duration", "120"},
-                                       "/tmp/" + horus_test::unique_name("fox") + ".log")) {
+  explicit Server(const std::string& pattern, const std::vector<std::string>& more = {})
+      : proc_(horus_test::start_logged(args(pattern, more), "/tmp/" + horus_test::unique_name("fox") + ".log")) {
     if (!proc_.wait_for_output("status page", 20s)) return;
     // "ws://127.0.0.1:PORT (...": the port after the address
     const auto out = proc_.output();
@@ -88,6 +87,11 @@ class Server {
   horus_test::HostProcess& process() { return proc_; }
 
  private:
+  static std::vector<std::string> args(const std::string& pattern, const std::vector<std::string>& more) {
+    std::vector<std::string> a = {HORUS_CLI, "foxglove", "--port", "0", "--topics", pattern, "--duration", "120"};
+    a.insert(a.end(), more.begin(), more.end());
+    return a;
+  }
   horus_test::HostProcess proc_;
   int port_ = 0;
 };
@@ -256,6 +260,54 @@ TEST(Foxglove, ACmdVelAClientPublishesReachesAHorusSubscriber) {
   // A type that is no standard message is refused, naming it.
   const auto bad = client({"publish-json", server.url(), prefix + ".x", "my::Thing", "{}", "1"}, rc);
   EXPECT_NE(bad.find("'my::Thing' is not a standard horus message"), std::string::npos) << bad;
+}
+
+// `horus foxglove --ros2`: a ROS 2 topic of the DDS domain (here a horus topic mapped onto ROS 2,
+// which is on the wire what a ROS 2 driver publishes) is a channel under its ROS 2 name in its
+// ROS 2 schema, which Foxglove's ROS 2 readers decode.
+TEST(Foxglove, ARos2TopicOfTheDomainIsServedInItsRos2Schema) {
+  REQUIRE_FOXGLOVE_CLIENTS();
+  if (::access(FOXGLOVE_JS_DIR "/node_modules/@foxglove/rosmsg2-serialization", F_OK) != 0)
+    GTEST_SKIP() << "the npm packages are not installed in " FOXGLOVE_JS_DIR;
+  if (!horus::backend_available(horus::Backend::CycloneDds)) GTEST_SKIP() << "this build has no Cyclone DDS backend";
+  ::setenv("HORUS_DDS_LOCALHOST", "1", 1);
+  ::setenv("HORUS_DOMAIN_ID", std::to_string(1 + (::getpid() + 31) % 200).c_str(), 1);
+  const std::string prefix = "fxros" + std::to_string(::getpid());
+  horus::TopicOptions o;
+  o.backend = horus::Backend::CycloneDds;
+  horus::Ros2Mapping mapping;
+  mapping.name = "/" + prefix + "/scan";
+  mapping.frame_id = "laser";
+  o.ros2 = mapping;
+  auto scan = horus::Topic<horus::msg::LaserScan>::open(prefix + ".scan", o);
+  ASSERT_TRUE(scan) << scan.error().message();
+  horus::msg::LaserScan s{};
+  s.angle_increment = 0.01f;
+  s.angle_max = 0.01f * 99;
+  s.range_min = 0.1f;
+  s.range_max = 20.0f;
+  s.ranges[0] = 3.5f;
+  s.timestamp_ns = 1'700'000'000'250'000'000ULL;
+  horus_test::Publishing beat(100ms, [&](int) { scan->send(s); });
+  Server server(prefix + ".**", {"--ros2"});
+  ASSERT_GT(server.port(), 0) << server.output();
+  int rc = 0;
+  const auto out = client({"decode", server.url(), "/" + prefix + "/scan"}, rc);
+  ASSERT_EQ(rc, 0) << out << server.output();
+  bool decoded = false;
+  for (const auto& j : json_lines(out)) {
+    if (!j.contains("topic")) continue;
+    decoded = true;
+    EXPECT_EQ(j["schema"], "sensor_msgs/msg/LaserScan");
+    EXPECT_EQ(j["schema_encoding"], "ros2msg");
+    EXPECT_EQ(j["value"]["header"]["frame_id"], "laser");
+    EXPECT_EQ(j["value"]["header"]["stamp"]["sec"], 1'700'000'000);
+    EXPECT_EQ(j["value"]["header"]["stamp"]["nanosec"], 250'000'000);
+    ASSERT_EQ(j["value"]["ranges"].size(), 100u) << j.dump();
+    EXPECT_FLOAT_EQ(j["value"]["ranges"][0].get<float>(), 3.5f);
+  }
+  EXPECT_TRUE(decoded) << out;
+  EXPECT_NE(server.output().find("ROS 2 topics of the domain"), std::string::npos) << server.output();
 }
 
 TEST(Foxglove, TheConnectionGraphNamesThisProcessAsThePublisher) {

@@ -6,7 +6,10 @@
 
 #include <fmt/format.h>
 
+#include "../ros2_cmd.hpp"
 #include "../typed_reader.hpp"
+#include "horus/ros2/interface.hpp"
+#include "horus/ros2/names.hpp"
 #include "horus/fleet_messages.hpp"
 #include "horus/idlgen/emit.hpp"
 #include "horus/names.hpp"
@@ -204,10 +207,42 @@ void Catalogue::scan_fleet(Scan& r, const Fleet& fleet, const std::set<std::stri
   }
 }
 
-Scan Catalogue::scan(Fleet* fleet) {
+// The domain's ROS 2 topics that have a publisher and a type of the common interfaces horus
+// knows: each a channel under its ROS 2 name in its ROS 2 schema (ros2msg, as rosbag2 writes it),
+// its samples passed on as they came (CDR). A horus topic mapped onto ROS 2 is also one of them:
+// served twice, in horus's schema under its horus name and in ROS 2's under its ROS 2 name.
+void Catalogue::scan_ros2(Scan& r, const net::Transport& transport) {
+  const auto& types = ros2::Interfaces::standard();
+  for (const auto& [name, t] : ros2_topics(transport)) {
+    if (t.publishers == 0 || !(patterns_.empty() || wanted(ros2::horus_topic_of(name)))) continue;
+    auto definition = types.message_definition(t.type);
+    if (!definition) {
+      unserved_.insert({name, "a ROS 2 topic of type " + t.type + ", which is not one of the ROS 2 interfaces horus "
+                              "reads (docs/ROS2.md)"});
+      continue;
+    }
+    Desc d;
+    d.horus_topic = name;
+    d.type = t.type;
+    d.via = std::string(transport.name());
+    d.ros2_type = t.type;
+    d.adv.topic = name;
+    d.adv.schema_name = t.type;
+    d.adv.schema_encoding = "ros2msg";
+    d.adv.schema = std::move(*definition);
+    d.adv.encoding = "cdr";
+    r.channels[name] = std::move(d);
+    r.topics.push_back({{"name", name},       {"type", t.type},        {"scope", "ros2"},        {"hosts", json::array()},
+                        {"publishers", t.publishers}, {"subscribers", t.subscribers}, {"rate_hz", -1.0},
+                        {"message_bytes", 0}, {"bandwidth_bps", -1.0}, {"dropped", 0}});
+  }
+}
+
+Scan Catalogue::scan(Fleet* fleet, net::Transport* ros2) {
   Scan r;
   std::set<std::string> local_names;
   scan_local(r, local_names);
+  if (ros2 != nullptr) scan_ros2(r, *ros2);
   if (fleet) {
     scan_fleet(r, *fleet, local_names);
   } else {

@@ -15,6 +15,7 @@
 
 #include "horus/discovery/registry.hpp"
 #include "horus/fleet.hpp"
+#include "horus/network.hpp"
 #include "protocol.hpp"
 
 namespace horus::tools::fox {
@@ -29,6 +30,7 @@ struct Desc {
   std::string via;  // the network backend to read it through (empty: shared memory)
   bool converted = false;
   bool remote_raw = false;  // not a standard type: read through its signature (RemoteReader)
+  std::string ros2_type;    // a ROS 2 topic of the domain (`--ros2`), read as this ROS 2 type
   bool operator==(const Desc& o) const {
     return adv.topic == o.adv.topic && adv.schema_name == o.adv.schema_name && adv.schema == o.adv.schema &&
            adv.encoding == o.adv.encoding && via == o.via;
@@ -47,8 +49,9 @@ struct Scan {
 class Catalogue {
  public:
   Catalogue(std::vector<std::string> patterns, const std::string& ns);
-  /// What there is now (`fleet`: the fleet layer, or null on this host alone). One thread calls it.
-  Scan scan(Fleet* fleet);
+  /// What there is now (`fleet`: the fleet layer, or null on this host alone; `ros2`: the DDS
+  /// transport whose domain's ROS 2 topics are served too, or null). One thread calls it.
+  Scan scan(Fleet* fleet, net::Transport* ros2 = nullptr);
 
  private:
   using Clock = std::chrono::steady_clock;
@@ -58,6 +61,7 @@ class Catalogue {
                  std::map<std::string, std::pair<std::uint64_t, Clock::time_point>>& counts);
   void scan_local(Scan& r, std::set<std::string>& local_names);
   void scan_fleet(Scan& r, const Fleet& fleet, const std::set<std::string>& local_names);
+  void scan_ros2(Scan& r, const net::Transport& transport);
 
   std::vector<std::string> patterns_;
   discovery::Scanner scanner_;

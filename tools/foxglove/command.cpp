@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "../fleet_cmd.hpp"
+#include "../ros2_cmd.hpp"
 #include "horus/fleet.hpp"
 #include "horus/names.hpp"
 #include "hub.hpp"
@@ -35,6 +36,7 @@ int cmd_foxglove(const FoxgloveArgs& a, const std::atomic<bool>& stop) {
   ho.frame = a.frame;
   ho.client_publish = !a.no_publish;
   ho.name = fmt::format("horus foxglove on {}", fleet::host_name());
+  if (a.ros2) ho.ros2_transport = ros2_transport(a.backend);
   std::string error;
   auto hub = fox::Hub::start(ho, error);
   if (!hub) {
@@ -53,8 +55,9 @@ int cmd_foxglove(const FoxgloveArgs& a, const std::atomic<bool>& stop) {
   const std::string shown = a.address == "0.0.0.0" ? fleet::host_name() : a.address;
   fmt::print("horus foxglove: ws://{}:{} (Foxglove: Open connection, Foxglove WebSocket); status page http://{}:{}/\n",
              shown, server->port(), shown, server->port());
-  fmt::print("serving {} channels of {}{}; Ctrl-C stops\n", hub->channel_count(),
+  fmt::print("serving {} channels of {}{}{}; Ctrl-C stops\n", hub->channel_count(),
              ho.transport.empty() ? std::string("this host") : "this host and the fleet (" + ho.transport + ")",
+             ho.ros2_transport.empty() ? "" : " and the ROS 2 topics of the domain (" + ho.ros2_transport + ")",
              a.no_publish ? "; clients may not publish" : "");
   std::fflush(stdout);
   const auto start = std::chrono::steady_clock::now();

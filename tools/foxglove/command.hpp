@@ -18,6 +18,7 @@ struct FoxgloveArgs {
   int max_clients = 64;
   std::string backend;    // the fleet's transport (--backend), else the configuration's
   double duration_s = 0;  // 0: until Ctrl-C
+  bool ros2 = false;      // also the DDS domain's ROS 2 topics, in their ROS 2 schemas
 };
 int cmd_foxglove(const FoxgloveArgs& args, const std::atomic<bool>& stop);
 

@@ -12,6 +12,7 @@
 
 #include "../fleet_cmd.hpp"
 #include "../remote_reader.hpp"
+#include "../ros2_cmd.hpp"
 #include "../typed_reader.hpp"
 #include "catalogue.hpp"
 #include "horus/fleet.hpp"
@@ -64,6 +65,14 @@ class HubImpl final : public Hub {
     if (!o_.transport.empty()) {
       fleet_ = open_fleet(o_.transport, error);
       if (!fleet_) return false;
+    }
+    if (!o_.ros2_transport.empty()) {
+      auto t = open_ros2_transport(o_.ros2_transport);
+      if (!t) {
+        error = "--ros2: " + t.error().message();
+        return false;
+      }
+      ros2_ = std::move(*t);
     }
     scan();
     scan_thread_ = std::thread([this] { scan_loop(); });
@@ -334,6 +343,8 @@ class HubImpl final : public Hub {
       TopicOptions to;
       to.backend = backend;
       fresh.source = open_foxglove_source(d.type, d.horus_topic, to, o_.frame, error);
+    } else if (!d.ros2_type.empty()) {
+      fresh.remote = RemoteReader::open_ros2(d.adv.topic, d.via, d.ros2_type, error);
     } else if (d.remote_raw) {
       fresh.remote = RemoteReader::open(d.horus_topic, d.via, d.type, d.hash, d.signature, error);
       fresh.remote_json = d.adv.encoding == "json";
@@ -522,7 +533,7 @@ class HubImpl final : public Hub {
   }
 
   void scan() {
-    Scan s = catalogue_.scan(fleet_.get());
+    Scan s = catalogue_.scan(fleet_.get(), ros2_.get());
     std::lock_guard lock(mu_);
     update_channels(s);
     if (dirty_) wake_.fire();
@@ -549,6 +560,7 @@ class HubImpl final : public Hub {
   Catalogue catalogue_;  // the scan thread's
   std::string session_ = std::to_string(unix_ns());
   std::unique_ptr<Fleet> fleet_;
+  std::shared_ptr<net::Transport> ros2_;  // --ros2: the domain's discovery
   std::set<std::string, std::less<>> transports_;  // Backend keeps a view of the name
 
   mutable std::mutex mu_;  // what follows

@@ -50,6 +50,7 @@ struct HubOptions {
   std::string frame = "world";        // the frame of converted messages that name none
   bool client_publish = true;         // clients may publish (clientPublish)
   std::string name;                   // serverInfo's name
+  std::string ros2_transport;         // a DDS transport: also the domain's ROS 2 topics (empty: none)
 };
 
 class Hub {

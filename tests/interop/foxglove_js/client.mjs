@@ -5,7 +5,9 @@
 // Debian's chromium for the status page.
 //
 //   node client.mjs decode URL TOPIC...        decode one message of each topic; --foxglove-idl:
-//                                              foxglove::* channels decoded with @foxglove/schemas' IDL
+//                                              foxglove::* channels decoded with @foxglove/schemas' IDL;
+//                                              a ros2msg channel with @foxglove/rosmsg and
+//                                              @foxglove/rosmsg2-serialization, as Foxglove's ROS panels
 //   node client.mjs publish URL LIKE TO JSON N clientPublish N messages on TO, encoded with LIKE's schema
 //   node client.mjs publish-json URL TO SCHEMA JSON N   clientPublish N JSON messages (encoding json)
 //   node client.mjs watch URL TOPIC           wait for TOPIC to be advertised, then unadvertised
@@ -20,6 +22,8 @@ import WebSocket from "ws";
 import wsProtocol from "@foxglove/ws-protocol";
 import { parseIDL } from "@foxglove/omgidl-parser";
 import { MessageReader, MessageWriter } from "@foxglove/omgidl-serialization";
+import { parse as parseRosMsg } from "@foxglove/rosmsg";
+import { MessageReader as Ros2MessageReader } from "@foxglove/rosmsg2-serialization";
 import { plain } from "../js_common/plain.mjs";
 import foxgloveInternal from "@foxglove/schemas/internal.js";
 import omgIdl from "@foxglove/schemas/dist/internal/generateOmgIdl.js";
@@ -83,13 +87,15 @@ async function decode(url, topics, foxgloveIdlFlag) {
     for (const ch of list) {
       if (!want.has(ch.topic) || channels.has(ch.topic)) continue;
       channels.set(ch.topic, ch);
-      if (ch.encoding !== "cdr" || ch.schemaEncoding !== "omgidl")
-        fail(`channel ${ch.topic}: encoding ${ch.encoding}, schemaEncoding ${ch.schemaEncoding} (want cdr, omgidl)`);
+      if (ch.encoding !== "cdr" || (ch.schemaEncoding !== "omgidl" && ch.schemaEncoding !== "ros2msg"))
+        fail(`channel ${ch.topic}: encoding ${ch.encoding}, schemaEncoding ${ch.schemaEncoding} (want cdr, omgidl or ros2msg)`);
       let idl = ch.schema;
       if (foxgloveIdlFlag && ch.schemaName.startsWith("foxglove::")) idl = foxgloveIdl(ch.schemaName);
       let reader;
       try {
-        reader = new MessageReader(ch.schemaName, parseIDL(idl));
+        reader = ch.schemaEncoding === "ros2msg"
+          ? new Ros2MessageReader(parseRosMsg(ch.schema, { ros2: true }))
+          : new MessageReader(ch.schemaName, parseIDL(idl));
       } catch (e) {
         fail(`channel ${ch.topic} (${ch.schemaName}): its schema does not parse: ${e}`);
       }
@@ -106,7 +112,8 @@ async function decode(url, topics, foxgloveIdlFlag) {
       fail(`channel ${r.ch.topic} (${r.ch.schemaName}): a message does not decode: ${e}`);
     }
     done.add(r.ch.topic);
-    out({ topic: r.ch.topic, schema: r.ch.schemaName, receive_ns: timestamp, value: plain(value) });
+    out({ topic: r.ch.topic, schema: r.ch.schemaName, schema_encoding: r.ch.schemaEncoding, receive_ns: timestamp,
+          value: plain(value) });
     if (done.size === want.size && time !== null) finish();
   });
   const finish = () => {
