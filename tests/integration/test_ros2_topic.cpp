@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <filesystem>
 #include <string>
 #include <thread>
 
@@ -15,6 +16,8 @@
 #include "horus/idlgen/emit.hpp"
 #include "horus/ros2/interface.hpp"
 #include "horus/wire/dynamic.hpp"
+#include "horus/record/recorder.hpp"
+#include "netns.hpp"
 #include "process_support.hpp"
 #include "test_support.hpp"
 
@@ -160,6 +163,39 @@ TEST_P(Ros2Topic, TheCliListsEchoesAndRatesATopicByItsRos2Name) {
   EXPECT_NE(out.find("no ROS 2 publisher"), std::string::npos) << out;
   done = true;
   sender.join();
+}
+
+// `horus play --ros2`: a ROS 2 bag's topic played onto the ROS 2 wire (its recorded name and
+// type), where a reader of the ROS 2 name (`horus topic echo /...`) gets the recorded values.
+TEST_P(Ros2Topic, PlayWithRos2PutsABagsTopicsOnTheRos2Wire) {
+  const std::string bag = "/tmp/" + prefix_ + ".mcap";
+  {
+    auto rec = horus::Recorder::open(bag, {.profile = horus::RecordProfile::Ros2});
+    ASSERT_TRUE(rec) << rec.error().message();
+    ASSERT_TRUE((*rec)->add<CmdVel>(prefix_ + ".cmd"));
+    auto cmd = horus::Topic<CmdVel>::open(prefix_ + ".cmd");
+    ASSERT_TRUE(cmd);
+    for (int i = 0; i < 5; ++i) cmd->send(CmdVel{0, 0.75f, 0.125f});
+    ASSERT_TRUE((*rec)->close());
+  }
+  const std::string backend(horus::to_string(GetParam()));
+  ::setenv("HORUS_BACKEND", backend.c_str(), 1);  // the player's mapped topics on this backend
+  auto play = horus_test::start_logged({HORUS_CLI, "play", bag, "--ros2", "--loop", "--rate", "10"},
+                                       "/tmp/" + prefix_ + "-play.log");
+  std::string out;
+  EXPECT_EQ(horus_test::run_command(std::string(HORUS_CLI) + " topic echo /" + prefix_ + "/cmd -n 1 --json --wait 10000" +
+                                        " --backend " + backend,
+                                    out),
+            0)
+      << out << play.output();
+  const auto brace = std::min(out.find('{'), out.size());
+  const auto j = nlohmann::json::parse(out.substr(brace, out.find('\n', brace) - brace), nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << out;
+  EXPECT_FLOAT_EQ(j["linear"]["x"].get<float>(), 0.75f);
+  EXPECT_FLOAT_EQ(j["angular"]["z"].get<float>(), 0.125f);
+  play.terminate();
+  EXPECT_EQ(play.wait(std::chrono::seconds(10)), 0) << play.output();
+  std::filesystem::remove(bag);
 }
 
 INSTANTIATE_TEST_SUITE_P(Backends, Ros2Topic, ::testing::Values(Backend::CycloneDds, Backend::FastDds),

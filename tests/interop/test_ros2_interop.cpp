@@ -18,7 +18,10 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "dds_support.hpp"
+#include "netns.hpp"
 #include "horus/ros2/interface.hpp"
 #include "process_support.hpp"
 #include "test_support.hpp"
@@ -335,6 +338,93 @@ TEST_P(Ros2Interop, ARos2PeerReadsHorusFieldByFieldAndHorusReadsItsEcho) {
   EXPECT_EQ(got_tf->rotation, sent.tf.rotation);
   EXPECT_EQ(got_tf->timestamp_ns, kStamp);
 }
+
+// Between hosts (network namespaces, each with its own /dev/shm): on host 0 a horus topic mapped
+// onto ROS 2 by the configuration file, published by one process and read by another through
+// shared memory; on host 1 the ROS 2 peer. The peer reads every message once (one bridge on
+// host 0 however many of its processes use the topic), with ROS 2's values, type hash and graph
+// node; host 0 reads the peer's echo by its ROS 2 name (`horus topic echo /...`).
+class Ros2Hosts : public ::testing::TestWithParam<Case> {};
+
+TEST_P(Ros2Hosts, ARos2NodeOnAnotherHostReadsEachMessageOnceWhileTheHostsSubscribersUseSharedMemory) {
+  const auto [backend, peer_name] = GetParam();
+  if (!horus::backend_available(backend)) GTEST_SKIP() << "this build has no " << horus::to_string(backend) << " backend";
+  const std::string program = std::string(INTEROP_WORK_DIR) + "/" + peer_name;
+  if (::access(program.c_str(), X_OK) != 0) GTEST_SKIP() << peer_name << " was not built (see interop.BuildThirdPartyPeers)";
+  horus_test::NetnsLan lan(2, "r");
+  if (!lan.ok()) GTEST_SKIP() << lan.why();
+  const std::string prefix = "r2h" + std::to_string(::getpid());
+  const std::string domain = std::to_string(1 + ::getpid() % 200);
+  const std::string report = "/tmp/" + prefix + ".txt", config = "/tmp/" + prefix + ".yaml";
+  std::ofstream(config) << "topics:\n  - match: " << prefix << ".cmd_vel\n    ros2: true\n";
+  const std::string dds(horus::to_string(backend));
+  const std::vector<std::string> env{"HORUS_BACKEND=" + dds, "HORUS_DOMAIN_ID=" + domain, "HORUS_DDS_LOCALHOST=0",
+                                     "HORUS_CONFIG=" + config, "HORUS_ROS2_NODE=robot1_horus"};
+  std::vector<std::string> peer_args{program, domain, prefix, "60", report};
+  for (const auto& [name, type] : kEntries) peer_args.push_back(horus::ros2::Interfaces::standard().type_hash(type).value());
+  auto peer = lan.spawn(1, peer_args, {"ROS2_PEER_LAN=1"});
+  ASSERT_TRUE(peer.wait_for_output("ready", std::chrono::seconds(20))) << peer.output();
+
+  constexpr int kSent = 200;  // 10 s at 20 Hz
+  const std::string cli = HORUS_CLI;
+  auto local = lan.spawn(0, {cli, "topic", "echo", prefix + ".cmd_vel", "--json", "-n", "3", "--timeout", "40"}, env);
+  auto pub = lan.spawn(0, {cli, "topic", "pub", prefix + ".cmd_vel", "CmdVel", R"({"linear": 1.25, "angular": -0.5})",
+                           "-r", "20", "-n", std::to_string(kSent)}, env);
+  auto back = lan.spawn(0, {cli, "topic", "echo", "/" + prefix + "/cmd_vel_echo", "--json", "-n", "1", "--wait", "30000"},
+                        env);
+  const int back_rc = back.wait(std::chrono::seconds(45));
+  if (back_rc != 0) {  // what host 0 sees of the domain, to say why
+    auto list = lan.spawn(0, {cli, "topic", "list", "--ros2", "--wait", "3000"}, env);
+    (void)list.wait(std::chrono::seconds(20));
+    ADD_FAILURE() << "the echo of the peer's echo ended " << back_rc << ":\n" << back.output() << "\nhost 0 lists:\n"
+                  << list.output();
+  }
+  EXPECT_EQ(local.wait(std::chrono::seconds(45)), 0) << local.output();
+  EXPECT_EQ(pub.wait(std::chrono::seconds(30)), 0) << pub.output();
+  peer.close_stdin();
+  EXPECT_EQ(peer.wait(std::chrono::seconds(10)), 0) << peer.output();
+
+  // Host 0's own subscriber and the peer's echo read on host 0: the values horus sent.
+  for (auto* out : {&local, &back}) {
+    const std::string text = out->output();
+    const auto at = std::min(text.find('{'), text.size());
+    const auto j = nlohmann::json::parse(text.substr(at, text.find('\n', at) - at), nullptr, false);
+    ASSERT_FALSE(j.is_discarded()) << text;
+    EXPECT_FLOAT_EQ(j["linear"].is_object() ? j["linear"]["x"].get<float>() : j["linear"].get<float>(), 1.25f) << text;
+  }
+  const auto r = read_report(report);
+  std::filesystem::remove(report);
+  std::filesystem::remove(config);
+  // Each message once, as ROS 2's Twist: no more than were sent (two bridges would double them).
+  const auto twists = r.count("twist");
+  EXPECT_GT(twists, 0u);
+  EXPECT_LE(twists, static_cast<std::size_t>(kSent)) << "a message reached the ROS 2 node more than once";
+  for (auto [it, end] = r.equal_range("twist"); it != end; ++it)
+    EXPECT_EQ(it->second, (std::vector<std::string>{"1.25", "0", "0", "0", "0", "-0.5"}));
+  const std::string topic = "rt/" + prefix + "/cmd_vel";
+  std::string writer;
+  for (auto [it, end] = r.equal_range("userdata"); it != end; ++it)
+    if (it->second.size() == 3 && it->second[0] == topic) {
+      EXPECT_TRUE(writer.empty()) << "more than one writer of " << topic << " (one bridge per host)";
+      writer = it->second[1];
+      EXPECT_EQ(it->second[2],
+                "typehash=" + horus::ros2::Interfaces::standard().type_hash("geometry_msgs/msg/Twist").value() + ";");
+    }
+  ASSERT_FALSE(writer.empty()) << "the peer matched no writer of " << topic;
+  bool graphed = false;
+  for (auto [it, end] = r.equal_range("graph"); it != end; ++it)
+    graphed |= it->second.size() >= 4 && it->second[1] == "/" && it->second[2] == "robot1_horus" &&
+               std::find(it->second.begin(), it->second.end(), writer) != it->second.end();
+  EXPECT_TRUE(graphed) << "ros_discovery_info never listed robot1_horus with the bridge's writer " << writer;
+}
+
+INSTANTIATE_TEST_SUITE_P(Hosts, Ros2Hosts,
+                         ::testing::Values(Case{Backend::CycloneDds, "ros2_peer_cyclone"},
+                                           Case{Backend::FastDds, "ros2_peer_fastdds"}),
+                         [](const auto& param_info) {
+                           return std::string(horus::to_string(param_info.param.horus)) + "_with_" +
+                                  param_info.param.peer;
+                         });
 
 INSTANTIATE_TEST_SUITE_P(Peers, Ros2Interop,
                          ::testing::Values(Case{Backend::CycloneDds, "ros2_peer_cyclone"},

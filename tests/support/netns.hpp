@@ -120,6 +120,11 @@ class HostProcess {
     out_.clear();
     return std::exchange(pid_, -1);
   }
+  /// Closes its standard input (a peer that ends at EOF, as the interop peers do, then ends
+  /// cleanly and flushes what it writes); wait() for it.
+  void close_stdin() {
+    if (stdin_ >= 0) ::close(std::exchange(stdin_, -1));
+  }
   /// Asks it to end (SIGTERM); wait() for it.
   void terminate() const {
     if (pid_ > 0) ::kill(pid_, SIGTERM);

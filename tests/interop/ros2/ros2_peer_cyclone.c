@@ -10,7 +10,8 @@
  * also reports the USER_DATA of every writer it matched (with its GUID) and of every participant it
  * discovered, and what other participants say of their nodes on ros_discovery_info.
  * Prints "ready" when its endpoints exist; stops when stdin closes or after <seconds>.
- * Loopback only, unicast discovery (horus's HORUS_DDS_LOCALHOST=1). */
+ * Loopback only, unicast discovery (horus's HORUS_DDS_LOCALHOST=1); with ROS2_PEER_LAN=1 (a test
+ * that runs it on a namespace host) Cyclone DDS's defaults: the host's interfaces, multicast. */
 #include <poll.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -186,7 +187,9 @@ int main(int argc, char** argv) {
   const char* prefix = argv[2];
   const time_t end = time(NULL) + atoi(argv[3]);
   FILE* out = fopen(argv[4], "w");
-  if (out == NULL || dds_create_domain(domain, kConfig) < 0) return 3;
+  const char* lan = getenv("ROS2_PEER_LAN");
+  const int on_lan = lan != NULL && strcmp(lan, "1") == 0;
+  if (out == NULL || (!on_lan && dds_create_domain(domain, kConfig) < 0)) return 3;
   dds_qos_t* pq = dds_create_qos();
   dds_qset_userdata(pq, "enclave=/;", strlen("enclave=/;"));
   const dds_entity_t pp = dds_create_participant(domain, pq, NULL);

@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <string_view>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -173,8 +174,16 @@ bool parent_gone() {
   return ::read(0, &c, 1) <= 0;
 }
 
+// Loopback only; with ROS2_PEER_LAN=1 (a test that runs it on a namespace host) Fast DDS's
+// defaults: the host's interfaces, multicast discovery.
 fd::DomainParticipantQos loopback_participant(fd::DomainParticipantFactory* factory) {
   fd::DomainParticipantQos pq = factory->get_default_participant_qos();
+  const char* lan = std::getenv("ROS2_PEER_LAN");
+  if (lan != nullptr && std::string_view(lan) == "1") {
+    const std::string enclave = "enclave=/;";
+    pq.user_data().setValue(std::vector<rtps::octet>(enclave.begin(), enclave.end()));
+    return pq;
+  }
   pq.transport().use_builtin_transports = false;
   auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
   udp->interfaceWhiteList.emplace_back("127.0.0.1");
