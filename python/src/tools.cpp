@@ -203,14 +203,17 @@ void bind_config(py::module_& m) {
 }
 
 void bind_recorder(py::module_& record) {
-  py::class_<Recorder>(record, "Recorder", "Records topics into an MCAP file (or an LCM log: format='lcm')")
-      .def(py::init([](const std::string& path, const std::string& format, std::uint64_t split_size) {
+  py::class_<Recorder>(record, "Recorder",
+                       "Records topics into an MCAP file (or an LCM log: format='lcm'; a ROS 2 bag: profile='ros2')")
+      .def(py::init([](const std::string& path, const std::string& format, std::uint64_t split_size,
+                       const std::string& profile) {
              RecorderOptions o;
              o.format = ok_or_raise(parse_record_format(format));
+             o.profile = ok_or_raise(parse_record_profile(profile));
              o.split_size = split_size;
              return ok_or_raise(Recorder::open(path, o));
            }),
-           py::arg("path"), py::arg("format") = "mcap", py::arg("split_size") = 0)
+           py::arg("path"), py::arg("format") = "mcap", py::arg("split_size") = 0, py::arg("profile") = "horus")
       .def("add", [](Recorder& r, const std::string& name, py::handle type, const py::kwargs& kw) {
         ok_or_raise(r.add(ok_or_raise(open_standard_source(type_of(type).qualified, name, topic_options(kw)))));
       }, py::arg("name"), py::arg("type"))

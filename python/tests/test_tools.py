@@ -78,6 +78,25 @@ def test_a_recording_made_in_python_plays_back_into_topics(tmp_path, fmt, suffix
         horus.record.Player(str(tmp_path / "missing.mcap"))
 
 
+def test_a_ros2_bag_made_in_python_plays_back_through_the_conversion(tmp_path, unique):
+    path = str(tmp_path / "ros2.mcap")
+    pub = horus.Topic(unique + ".pose", Pose)
+    with horus.record.Recorder(path, profile="ros2") as rec:
+        rec.add(unique + ".pose", Pose)
+        for i in range(5):
+            pub.send(Pose(x=float(i), theta=0.5))
+    ros_name = "/" + unique.replace(".", "/") + "/pose"
+    player = horus.record.Player(path)
+    assert player.topics == {ros_name: Pose}  # geometry_msgs/msg/Pose2D, played as a Pose2D
+    sub = horus.Topic(unique + ".back", Pose, capacity=8)
+    player.bind(ros_name, to=unique + ".back")
+    assert player.play(rate=0)["published"] == 5
+    got = [sub.recv() for _ in range(5)]
+    assert [m.x for m in got] == [0.0, 1.0, 2.0, 3.0, 4.0] and got[0].theta == 0.5
+    with pytest.raises(horus.Error, match="ros2"):
+        horus.record.Recorder(str(tmp_path / "x.lcm"), format="lcm", profile="ros2")
+
+
 def test_a_recording_in_python_reads_in_the_cli(tmp_path, unique):
     path = str(tmp_path / "py.mcap")
     pub = horus.Topic(unique, Pose)

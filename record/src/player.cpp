@@ -47,7 +47,8 @@ void note(PlayChannel& c, std::uint64_t t, std::size_t bytes) {
 // A ROS 2 bag's channel (schema encoding ros2msg): the horus type it plays as, and how. The type
 // horus recorded it from (its "horus.type") when that converts to the channel's type; else the
 // standard message whose preferred ROS 2 type it is (else the first that converts to it); a
-// horus_msgs type is the standard message of its name, bytes as they are.
+// message's own type (horus_msgs, or another package a rule named, with "horus.type") is that
+// standard message, bytes as they are.
 void resolve_ros2(PlayChannel& c, const std::string& schema_name, const std::string& recorded,
                   const std::string& horus_topic) {
   auto name = ros2::parse_type_name(schema_name);
@@ -65,11 +66,12 @@ void resolve_ros2(PlayChannel& c, const std::string& schema_name, const std::str
     c.conversion = chosen;
     c.type = std::string(chosen->horus_type);
     c.type_hash = chosen->horus_hash;
-  } else if (name && name->package == "horus_msgs") {
-    if (const StandardType* t = find_standard_type(name->name); t != nullptr) {
-      c.type = std::string(t->name);
-      c.type_hash = t->hash;
-    }
+  } else if (const StandardType* t = !recorded.empty()                          ? find_standard_type(recorded)
+                                     : name && name->package == "horus_msgs" ? find_standard_type(name->name)
+                                                                             : nullptr;
+             t != nullptr) {  // its own type (horus_msgs, or the package its rule named): its bytes
+    c.type = std::string(t->name);
+    c.type_hash = t->hash;
   }
 }
 
