@@ -138,6 +138,15 @@ struct Writer::Impl {
     o.end_record(at);
   }
 
+  // The summary's Metadata Index record of one Metadata record.
+  static void metadata_index_record(Out& o, const MetadataIndex& mi) {
+    const auto at = o.begin_record(detail::kMetadataIndex);
+    o.u64(mi.offset);
+    o.u64(mi.length);
+    o.str(mi.name);
+    o.end_record(at);
+  }
+
   // The summary's Chunk Index record of one chunk.
   void chunk_index_record(Out& o, const ChunkIndex& ci) const {
     const auto at = o.begin_record(detail::kChunkIndex);
@@ -190,13 +199,7 @@ struct Writer::Impl {
       for (const auto& ci : chunk_indexes) chunk_index_record(o, ci);
     });
     group(detail::kMetadataIndex, [&] {
-      for (const auto& mi : metadata_indexes) {
-        at = o.begin_record(detail::kMetadataIndex);
-        o.u64(mi.offset);
-        o.u64(mi.length);
-        o.str(mi.name);
-        o.end_record(at);
-      }
+      for (const auto& mi : metadata_indexes) metadata_index_record(o, mi);
     });
     const std::uint64_t summary_offset_start = summary_start + o.size();
     for (const auto& g : groups) {

@@ -5,10 +5,9 @@
 // fastddsgen: tests/interop/test_ros2_interop.cpp.)
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <filesystem>
+#include <optional>
 #include <string>
-#include <thread>
 
 #include <nlohmann/json.hpp>
 
@@ -124,13 +123,8 @@ TEST_P(Ros2Topic, TheCliListsEchoesAndRatesATopicByItsRos2Name) {
   ::setenv("HORUS_ROS2_NODE", node.c_str(), 1);
   auto cmd = open<CmdVel>(prefix_ + ".cmd_vel", {});
   ASSERT_TRUE(cmd) << cmd.error().message();
-  std::atomic<bool> done{false};
-  std::thread sender([&] {
-    for (int i = 0; !done.load() && i < 3000; ++i) {  // 20 Hz, at most 150 s
-      cmd->send(CmdVel{0, 1.25f, -0.5f});
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    }
-  });
+  std::optional<horus_test::Publishing> sender;  // 20 Hz while the CLI reads
+  sender.emplace(std::chrono::milliseconds(50), [&](int) { cmd->send(CmdVel{0, 1.25f, -0.5f}); });
   const std::string ros_name = "/" + prefix_ + "/cmd_vel";
   const std::string cli = std::string(HORUS_CLI) + " topic ";
   const std::string backend = " --backend " + std::string(horus::to_string(GetParam()));
@@ -161,8 +155,7 @@ TEST_P(Ros2Topic, TheCliListsEchoesAndRatesATopicByItsRos2Name) {
   // A ROS 2 name nobody publishes: named, with what the domain has.
   EXPECT_EQ(horus_test::run_command(cli + "echo /" + prefix_ + "/nothing -n 1 --wait 500" + backend, out), 1) << out;
   EXPECT_NE(out.find("no ROS 2 publisher"), std::string::npos) << out;
-  done = true;
-  sender.join();
+  sender.reset();
 }
 
 // `horus play --ros2`: a ROS 2 bag's topic played onto the ROS 2 wire (its recorded name and
