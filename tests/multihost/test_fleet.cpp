@@ -273,9 +273,12 @@ TEST_P(Fleet, TheCliSeesAndReachesTopicsOfAnotherHost) {
     const int rc = bw.wait(30s);
     const std::string out = bw.output();
     ASSERT_EQ(rc, 0) << out;
-    // Pose2D is 4 doubles: 32 bytes of XCDR1, 40 with LCM's fingerprint.
-    const std::string size = GetParam() == horus::Backend::Lcm ? "mean: 40 B" : "mean: 32 B";
-    EXPECT_NE(out.find(size), std::string::npos) << out;
+    // Pose2D is 4 doubles: 32 bytes of XCDR1, 40 with LCM's fingerprint. The recorder started
+    // beside it opens the topic on this host too: when bw finds it in this host's shared memory
+    // first, it reads the 32-byte message there (seen once in a loaded run), not the datagram.
+    const bool wire_size = out.find("mean: 32 B") != std::string::npos ||
+                           (GetParam() == horus::Backend::Lcm && out.find("mean: 40 B") != std::string::npos);
+    EXPECT_TRUE(wire_size) << out;
     EXPECT_NE(out.find("B/s from"), std::string::npos) << out;
   }
   // horus record on host 2 records the topic that only host 1 has (found through the fleet

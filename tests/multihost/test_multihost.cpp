@@ -291,6 +291,9 @@ TEST_P(MultiHost, TheBridgeFollowsTheHostsPublisherWithEveryMessageOnceBothWays)
   // Handed over within 3 s of the first send (it takes a few hundred ms).
   const pid_t after = await_bridge_holder(lan.holder(0), topic, publisher.pid(), 7s);
   EXPECT_EQ(after, publisher.pid()) << "host 1's bridge stayed with pid " << after;
+  std::printf("the bridge went from the listener (pid %d) to pid %d\n", static_cast<int>(holder),
+              static_cast<int>(after));
+  std::fflush(stdout);  // a run that stops later shows how far it came
   struct Member {
     horus_test::HostProcess* p;
     const char* what;

@@ -35,6 +35,40 @@ extern char** environ;
 
 namespace horus_test {
 
+/// The state, kernel wait channel and kernel stack of a process (what /proc says; root reads the
+/// stack), for a message about a process that does not end.
+inline std::string proc_state(pid_t pid) {
+  std::string text;
+  for (const char* f : {"stat", "wchan", "stack"}) {
+    if (FILE* in = std::fopen(("/proc/" + std::to_string(pid) + "/" + f).c_str(), "r")) {
+      char buf[2048];
+      const std::size_t n = std::fread(buf, 1, sizeof(buf) - 1, in);
+      std::fclose(in);
+      text += std::string(f) + ": " + std::string(buf, n) + "\n";
+    }
+  }
+  return text;
+}
+
+/// SIGKILLs `pid` (a child) and reaps it, waiting at most 20 s: a process the kernel holds
+/// (uninterruptible sleep) is reported on stderr with its state and left, never waited for
+/// without bound. True when it was reaped.
+inline bool reap_killed(pid_t pid, const std::string& what, int* status = nullptr) {
+  int st = 0;
+  ::kill(pid, SIGKILL);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (::waitpid(pid, &st, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() > deadline) {
+      std::fprintf(stderr, "horus_test: pid %d (%s) did not end 20 s after SIGKILL; left behind:\n%s\n",
+                   static_cast<int>(pid), what.c_str(), proc_state(pid).c_str());
+      return false;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  if (status != nullptr) *status = st;
+  return true;
+}
+
 /// Runs argv (no shell), waits at most `timeout`; its exit status, or -1.
 inline int run_command(const std::vector<std::string>& args, std::chrono::seconds timeout = std::chrono::seconds(30)) {
   std::vector<char*> argv;
@@ -53,8 +87,11 @@ inline int run_command(const std::vector<std::string>& args, std::chrono::second
   int status = 0;
   while (::waitpid(pid, &status, WNOHANG) == 0) {
     if (std::chrono::steady_clock::now() > deadline) {
-      ::kill(pid, SIGKILL);
-      ::waitpid(pid, &status, 0);
+      std::string cmd;
+      for (const auto& a : args) cmd += a + " ";
+      std::fprintf(stderr, "horus_test: '%s' did not end within %lld s; killed\n", cmd.c_str(),
+                   static_cast<long long>(timeout.count()));
+      (void)reap_killed(pid, cmd);
       return -1;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
@@ -89,8 +126,11 @@ class HostProcess {
     int status = 0;
     while (::waitpid(pid_, &status, WNOHANG) == 0) {
       if (std::chrono::steady_clock::now() > deadline) {
-        ::kill(pid_, SIGKILL);
-        ::waitpid(pid_, &status, 0);
+        // Said at once (a test that hangs later still shows it): what it was doing.
+        std::fprintf(stderr, "horus_test: pid %d (%s) did not end within %lld s; killed. Its state:\n%s\n",
+                     static_cast<int>(pid_), out_.c_str(), static_cast<long long>(timeout.count()),
+                     (proc_state(pid_) + stacks()).c_str());
+        (void)reap_killed(pid_, out_);
         pid_ = -1;
         return -1;
       }
@@ -227,6 +267,7 @@ class NetnsLan {
       why_ = "'ip netns' is not available (Debian: iproute2)";
       return;
     }
+    const auto began = std::chrono::steady_clock::now();
     remove_stale();
     prefix_ = "hx" + std::to_string(::getpid()) + tag;
     subnet_ = "10.213." + std::to_string(::getpid() % 250 + 1);
@@ -267,12 +308,13 @@ class NetnsLan {
       holders_.push_back(holder);
     }
     ok_ = true;
+    const auto took = std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - began);
+    if (took > std::chrono::seconds(5))  // it takes ~1 s; a loaded kernel's namespace work shows here
+      std::fprintf(stderr, "horus_test: the %d namespace hosts took %lld ms to make\n", hosts,
+                   static_cast<long long>(took.count()));
   }
   ~NetnsLan() {
-    for (const pid_t h : holders_) {
-      ::kill(h, SIGKILL);
-      ::waitpid(h, nullptr, 0);
-    }
+    for (const pid_t h : holders_) (void)reap_killed(h, "a namespace holder");
     for (const auto& ns : hosts_) run_command({"ip", "netns", "del", ns});
     if (!bridge_ns_.empty()) run_command({"ip", "netns", "del", bridge_ns_});
   }
@@ -344,14 +386,13 @@ class NetnsLan {
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
-    ::kill(pid, SIGKILL);
-    ::waitpid(pid, nullptr, 0);
+    (void)reap_killed(pid, "the holder of " + ns);
     return -1;
   }
 
   // Namespaces of test processes that died without cleaning up: "hx<pid>..." with <pid> gone.
   static void remove_stale() {
-    FILE* p = ::popen("ip netns list 2>/dev/null", "r");
+    FILE* p = ::popen("timeout 30 ip netns list 2>/dev/null", "r");
     if (p == nullptr) return;
     char line[256];
     std::vector<std::string> stale;
