@@ -3,11 +3,14 @@
 # (default 5), then the tables (median and min-max over rounds), summary.json / summary.md and
 # the plots (PNG) in the output folder (default bench/results). About 15-20 minutes on 2 vCPUs.
 #
-#   scripts/bench.sh [--rounds N] [--quick] [--out DIR] [--only "local shm fanout network"] [--no-build]
+#   scripts/bench.sh [--rounds N] [--quick] [--out DIR] [--only "local shm fanout hybrid network"] [--no-build]
 #
 # Parts: local (horus-latency-local: threads, with the true floor and boost), shm
 # (horus-latency-shm: processes, with the true floor and iceoryx), fanout (horus-fanout: 1 -> N
-# subscriber processes, many topics, memory), network (bench/dds and bench/lcm: horus against
+# subscriber processes, many topics, memory), hybrid (bench/fleet/hybrid.sh: a fleet topic's
+# local and remote subscribers against a host topic, with the host's bridge in the publisher, in
+# the subscriber's process or in a third process, on each backend; root: namespace hosts),
+# network (bench/dds and bench/lcm: horus against
 # the raw Cyclone DDS, Fast DDS and LCM programs, on loopback and between two namespace hosts;
 # the namespace part needs root). Every tool's own output goes to DIR/bench.log.
 # --quick: one short round of each (a smoke run). Plots need python3-matplotlib and the network
@@ -18,7 +21,7 @@ cd "$(dirname "$0")/.."
 rounds=5
 quick=0
 out=bench/results
-only="local shm fanout network"
+only="local shm fanout hybrid network"
 build=1
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -27,7 +30,7 @@ while [ $# -gt 0 ]; do
     --out) out="$2"; shift ;;
     --only) only="$2"; shift ;;
     --no-build) build=0 ;;
-    -h|--help) sed -n '2,14p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,17p' "$0"; exit 0 ;;
     *) echo "bench.sh: unknown argument '$1' (expected --rounds N, --quick, --out DIR, --only LIST, --no-build)" >&2; exit 2 ;;
   esac
   shift
@@ -35,7 +38,7 @@ done
 case "$rounds" in ''|*[!0-9]*) echo "bench.sh: --rounds takes a positive number, not '$rounds'" >&2; exit 2 ;; esac
 [ "$rounds" -ge 1 ] || { echo "bench.sh: --rounds must be at least 1" >&2; exit 2; }
 for part in $only; do
-  case "$part" in local|shm|fanout|network) ;; *) echo "bench.sh: unknown part '$part' (expected local, shm, fanout, network)" >&2; exit 2 ;; esac
+  case "$part" in local|shm|fanout|hybrid|network) ;; *) echo "bench.sh: unknown part '$part' (expected local, shm, fanout, hybrid, network)" >&2; exit 2 ;; esac
 done
 [ "$quick" = 1 ] && rounds=1
 want() { [[ " $only " == *" $1 "* ]]; }
@@ -63,6 +66,7 @@ if [ "$build" = 1 ]; then
   cmake --preset default >/dev/null
   targets=(horus_latency_local horus_latency_shm horus_fanout)
   want network && targets+=(horus_dds_pingpong horus_wake_latency horus_ros2_convert)
+  want hybrid && targets+=(horus_fleet_hybrid)
   cmake --build --preset default -j "$(nproc)" --target "${targets[@]}"
   # The raw baselines exist when their generators were found at configure time.
   if want network; then
@@ -77,6 +81,7 @@ mkdir -p "$out"
 want local && rm -f "$out"/local.*.json
 want shm && rm -f "$out"/shm.*.json
 want fanout && rm -f "$out"/fanout.json
+want hybrid && rm -f "$out"/hybrid.txt
 want network && rm -f "$out"/network.txt "$out"/net_wakeups.txt "$out"/ros2_convert.txt
 rm -f "$out"/*.png "$out"/summary.*
 log="$out/bench.log"
@@ -99,6 +104,17 @@ done
 if want fanout; then
   step "horus-fanout, $rounds rounds"
   "$bin/horus-fanout" "${q[@]}" --rounds "$rounds" --json "$out/fanout.json" >>"$log" 2>&1
+fi
+if want hybrid; then
+  if [ "$(id -u)" = 0 ]; then
+    step "hybrid: fleet topics' local and remote subscribers against a host topic, each bridge holder and backend, $rounds rounds"
+    n_hy=1500
+    [ "$quick" = 1 ] && n_hy=300
+    bench/fleet/hybrid.sh --rounds "$rounds" --count "$n_hy" --results "$out/hybrid.txt" >>"$log" 2>&1 ||
+      echo "bench.sh: the hybrid benchmark failed (see $log)"
+  else
+    echo "bench.sh: the hybrid part needs root (namespace hosts): skipped"
+  fi
 fi
 if want network; then
   : >"$out/network.txt"

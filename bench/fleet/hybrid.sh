@@ -8,14 +8,18 @@
 #
 #   sudo bench/fleet/hybrid.sh [--rounds 3] [--backend all|cyclonedds|fastdds|lcm]
 #                              [--holder all|publisher|subscriber|third] [--count 1500] [--build DIR]
+#                              [--results FILE]
 #
+# --results FILE: one line per run, "backend holder round" then p50 p99 p99.9 (us) of the host
+# subscriber, the fleet topic's local subscriber and the other host's ("-" for none): what
+# scripts/bench.sh's report (bench/report.py) reads.
 # Prints one line per run (p50/p99/p99.9 in us of the host subscriber, the fleet topic's local
 # subscriber and the other host's), then per backend and holder the medians over rounds with
 # their range, and the two ratios the regressions issue sets targets for: local fleet / host
 # (<= 1.1) and other host / the publisher-holds-the-bridge case (<= 1.1).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-rounds=3 backends="cyclonedds fastdds lcm" holders="publisher subscriber third" count=1500 build=build/default
+rounds=3 backends="cyclonedds fastdds lcm" holders="publisher subscriber third" count=1500 build=build/default keep=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --rounds) rounds="$2"; shift 2 ;;
@@ -23,7 +27,8 @@ while [ $# -gt 0 ]; do
     --holder) [ "$2" = all ] || holders="$2"; shift 2 ;;
     --count) count="$2"; shift 2 ;;
     --build) build="$2"; shift 2 ;;
-    *) echo "hybrid.sh: unknown argument '$1'" >&2; exit 2 ;;
+    --results) keep="$2"; shift 2 ;;
+    *) echo "hybrid.sh: unknown argument '$1' (expected --rounds, --backend, --holder, --count, --build, --results)" >&2; exit 2 ;;
   esac
 done
 [ "$(id -u)" = 0 ] || { echo "hybrid.sh: needs root (namespace hosts)" >&2; exit 1; }
@@ -113,6 +118,7 @@ for round in $(seq "$rounds"); do
   done
 done
 
+[ -z "$keep" ] || cp "$results" "$keep"
 echo
 echo "medians over $rounds rounds (p50, us; min-max over rounds):"
 python3 - "$results" <<'EOF'
