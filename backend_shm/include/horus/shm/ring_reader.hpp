@@ -117,14 +117,10 @@ class RingReader {
 
   /// Takes the next unread message (round-robin over publishers, FIFO within each).
   [[gnu::always_inline]] bool read(T& out) noexcept {
+    // One publisher's lane (the common case): one compare, no turn to keep (when a second
+    // lane appears, the turn starts wherever it was; from then on it goes round).
+    if (lane_hwm_->load(std::memory_order_acquire) == 1) return read_lane(0, out);
     const std::uint32_t lanes = lane_count();
-    // One publisher's lane (the common case): read without the turn's arithmetic. The turn
-    // moves on as below (a lane that appears later is read next).
-    if (lanes == 1) {
-      if (!read_lane(0, out)) return false;
-      next_lane_ = 1;
-      return true;
-    }
     std::uint32_t lane = next_lane_;
     for (std::uint32_t k = 0; k < lanes; ++k, ++lane) {
       if (lane >= lanes) lane = 0;
