@@ -282,9 +282,7 @@ if os.path.exists(hybrid_path):
             cols = [[r[3 * i + k] for r in v] for k in range(3)]
             entry[sub] = {q: stats(c) for q, c in zip(["p50_us", "p99_us", "p999_us"], cols)}
             rows.append([backend, who.get(holder, holder), sub] + [spread(c) for c in cols])
-        host = [r[0] for r in v]
-        local = [r[3] for r in v]
-        ratios = [l / h for l, h in zip(local, host) if l and h]
+        ratios = [r[3] / r[0] for r in v if r[3] and r[0]]  # local p50 / host p50
         entry["local_over_host_p50"] = stats(ratios)
         rows.append([backend, who.get(holder, holder), "local / host (p50)", spread(ratios, 2), "", ""])
         summary["hybrid"][f"{backend}/{holder}"] = entry
