@@ -37,7 +37,9 @@ for t in ["cmdvel", "kilobyte", "image"]:
         base = BASE.get(impl)
         ratio = f"{p50 / med[base]:.2f}x" if base in med else ""
         print(f"{t:<9} {impl:<22} {p50:>9.1f} {p99:>9.1f} {p999:>9.1f} {lost:>5} {ratio:>14}")
-print(f"\n{'type':<9} {'implementation':<22} {'msgs/s':>10} {'MB/s':>9} {'/base':>10}   (throughput, one sink)")
+print(f"\n{'type':<9} {'implementation':<22} {'msgs/s':>10} {'MB/s':>9} {'lost':>7} {'/base':>10}   "
+      "(throughput, one sink; the raw programs with horus's reliable QoS: KEEP_ALL, the same history "
+      "depths; lost: the raw sink's sequence gaps, horus's dropped count)")
 for t in ["cmdvel", "kilobyte", "image"]:
     rate = {}
     for impl in IMPLS:
@@ -46,9 +48,10 @@ for t in ["cmdvel", "kilobyte", "image"]:
             continue
         r = statistics.median(float(x["rate"]) for x in rs)
         mb = statistics.median(float(x["mbps"]) for x in rs)
+        lost = sum(int(x.get("lost", x.get("dropped", 0))) for x in rs)
         rate[impl] = r
         base = BASE.get(impl)
         ratio = f"{r / rate[base]:.2f}x" if base in rate and rate[base] > 0 else ""
-        print(f"{t:<9} {impl:<22} {r:>10.0f} {mb:>9.1f} {ratio:>10}")
+        print(f"{t:<9} {impl:<22} {r:>10.0f} {mb:>9.1f} {lost:>7} {ratio:>10}")
 for f in failed:
     print(f)

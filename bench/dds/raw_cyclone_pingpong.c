@@ -19,7 +19,7 @@
  *
  * sink prints "ready", counts the samples of horus/bench/<type>/tput until one whose seq is
  * UINT64_MAX (or <seconds>, or EOF on its stdin pipe), and prints
- *   RESULT impl=raw-cyclone type=<type> mode=tput received=<n> seconds=<s> rate=<msgs/s> mbps=<MB/s> wait=..
+ *   RESULT impl=raw-cyclone type=<type> mode=tput received=<n> seconds=<s> rate=<msgs/s> mbps=<MB/s> lost=<gaps> qos=<history> wait=..
  * timed from the first to the last counted sample; MB are payload bytes (cmdvel 16, kilobyte
  * 1024, image 6,220,800 a sample), as horus-dds-pingpong counts them. source waits for a
  * matched reader (30 s), writes back to back for <seconds>, then the stop sample 3 times.
@@ -215,6 +215,13 @@ struct endpoints {
 
 /* ping: writer on .../ping, reader on .../pong; pong the reverse; sink: a reader on .../tput;
  * source: a writer on .../tput. The waitset (and read condition) only when waiting on one. */
+/* BENCH_KEEP_ALL=1: the QoS of horus's reliable fleet topics (KEEP_ALL within the reader's 4096
+   samples), for a throughput comparison on equal terms; else KEEP_LAST 16. */
+static int keep_all_from_env(void) {
+  const char* v = getenv("BENCH_KEEP_ALL");
+  return v != NULL && strcmp(v, "1") == 0;
+}
+
 static int setup(struct endpoints* ep, uint32_t domain_id, int type, const char* type_name, int role) {
   const char* env = getenv("BENCH_LOCALHOST");
   const int localhost = env != NULL && env[0] != '\0' && strcmp(env, "0") != 0;
@@ -260,7 +267,14 @@ static int setup(struct endpoints* ep, uint32_t domain_id, int type, const char*
   dds_qos_t* qos = dds_create_qos();
   dds_qset_reliability(qos, DDS_RELIABILITY_RELIABLE, DDS_SECS(1));
   dds_qset_durability(qos, DDS_DURABILITY_VOLATILE);
-  dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 16);
+  if (keep_all_from_env()) {
+    /* horus's reliable fleet topics on Cyclone (backend_dds/src/cyclone_endpoint.cpp): KEEP_ALL,
+       a reader holds at most 4096 samples not yet taken. */
+    dds_qset_history(qos, DDS_HISTORY_KEEP_ALL, 0);
+    dds_qset_resource_limits(qos, 4096, DDS_LENGTH_UNLIMITED, DDS_LENGTH_UNLIMITED);
+  } else {
+    dds_qset_history(qos, DDS_HISTORY_KEEP_LAST, 16);
+  }
   const dds_data_representation_id_t xcdr1 = DDS_DATA_REPRESENTATION_XCDR1;
   dds_qset_data_representation(qos, 1, &xcdr1);
   if (role != kSource) ep->reader = dds_create_reader(ep->participant, role == kPing ? pong_topic : ping_topic, qos, NULL);
@@ -431,6 +445,19 @@ static int run_ping(struct endpoints* ep, int type, const char* type_name, uint6
 
 /* ---- sink / source (throughput) ------------------------------------------------------------- */
 
+/* The sink's loss accounting, as horus's sink reports its dropped count: the sequence numbers
+   between the first and the last sample received that never came (the source numbers them 1, 2, ...). */
+struct seq_gaps {
+  uint64_t lo, hi;
+};
+static void gaps_add(struct seq_gaps* g, uint64_t seq) {
+  if (seq < g->lo) g->lo = seq;
+  if (seq > g->hi) g->hi = seq;
+}
+static uint64_t gaps_lost(const struct seq_gaps* g, uint64_t received) {
+  return received == 0 || g->hi - g->lo + 1 < received ? 0 : g->hi - g->lo + 1 - received;
+}
+
 static int run_sink(struct endpoints* ep, int type, const char* type_name, uint64_t seconds) {
   if (!watch_stdin(ep->participant, ep->waitset)) return 3;
   void* sample = alloc_sample(type);
@@ -445,10 +472,12 @@ static int run_sink(struct endpoints* ep, int type, const char* type_name, uint6
 
   const uint64_t end = now_ns() + seconds * 1000000000ull;
   uint64_t received = 0, first = 0, last = 0;
+  struct seq_gaps gaps = {UINT64_MAX, 0};
   while (g_poll) {
     if (dds_take(ep->reader, buf, &info, 1, 1) > 0) {
       if (!info.valid_data) continue;
       if (*seq_field(type, sample) == kStopSeq) break;
+      gaps_add(&gaps, *seq_field(type, sample));
       last = now_ns();
       if (received++ == 0) first = last;
       continue;
@@ -470,6 +499,7 @@ static int run_sink(struct endpoints* ep, int type, const char* type_name, uint6
         stop = 1;
         break;
       }
+      gaps_add(&gaps, *seq_field(type, sample));
       last = now_ns();
       if (received++ == 0) first = last;
     }
@@ -477,9 +507,11 @@ static int run_sink(struct endpoints* ep, int type, const char* type_name, uint6
   dds_sample_free(sample, descriptor(type), DDS_FREE_ALL);
 
   const double s = (double)(last - first) / 1e9;
-  printf("RESULT impl=raw-cyclone type=%s mode=tput received=%" PRIu64 " seconds=%.3f rate=%.0f mbps=%.1f wait=%s\n",
+  printf("RESULT impl=raw-cyclone type=%s mode=tput received=%" PRIu64
+         " seconds=%.3f rate=%.0f mbps=%.1f lost=%" PRIu64 " qos=%s wait=%s\n",
          type_name, received, s, s > 0 ? (double)received / s : 0.0,
-         s > 0 ? (double)(received * payload_bytes(type)) / s / 1e6 : 0.0, g_poll ? "poll" : "waitset");
+         s > 0 ? (double)(received * payload_bytes(type)) / s / 1e6 : 0.0, gaps_lost(&gaps, received),
+         keep_all_from_env() ? "keep_all4096" : "keep_last16", g_poll ? "poll" : "waitset");
   fflush(stdout);
   return received > 0 ? 0 : 1;
 }

@@ -19,7 +19,7 @@
 //
 // sink prints "ready", counts the samples of horus/bench/<type>/tput until one whose seq is
 // UINT64_MAX (or <seconds>, or EOF on its stdin pipe), and prints
-//   RESULT impl=raw-fastdds type=<type> mode=tput received=<n> seconds=<s> rate=<msgs/s> mbps=<MB/s> wait=..
+//   RESULT impl=raw-fastdds type=<type> mode=tput received=<n> seconds=<s> rate=<msgs/s> mbps=<MB/s> lost=<gaps> qos=<history> wait=..
 // timed from the first to the last counted sample; MB are payload bytes (cmdvel 16, kilobyte
 // 1024, image 6,220,800 a sample), as horus-dds-pingpong counts them. source waits for a
 // matched reader (30 s), writes back to back for <seconds>, then the stop sample 3 times.
@@ -248,6 +248,15 @@ int keep_all_depth_from_env() {
   const bool keep_all = keep_all_env != nullptr && std::string_view(keep_all_env) == "1";
   if (!keep_all) return 0;
   return depth_env != nullptr ? std::max(1, std::atoi(depth_env)) : 16;
+}
+
+// The history the run uses, for the RESULT line: keep_last16 or keep_all<N>.
+const char* qos_name() {
+  static const std::string name = [] {
+    const int d = keep_all_depth_from_env();
+    return d == 0 ? std::string("keep_last16") : "keep_all" + std::to_string(d);
+  }();
+  return name.c_str();
 }
 
 // Reliable, volatile, KEEP_LAST 16 (or KEEP_ALL within `keep_all_depth` samples when not 0),
@@ -496,6 +505,19 @@ int run_ping(Endpoints& ep, const std::string& type_name, std::uint64_t round_tr
 
 // ---- sink / source (throughput) -------------------------------------------------------------
 
+// The sink's loss accounting, as horus's sink reports its dropped count: the sequence numbers
+// between the first and the last sample received that never came (the source numbers them 1, 2, ...).
+struct SeqGaps {
+  std::uint64_t lo = UINT64_MAX, hi = 0;
+  void add(std::uint64_t seq) noexcept {
+    lo = std::min(lo, seq);
+    hi = std::max(hi, seq);
+  }
+  std::uint64_t lost(std::uint64_t received) const noexcept {
+    return received == 0 || hi - lo + 1 < received ? 0 : hi - lo + 1 - received;
+  }
+};
+
 template <class T>
 int run_sink(Endpoints& ep, const std::string& type_name, std::uint64_t seconds) {
   if (!watch_stdin(ep)) return 3;
@@ -508,10 +530,12 @@ int run_sink(Endpoints& ep, const std::string& type_name, std::uint64_t seconds)
 
   const std::uint64_t end = now_ns() + seconds * 1'000'000'000ull;
   std::uint64_t received = 0, first = 0, last = 0;
+  SeqGaps gaps;
   while (g_poll) {
     if (ep.reader->take_next_sample(sample.get(), &info) == ReturnCode_t::RETCODE_OK) {
       if (!info.valid_data) continue;
       if (seq_field(*sample) == kStopSeq) break;
+      gaps.add(seq_field(*sample));
       last = now_ns();
       if (received++ == 0) first = last;
       continue;
@@ -531,6 +555,7 @@ int run_sink(Endpoints& ep, const std::string& type_name, std::uint64_t seconds)
         stop = true;
         break;
       }
+      gaps.add(seq_field(*sample));
       last = now_ns();
       if (received++ == 0) first = last;
     }
@@ -539,9 +564,9 @@ int run_sink(Endpoints& ep, const std::string& type_name, std::uint64_t seconds)
   const double s = static_cast<double>(last - first) / 1e9;
   const double bytes = static_cast<double>(received) * static_cast<double>(payload_bytes(sample.get()));
   std::printf("RESULT impl=raw-fastdds type=%s mode=tput received=%" PRIu64
-              " seconds=%.3f rate=%.0f mbps=%.1f wait=%s\n",
+              " seconds=%.3f rate=%.0f mbps=%.1f lost=%" PRIu64 " qos=%s wait=%s\n",
               type_name.c_str(), received, s, s > 0 ? static_cast<double>(received) / s : 0.0,
-              s > 0 ? bytes / s / 1e6 : 0.0, wait_name());
+              s > 0 ? bytes / s / 1e6 : 0.0, gaps.lost(received), qos_name(), wait_name());
   std::fflush(stdout);
   return received > 0 ? 0 : 1;
 }

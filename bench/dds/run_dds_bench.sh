@@ -139,10 +139,18 @@ one() {  # setting impl type
   echo "$out"
 }
 
-# one throughput run: a sink (second host) counts what a source sends for $tput_s seconds
+# one throughput run: a sink (second host) counts what a source sends for $tput_s seconds. The
+# raw programs run with horus's reliable QoS (BENCH_KEEP_ALL=1): KEEP_ALL, a reader holding at
+# most 4096 samples, and on Fast DDS a writer holding what horus's does (256 samples, the
+# image's 4: backend_dds/src/fastdds_endpoint.cpp); each sink counts the gaps in the sequence
+# numbers it received (lost=), as horus's counts its dropped messages.
 tput() {  # setting impl type
   local setting="$1" impl="$2" type="$3" p out
   p="$(prog "$impl")"
+  case $impl in
+    raw-*) local depth=256; [ "$type" = image ] && depth=4
+           p="env BENCH_KEEP_ALL=1 BENCH_KEEP_ALL_DEPTH=$depth $p" ;;
+  esac
   local in1="" in2="" envs="BENCH_LOCALHOST=1"
   if [ "$setting" = netns ]; then in1="ip netns exec $ns1"; in2="ip netns exec $ns2"; envs="BENCH_LOCALHOST=0"; fi
   out="$(mktemp)"
