@@ -19,6 +19,7 @@
 #include <poll.h>
 #include <spawn.h>
 #include <sys/inotify.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -55,15 +56,18 @@ inline std::string proc_state(pid_t pid) {
 /// without bound. True when it was reaped.
 inline bool reap_killed(pid_t pid, const std::string& what, int* status = nullptr) {
   int st = 0;
+  // The pidfd is readable once the process has ended: poll waits for that, 20 s at most.
+  const int fd = static_cast<int>(::syscall(SYS_pidfd_open, pid, 0));
   ::kill(pid, SIGKILL);
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-  while (::waitpid(pid, &st, WNOHANG) == 0) {
-    if (std::chrono::steady_clock::now() > deadline) {
-      std::fprintf(stderr, "horus_test: pid %d (%s) did not end 20 s after SIGKILL; left behind:\n%s\n",
-                   static_cast<int>(pid), what.c_str(), proc_state(pid).c_str());
-      return false;
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  if (fd >= 0) {
+    pollfd p{fd, POLLIN, 0};
+    (void)::poll(&p, 1, 20'000);
+    ::close(fd);
+  }
+  if (::waitpid(pid, &st, WNOHANG) != pid) {
+    std::fprintf(stderr, "horus_test: pid %d (%s) did not end 20 s after SIGKILL; left behind:\n%s\n",
+                 static_cast<int>(pid), what.c_str(), proc_state(pid).c_str());
+    return false;
   }
   if (status != nullptr) *status = st;
   return true;
