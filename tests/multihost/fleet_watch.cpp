@@ -12,7 +12,9 @@
 // --user-type publishes a type horus's tools are not compiled with (watch::Battery) at 20 Hz.
 // --garbage sends N samples of raw bytes that are no Announcement on horus.fleet.announce (its
 // own endpoint, not horus's), then N Announcements whose type signature does not hash to its
-// type (host "forged"): every other host must count and ignore all 2N.
+// type (host "forged"): every other host must count and ignore all 2N. --garbage-readers R: it
+// starts once R readers match its writer (10 s at most; a host's
+// bridge holder reads for all of its processes).
 // --forge-heartbeats sends N heartbeats, each from another forged host id (host "forged-<i>"),
 // 20 000 a second, then prints "forged sent <n>".
 // --memory prints every 500 ms "memory <ms since start> rss_kb <n> hosts <n> malformed <n>".
@@ -23,6 +25,7 @@
 
 #include <chrono>
 #include <csignal>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -83,7 +86,7 @@ struct Quiet final : horus::net::Listener {
   void on_error(std::string_view) override {}
 };
 
-int send_garbage(int n) {
+int send_garbage(int n, std::uint32_t readers) {
   const auto backend = horus::backend_from_environment();
   if (!backend || !horus::is_network(*backend)) return 4;
   const auto* info = horus::net::find_transport(backend->transport());
@@ -105,9 +108,12 @@ int send_garbage(int n) {
     std::fprintf(stderr, "%s\n", ep.error().message().c_str());
     return 4;
   }
-  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(3);
-  while ((*ep)->matched_subscribers() == 0 && std::chrono::steady_clock::now() < until)
+  // A reliable, volatile reader that matches after a write never gets it: wait for every reader
+  // the test names (on DDS; LCM has no discovery and reports none: then 3 s).
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(readers > 1 ? 10 : 3);
+  while ((*ep)->matched_subscribers() < readers && std::chrono::steady_clock::now() < until)
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  line(fmt::format("garbage readers {}", (*ep)->matched_subscribers()));
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   for (int i = 0; i < n; ++i) {
     auto ok = (*ep)->write(16, horus::net::BodyWriter{[](void*, std::span<std::byte> b) {
@@ -195,6 +201,7 @@ int main(int argc, char** argv) {
   std::int64_t pub_start = 0;
   double pub_hz = 0;
   int garbage = 0, forge = 0;
+  std::uint32_t garbage_readers = 1;
   bool memory = false;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
@@ -208,6 +215,8 @@ int main(int argc, char** argv) {
       user_topic = argv[++i];
     } else if (a == "--garbage" && i + 1 < argc) {
       garbage = std::atoi(argv[++i]);
+    } else if (a == "--garbage-readers" && i + 1 < argc) {
+      garbage_readers = static_cast<std::uint32_t>(std::atoi(argv[++i]));
     } else if (a == "--forge-heartbeats" && i + 1 < argc) {
       forge = std::atoi(argv[++i]);
     } else if (a == "--memory") {
@@ -244,7 +253,7 @@ int main(int argc, char** argv) {
   }
   if (!user_topic.empty()) user.emplace(horus::Topic<watch::Battery>(user_topic));
   if (garbage > 0) {
-    if (const int rc = send_garbage(garbage); rc != 0) return rc;
+    if (const int rc = send_garbage(garbage, garbage_readers); rc != 0) return rc;
   }
   if (forge > 0) {
     if (const int rc = forge_heartbeats(forge); rc != 0) return rc;
