@@ -239,10 +239,9 @@ int ping(const std::string& type, const std::string& impl, long n, long warmup) 
 
 template <class T>
 int sink(const std::string& type, const std::string& impl, double seconds) {
-  // LCM has no flow control (the source floods) and the raw LCM sink's queue is unlimited: the
-  // horus sink gets a deep ring too (DDS: KEEP_LAST 16 on both sides).
-  auto in = no_discovery() ? open<T>("bench." + type + ".tput", std::is_same_v<T, horus::msg::Image> ? 32u : 4096u)
-                           : open<T>("bench." + type + ".tput");
+  // Equal terms: the raw DDS readers hold up to 4096 samples (KEEP_ALL, run_dds_bench.sh) and the
+  // raw LCM sink's queue is unlimited; the horus sink's ring is as deep (images: 32 slots).
+  auto in = open<T>("bench." + type + ".tput", std::is_same_v<T, horus::msg::Image> ? 32u : 4096u);
   if (!in) {
     std::fprintf(stderr, "horus-dds-pingpong: %s\n", in.error().message().c_str());
     return 3;

@@ -199,6 +199,11 @@ constexpr std::string_view parse_type_name(std::string_view pretty) noexcept {
 
 template <class T>
 concept HasCustomName = requires { { horus_type_name(tag<T>{}) } -> std::convertible_to<std::string_view>; };
+
+// Parsed once, at compile time: a call of type_name<T>() at run time (a decoder names its type
+// in a Path per message) would otherwise search the pretty name again each time.
+template <class T>
+inline constexpr std::string_view parsed_type_name = parse_type_name(raw_type_name<T>());
 }  // namespace detail
 
 /// The fully qualified name of T ("horus::msg::Pose2D"); HORUS_REFLECT_NAMED overrides it.
@@ -207,7 +212,7 @@ constexpr std::string_view type_name() noexcept {
   if constexpr (detail::HasCustomName<T>) {
     return horus_type_name(tag<T>{});
   } else {
-    return detail::parse_type_name(detail::raw_type_name<T>());
+    return detail::parsed_type_name<T>;
   }
 }
 
