@@ -15,11 +15,13 @@ set -euo pipefail
 here="$(cd "$(dirname "$0")" && pwd)"
 build="$here/../build/default"
 n=20000
+pin=""
 while [ $# -gt 0 ]; do
   case "$1" in
     --n) n="$2"; shift ;;
     --build-dir) build="$2"; shift ;;
-    *) echo "usage: $0 [--n ROUND_TRIPS] [--build-dir DIR]" >&2; exit 2 ;;
+    --one-cpu) pin="taskset -c 0" ;;
+    *) echo "usage: $0 [--n ROUND_TRIPS] [--build-dir DIR] [--one-cpu]" >&2; exit 2 ;;
   esac
   shift
 done
@@ -47,14 +49,18 @@ prog() {
   esac
 }
 
-echo "context switches per CmdVel round trip, one host, $n round trips each ($(nproc) CPUs)"
-printf '%-18s %12s %12s %10s\n' implementation switches/rt p50_us 'p99_us'
+# Rescheduling and function-call interrupts of every CPU so far.
+ipis() { awk '$1 == "RES:" || $1 == "CAL:" { for (i = 2; i <= NF && $i ~ /^[0-9]+$/; ++i) s += $i } END { print s + 0 }' /proc/interrupts; }
+echo "context switches per CmdVel round trip, one host, $n round trips each ($(nproc) CPUs${pin:+, every process on CPU 0})"
+printf '%-18s %12s %10s %12s %10s\n' implementation switches/rt ipis/rt p50_us 'p99_us'
 for impl in raw-cyclone horus-cyclonedds raw-fastdds horus-fastdds raw-lcm horus-lcm; do
   p="$(prog "$impl")"
-  ( sleep 200 | env HORUS_NAMESPACE=wk_b$$ $p pong $domain cmdvel 180 >"$tmp/pong.out" 2>&1 & )
+  ( sleep 200 | $pin env HORUS_NAMESPACE=wk_b$$ $p pong $domain cmdvel 180 >"$tmp/pong.out" 2>&1 & )
   for _ in $(seq 1 50); do grep -q ready "$tmp/pong.out" 2>/dev/null && break; sleep 0.1; done
+  i0="$(ipis)"
   perf stat -a -x, -e context-switches -o "$tmp/stat" -- \
-    env HORUS_NAMESPACE=wk_a$$ timeout 120 $p ping $domain cmdvel "$n" 500 >"$tmp/ping.out" 2>&1 || true
+    $pin env HORUS_NAMESPACE=wk_a$$ timeout 120 $p ping $domain cmdvel "$n" 500 >"$tmp/ping.out" 2>&1 || true
+  i1="$(ipis)"
   pkill -f "pingpong pong $domain cmdvel" 2>/dev/null || true
   sleep 0.3
   res="$(grep RESULT "$tmp/ping.out" || true)"
@@ -63,8 +69,8 @@ for impl in raw-cyclone horus-cyclonedds raw-fastdds horus-fastdds raw-lcm horus
   p50="$(sed -n 's/.*p50_ns=\([0-9.]*\).*/\1/p' <<<"$res")"
   p99="$(sed -n 's/.*p99_ns=\([0-9.]*\).*/\1/p' <<<"$res")"
   # warm-up round trips count too: n + 500
-  awk -v s="$sw" -v n="$n" -v i="$impl" -v a="$p50" -v b="$p99" \
-    'BEGIN { printf "%-18s %12.1f %12.1f %10.1f\n", i, s / (n + 500), a / 1000, b / 1000 }'
+  awk -v s="$sw" -v q=$((i1 - i0)) -v n="$n" -v i="$impl" -v a="$p50" -v b="$p99" \
+    'BEGIN { printf "%-18s %12.1f %10.2f %12.1f %10.1f\n", i, s / (n + 500), q / (n + 500), a / 1000, b / 1000 }'
 done
 echo
 echo "one cross-process wake-up on this machine (horus-wake-latency, raw futex ping-pong, one-way):"
