@@ -272,7 +272,8 @@ int sink(const std::string& type, const std::string& impl, double seconds) {
 template <class T>
 int source(const std::string& type, double seconds) {
   // LCM: the raw source runs ahead of the network as far as the kernel's socket buffer lets it;
-  // the horus source gets a deep ring to run ahead of its bridge (DDS: KEEP_LAST 16 on both sides).
+  // the horus source gets a deep ring to run ahead of its bridge. DDS: a ring of 16 before the
+  // bridge's reliable writer, which holds 256 samples as the raw KEEP_ALL writer does.
   auto out = no_discovery() ? open<T>("bench." + type + ".tput", std::is_same_v<T, horus::msg::Image> ? 32u : 4096u)
                             : open<T>("bench." + type + ".tput");
   if (!out) {

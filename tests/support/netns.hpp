@@ -59,12 +59,18 @@ inline bool reap_killed(pid_t pid, const std::string& what, int* status = nullpt
   // The pidfd is readable once the process has ended: poll waits for that, 20 s at most.
   const int fd = static_cast<int>(::syscall(SYS_pidfd_open, pid, 0));
   ::kill(pid, SIGKILL);
+  bool reaped = false;
   if (fd >= 0) {
     pollfd p{fd, POLLIN, 0};
     (void)::poll(&p, 1, 20'000);
     ::close(fd);
+    reaped = ::waitpid(pid, &st, WNOHANG) == pid;
+  } else {  // no pidfd (a kernel before 5.3): look every 5 ms, 20 s at most
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+    while (!(reaped = ::waitpid(pid, &st, WNOHANG) == pid) && std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
-  if (::waitpid(pid, &st, WNOHANG) != pid) {
+  if (!reaped) {
     std::fprintf(stderr, "horus_test: pid %d (%s) did not end 20 s after SIGKILL; left behind:\n%s\n",
                  static_cast<int>(pid), what.c_str(), proc_state(pid).c_str());
     return false;
