@@ -2,7 +2,6 @@
 // through the endpoint's gate (horus/transport/endpoint_gate.hpp), the dispatcher delivers what
 // arose on an application thread, FastddsEndpoint owns the DataWriter and DataReader.
 #include <algorithm>
-#include <chrono>
 #include <cstdint>
 #include <exception>
 #include <string>
@@ -207,15 +206,7 @@ Result<void> FastddsEndpoint::write(std::size_t body_size, const net::BodyWriter
   {
     AppCall app;
     Writing writing;
-    // A reliable writer whose history is full waits for acknowledgements, but Fast DDS 2.9 may
-    // give up long before its max_blocking_time (after 5.4 ms in a CmdVel ping-pong, as the
-    // acknowledgement arrives). Writing again takes the freed place. A new attempt starts only
-    // within half the bound, so a write blocks at most 1.5x kMaxBlockingMs. (Left to the
-    // bridge's stash, such a message waited for the engine's 10 ms look: a p99.9 of 8 ms.)
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(kMaxBlockingMs / 2);
-    do {
-      rc = writer_->write(&sample, rtps::c_InstanceHandle_Unknown);
-    } while (rc == ReturnCode_t::RETCODE_TIMEOUT && !sample.error && std::chrono::steady_clock::now() < deadline);
+    rc = writer_->write(&sample, rtps::c_InstanceHandle_Unknown);
   }
   if (sample.error) std::rethrow_exception(sample.error);
   if (rc == ReturnCode_t::RETCODE_OK) return {};
@@ -322,11 +313,6 @@ fd::DataReaderQos reader_qos(const net::Qos& q, const fd::DataWriterQos& wq) {
   rq.type_consistency().representation.m_value = {fd::XCDR_DATA_REPRESENTATION};
   rq.endpoint().history_memory_policy = rtps::PREALLOCATED_WITH_REALLOC_MEMORY_MODE;
   rq.user_data() = wq.user_data();
-  // Acknowledge a heartbeat at once (Fast DDS waits 5 ms by default): a reliable writer of
-  // horus is KEEP_ALL, and its history, full of samples not yet acknowledged, holds its next
-  // write until the acknowledgement comes. With the delay a CmdVel ping-pong had a p99.9 of
-  // 8 ms and a source sent 11k msg/s; without it 0.5 ms and 34k msg/s (bench/results).
-  rq.reliable_reader_qos().times.heartbeatResponseDelay = eprosima::fastrtps::Duration_t(0, 0);
   return rq;
 }
 
